@@ -1,0 +1,22 @@
+// The `eigenmass` command-line tool: equations, simulate, compare.
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "compare/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"eigenmass: cross-validation harness for rigid multibody dynamics"};
+  app.require_subcommand(1);
+  em::cli::addEquations(app);
+  em::cli::addSimulate(app);
+  em::cli::addCompare(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return em::cli::exitCode();
+}

@@ -1,0 +1,245 @@
+#include "reference/simbody_reference.hpp"
+
+#include <cmath>
+#include <ctime>
+#include <stdexcept>
+
+#include <Simbody.h>
+
+namespace em {
+
+// Using-declarations only: `using namespace SimTK` breaks Eigen 3.4's operators.
+using SimTK::MobilizedBody;
+using SimTK::Rotation;
+using SimTK::State;
+using SimTK::Transform;
+using SimTK::Vector;
+
+namespace {
+
+SimTK::Vec3 toSimTK(const em::Vec3& v) { return SimTK::Vec3(v.x(), v.y(), v.z()); }
+
+em::Mat3 toEigen(const Rotation& R) {
+  em::Mat3 M;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) M(i, j) = R.asMat33()(i, j);
+  return M;
+}
+
+SimTK::Inertia toInertia(const em::Mat3& J) {
+  SimTK::Mat33 M;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) M(i, j) = J(i, j);
+  return SimTK::Inertia(M);
+}
+
+// Orientation of the joint frames F (in the parent) and M (in the body): the
+// same for both, so at zero coordinates the body frame is parallel to the parent's.
+Rotation jointFrame(const Joint& j) {
+  switch (j.type) {
+    case JointType::Revolute:  // Pin turns about its frames' common z: put z on the axis.
+      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::ZAxis);
+    case JointType::Universal:  // Universal: about x, then the new y.
+      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis);
+    default:  // Gimbal (x-y-z body-fixed) and Ball act in the parent's axes.
+      return Rotation();
+  }
+}
+
+}  // namespace
+
+struct SimbodyReference::Impl {
+  explicit Impl(const Model& m) : model(m), matter(system), forces(system) {
+    for (const Body& b : m.bodies) {
+      MobilizedBody& parent = b.parent < 0 ? matter.updGround() : mobods[b.parent];
+      const SimTK::Body::Rigid body(SimTK::MassProperties(b.mass, SimTK::Vec3(0), toInertia(b.J)));
+      const Rotation R_F = jointFrame(b.joint);
+      const Transform X_PF(R_F, toSimTK(b.joint.in_parent)), X_BM(R_F, toSimTK(b.joint.in_body));
+      switch (b.joint.type) {
+        case JointType::Revolute: mobods.push_back(MobilizedBody::Pin(parent, X_PF, body, X_BM)); break;
+        case JointType::Universal: mobods.push_back(MobilizedBody::Universal(parent, X_PF, body, X_BM)); break;
+        case JointType::Gimbal: mobods.push_back(MobilizedBody::Gimbal(parent, X_PF, body, X_BM)); break;
+        case JointType::Ball: mobods.push_back(MobilizedBody::Ball(parent, X_PF, body, X_BM)); break;
+      }
+      addSpring(b, mobods.back());
+    }
+    // Only what the scene declares (docs/theory.md §5).
+    if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
+    system.realizeTopology();
+    state = system.getDefaultState();
+    setState(m.q0(), m.u0());
+  }
+
+  void addSpring(const Body& b, MobilizedBody& mb) {
+    if (!b.joint.has_spring) return;
+    const Spring& s = b.joint.spring;
+    for (int k = 0; k < b.nu(); ++k) {
+      if (s.k[k] != 0) SimTK::Force::MobilityLinearSpring(forces, mb, k, s.k[k], s.q_rest[k]);
+      if (s.c[k] != 0) SimTK::Force::MobilityLinearDamper(forces, mb, k, s.c[k]);
+    }
+  }
+
+  void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    for (const Body& b : model.bodies) {
+      const MobilizedBody& mb = mobods[&b - model.bodies.data()];
+      Vector qb(b.nq()), ub(b.nu());
+      for (int k = 0; k < b.nq(); ++k) qb[k] = q[b.iq + k];  // Ball: [w,x,y,z] as ours
+      for (int k = 0; k < b.nu(); ++k) ub[k] = u[b.iu + k];  // Ball: w_FM in F = parent axes, as ours
+      mb.setQFromVector(state, qb);
+      mb.setUFromVector(state, ub);
+    }
+  }
+
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
+    q.resize(model.nq);
+    u.resize(model.nu);
+    for (const Body& b : model.bodies) {
+      const MobilizedBody& mb = mobods[&b - model.bodies.data()];
+      const Vector qb = mb.getQAsVector(state), ub = mb.getUAsVector(state);
+      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = qb[k];
+      for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = ub[k];
+    }
+  }
+
+  // Simbody's u index of in-house speed iu, via each body's first u.
+  std::vector<int> uMap() {
+    std::vector<int> map(model.nu);
+    for (const Body& b : model.bodies) {
+      const int first = mobods[&b - model.bodies.data()].getFirstUIndex(state);
+      for (int k = 0; k < b.nu(); ++k) map[b.iu + k] = first + k;
+    }
+    return map;
+  }
+
+  Eigen::VectorXd toInhouse(const Vector& v) {
+    const std::vector<int> map = uMap();
+    Eigen::VectorXd out(model.nu);
+    for (int i = 0; i < model.nu; ++i) out[i] = v[map[i]];
+    return out;
+  }
+
+  std::vector<Pose> poses() {
+    system.realize(state, SimTK::Stage::Position);
+    std::vector<Pose> out(model.n());
+    for (int i = 0; i < model.n(); ++i) {
+      const Transform& X = mobods[i].getBodyTransform(state);
+      out[i].p = em::Vec3(X.p()[0], X.p()[1], X.p()[2]);
+      out[i].quat = matrixToQuat(toEigen(X.R()));
+    }
+    return out;
+  }
+
+  const Model& model;
+  SimTK::MultibodySystem system;
+  SimTK::SimbodyMatterSubsystem matter;
+  SimTK::GeneralForceSubsystem forces;
+  std::vector<MobilizedBody> mobods;  // internal order
+  State state;
+};
+
+SimbodyReference::SimbodyReference(const Model& m) : impl_(std::make_unique<Impl>(m)) {}
+SimbodyReference::~SimbodyReference() = default;
+
+void SimbodyReference::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) { impl_->setState(q, u); }
+void SimbodyReference::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const { impl_->getState(q, u); }
+
+Eigen::MatrixXd SimbodyReference::massMatrix() {
+  impl_->system.realize(impl_->state, SimTK::Stage::Position);
+  SimTK::Matrix M;
+  impl_->matter.calcM(impl_->state, M);
+  const std::vector<int> map = impl_->uMap();
+  const int n = impl_->model.nu;
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = M(map[i], map[j]);
+  return A;
+}
+
+Eigen::VectorXd SimbodyReference::rhs() {
+  auto& I = *impl_;
+  I.system.realize(I.state, SimTK::Stage::Dynamics);
+  const Vector& f_mob = I.system.getMobilityForces(I.state, SimTK::Stage::Dynamics);
+  const SimTK::Vector_<SimTK::SpatialVec>& f_body = I.system.getRigidBodyForces(I.state, SimTK::Stage::Dynamics);
+  Vector zero(I.state.getNU(), 0.0), residual;
+  I.matter.calcResidualForceIgnoringConstraints(I.state, f_mob, f_body, zero, residual);
+  return -I.toInhouse(residual);
+}
+
+Eigen::VectorXd SimbodyReference::udot() {
+  impl_->system.realize(impl_->state, SimTK::Stage::Acceleration);
+  return impl_->toInhouse(impl_->state.getUDot());
+}
+
+double SimbodyReference::kineticEnergy() {
+  impl_->system.realize(impl_->state, SimTK::Stage::Velocity);
+  return impl_->system.calcKineticEnergy(impl_->state);
+}
+
+double SimbodyReference::potentialEnergy() {
+  impl_->system.realize(impl_->state, SimTK::Stage::Dynamics);
+  return impl_->system.calcPotentialEnergy(impl_->state);
+}
+
+std::vector<Pose> SimbodyReference::poses() { return impl_->poses(); }
+
+const char* SimbodyReference::integrators() { return "rkmerson, rk3, cpodes"; }
+
+Trajectory SimbodyReference::simulate(const std::string& integrator, double accuracy, double t_end, double output_dt) {
+  auto& I = *impl_;
+  const Model& m = I.model;
+  std::unique_ptr<SimTK::Integrator> integ;
+  if (integrator == "rkmerson" || integrator.empty()) integ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(I.system);
+  else if (integrator == "rk3") integ = std::make_unique<SimTK::RungeKutta3Integrator>(I.system);
+  else if (integrator == "cpodes") integ = std::make_unique<SimTK::CPodesIntegrator>(I.system);
+  else throw std::invalid_argument("unknown Simbody integrator '" + integrator + "' (" + integrators() + ")");
+  const double ratio = t_end / output_dt;
+  const long n_out = std::lround(ratio);
+  if (!(output_dt > 0) || std::abs(ratio - n_out) > 1e-9 * ratio)
+    throw std::invalid_argument("t_end must be a whole multiple of output_dt");
+  integ->setAccuracy(accuracy);
+  Trajectory tr = makeTrajectory(m, "simbody", integrator.empty() ? "rkmerson" : integrator);
+  setState(m.q0(), m.u0());
+  I.system.realize(I.state, SimTK::Stage::Acceleration);
+
+  auto sample = [&](double t, const State& s) {
+    I.state = s;
+    Eigen::VectorXd q, u, qf, uf;
+    I.getState(q, u);
+    m.qToFile(q, qf);
+    m.uToFile(u, uf);
+    const std::vector<Pose> p = I.poses();
+    std::vector<Pose> pf(m.n());
+    for (int i = 0; i < m.n(); ++i) pf[m.bodies[i].file_index] = p[i];
+    tr.t.push_back(t);
+    tr.q.push_back(qf);
+    tr.u.push_back(uf);
+    tr.energy.push_back(kineticEnergy() + potentialEnergy());
+    tr.poses.push_back(pf);
+  };
+  sample(0.0, I.state);
+  double cpu = 0;
+  try {
+    integ->initialize(I.state);
+    for (long k = 1; k <= n_out; ++k) {
+      const double t_out = k * output_dt;
+      const std::clock_t c0 = std::clock();
+      // The first stepTo may return early (at an event or the first step): loop until t_out.
+      while (integ->getTime() < t_out * (1 - 1e-14)) {
+        const SimTK::Integrator::SuccessfulStepStatus st = integ->stepTo(t_out);
+        if (st == SimTK::Integrator::EndOfSimulation) throw std::runtime_error("integrator ended the simulation early");
+      }
+      cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+      sample(t_out, integ->getState());
+    }
+  } catch (const std::exception& e) {
+    tr.status = "failed";
+    tr.failure = std::string("Simbody: ") + e.what();
+    tr.failure_time = integ->getTime();
+  }
+  tr.run_time_s = cpu;
+  tr.steps = integ->getNumStepsTaken();
+  tr.rhs_evals = integ->getNumRealizations();
+  return tr;
+}
+
+}  // namespace em

@@ -1,0 +1,91 @@
+#include "solver/eigenfactor.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace em {
+
+double offDiagonalNorm(const Eigen::Ref<const Eigen::MatrixXd>& D) {
+  return std::sqrt(std::max(0.0, D.squaredNorm() - D.diagonal().squaredNorm()));
+}
+
+namespace {
+
+// One plane rotation zeroing D(p,q) of the symmetric D: D <- J^T D J, C <- J^T C
+// with J = [[c, s], [-s, c]] in the (p,q) plane (Golub & Van Loan, Alg. 8.4.1).
+void rotate(Eigen::MatrixXd& D, Eigen::Ref<RowMatrix> C, int p, int q) {
+  const double theta = (D(q, q) - D(p, p)) / (2.0 * D(p, q));
+  const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+  const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+  const int N = static_cast<int>(D.rows());
+  for (int k = 0; k < N; ++k) {  // columns: D J
+    const double dp = D(k, p), dq = D(k, q);
+    D(k, p) = c * dp - s * dq;
+    D(k, q) = s * dp + c * dq;
+  }
+  for (int k = 0; k < N; ++k) {  // rows: J^T (D J)
+    const double dp = D(p, k), dq = D(q, k);
+    D(p, k) = c * dp - s * dq;
+    D(q, k) = s * dp + c * dq;
+  }
+  for (int k = 0; k < N; ++k) {  // eigenvector rows
+    const double cp = C(p, k), cq = C(q, k);
+    C(p, k) = c * cp - s * cq;
+    C(q, k) = s * cp + c * cq;
+  }
+}
+
+}  // namespace
+
+JacobiStats jacobiCorrect(const Eigen::MatrixXd& A, Eigen::Ref<RowMatrix> C,
+                          Eigen::Ref<Eigen::VectorXd> lambda, CorrectionScratch& w,
+                          double tol, int max_sweeps) {
+  JacobiStats st;
+  const int N = static_cast<int>(A.rows());
+  Eigen::MatrixXd& D = w.D;
+  w.W.noalias() = A * C.transpose();
+  D.noalias() = C * w.W;
+  const double bound = tol * A.norm();
+  while (offDiagonalNorm(D) > bound) {
+    if (st.sweeps == max_sweeps) { st.converged = false; break; }
+    ++st.sweeps;
+    for (int p = 0; p < N - 1; ++p)
+      for (int q = p + 1; q < N; ++q)
+        if (D(p, q) != 0.0) { rotate(D, C, p, q); ++st.rotations; }
+  }
+  lambda = D.diagonal();
+  return st;
+}
+
+void symmetricOrthonormalize(Eigen::Ref<RowMatrix> C, CorrectionScratch& w) {
+  w.D.noalias() = C * C.transpose();
+  w.es.compute(w.D);
+  const Eigen::MatrixXd& V = w.es.eigenvectors();
+  w.W.noalias() = V * w.es.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal();
+  w.D.noalias() = w.W * V.transpose();
+  w.W.noalias() = w.D * C;
+  C = w.W;
+}
+
+double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda) {
+  double g = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < lambda.size(); ++i)
+    for (int j = i + 1; j < lambda.size(); ++j) g = std::min(g, std::abs(lambda[i] - lambda[j]));
+  return g;
+}
+
+EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<const RowMatrix>& C,
+                                  const Eigen::Ref<const Eigen::VectorXd>& lambda, double max_Omega) {
+  const int N = static_cast<int>(A.rows());
+  EigenDiagnostics d;
+  d.orth_err = (C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm();
+  d.offdiag_rel = offDiagonalNorm(C * A * C.transpose()) / A.norm();
+  d.min_gap = minEigenGap(lambda);
+  d.max_Omega = max_Omega;
+  const Eigen::MatrixXd Ainv = A.llt().solve(Eigen::MatrixXd::Identity(N, N));
+  const Eigen::MatrixXd Ainv_eig = C.transpose() * lambda.cwiseInverse().asDiagonal() * C;
+  d.inv_err = (Ainv_eig - Ainv).norm() / Ainv.norm();
+  return d;
+}
+
+}  // namespace em

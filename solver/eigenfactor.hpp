@@ -1,0 +1,54 @@
+#pragma once
+/// The Junkins–Schaub eigenfactor pieces (paper §2, eqs. (5)–(17); docs/theory.md §7):
+/// the cyclic Jacobi re-diagonalization, symmetric re-orthonormalization and the
+/// drift diagnostics. Hand-written: they are the subject of the research.
+#include <Eigen/Dense>
+
+namespace em {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Off-diagonal Frobenius norm of a square matrix.
+double offDiagonalNorm(const Eigen::Ref<const Eigen::MatrixXd>& D);
+
+/// Statistics of one Jacobi correction.
+struct JacobiStats {
+  int sweeps = 0;
+  int rotations = 0;
+  bool converged = true;
+};
+
+/// Preallocated scratch of the corrections (no allocation per step).
+struct CorrectionScratch {
+  explicit CorrectionScratch(int N) : D(N, N), W(N, N), es(N) {}
+  Eigen::MatrixXd D, W;  // (N x N)
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+};
+
+/// Cyclic Jacobi on D = C A C^T warm-started from C: rotate C <- R C until
+/// off(C A C^T) <= tol * ||A||_F, then lambda = diag(D).  // A, C: (N x N)
+JacobiStats jacobiCorrect(const Eigen::MatrixXd& A, Eigen::Ref<RowMatrix> C,
+                          Eigen::Ref<Eigen::VectorXd> lambda, CorrectionScratch& w,
+                          double tol, int max_sweeps);
+
+/// C <- (C C^T)^(-1/2) C: the nearest orthogonal matrix (symmetric
+/// orthonormalization, Löwdin).  // C: (N x N)
+void symmetricOrthonormalize(Eigen::Ref<RowMatrix> C, CorrectionScratch& w);
+
+/// Drift of the parameterization against a fresh factorization of A.
+struct EigenDiagnostics {
+  double orth_err = 0;     ///< ||C C^T - I||_F
+  double offdiag_rel = 0;  ///< off(C A C^T) / ||A||_F
+  double min_gap = 0;      ///< min over i<j of |lambda_i - lambda_j|
+  double max_Omega = 0;    ///< max |Omega_ij| at this state
+  double inv_err = 0;      ///< ||C^T Lambda^-1 C - A^-1||_F / ||A^-1||_F
+};
+
+/// Diagnostics of (C, lambda) against A (not on the hot path: allocates).
+EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<const RowMatrix>& C,
+                                  const Eigen::Ref<const Eigen::VectorXd>& lambda, double max_Omega);
+
+/// min over i<j of |lambda_i - lambda_j| (+inf for N < 2).
+double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda);
+
+}  // namespace em

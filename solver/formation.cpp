@@ -1,0 +1,260 @@
+#include "solver/formation.hpp"
+
+namespace em {
+
+namespace {
+
+using Block3 = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
+
+// (a . b) E - b (x) a: the dyadic kernel of K (docs/theory.md §4).
+inline Mat3 kernel(const Vec3& a, const Vec3& b) {
+  return a.dot(b) * Mat3::Identity() - b * a.transpose();
+}
+
+// In-place T X T^T on a (3n x 3n) block matrix: T sums over subtrees, and with
+// regular numbering a descending sweep that adds each block row (column) into
+// its parent's completes every subtree before it is used.
+void applyTXTt(const Model& m, Eigen::MatrixXd& X) {
+  for (int i = m.n() - 1; i >= 0; --i)
+    if (int p = m.bodies[i].parent; p >= 0) X.middleRows<3>(3 * p) += X.middleRows<3>(3 * i);
+  for (int i = m.n() - 1; i >= 0; --i)
+    if (int p = m.bodies[i].parent; p >= 0) X.middleCols<3>(3 * p) += X.middleCols<3>(3 * i);
+}
+
+}  // namespace
+
+Workspace::Workspace(const Model& m) {
+  const int n = m.n(), nu = m.nu;
+  for (auto* v : {&omega, &b, &d, &o, &r, &v, &s, &e, &h, &F}) v->assign(n, Vec3::Zero());
+  R.assign(n, Mat3::Identity());
+  J_w.assign(n, Mat3::Zero());
+  m_sub.assign(n, 0.0);
+  P = Eigen::Matrix3Xd::Zero(3, nu);
+  Pdot = Eigen::Matrix3Xd::Zero(3, nu);
+  for (auto* X : {&K, &M, &Kdot, &Mdot}) *X = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  A = Eigen::MatrixXd::Zero(nu, nu);
+  Adot = Eigen::MatrixXd::Zero(nu, nu);
+  B = Eigen::VectorXd::Zero(nu);
+  x3n = Eigen::VectorXd::Zero(3 * n);
+  y3n = Eigen::VectorXd::Zero(3 * n);
+}
+
+void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
+  // Outward recursion over the regular numbering (parents first); docs/theory.md §3.
+  Axes Pj, Pdj;
+  ws.kinetic = 0;
+  for (int i = 0; i < m.n(); ++i) {
+    const Body& B = m.bodies[i];
+    const int p = B.parent;
+    const Mat3 R_p = p < 0 ? Mat3::Identity() : ws.R[p];
+    const Vec3 w_p = p < 0 ? Vec3::Zero() : ws.omega[p];
+    const double* qi = q + B.iq;
+    const double* ui = u + B.iu;
+    ws.R[i] = R_p * relativeRotation(B.joint, qi);
+    worldAxes(B.joint, R_p, qi, Pj);
+    ws.P.middleCols(B.iu, B.nu()) = Pj;
+    ws.omega[i] = w_p + Pj * Eigen::Map<const Eigen::VectorXd>(ui, B.nu());
+    axisRates(B.joint, Pj, w_p, ws.omega[i], ui, Pdj);
+    ws.Pdot.middleCols(B.iu, B.nu()) = Pdj;
+    ws.J_w[i] = ws.R[i] * B.J * ws.R[i].transpose();
+    ws.b[i] = -(ws.R[i] * B.joint.in_body);
+    // Joint point i, and its velocity, from the parent's joint point.
+    Vec3 v_o = Vec3::Zero();
+    if (p < 0) {
+      ws.d[i].setZero();
+      ws.o[i] = B.joint.in_parent;
+    } else {
+      ws.d[i] = R_p * (B.joint.in_parent - m.bodies[p].joint.in_body);
+      ws.o[i] = ws.o[p] + ws.d[i];
+      v_o = ws.v[p] - w_p.cross(ws.b[p]) + w_p.cross(ws.d[i]);  // v of joint point p, then to i
+    }
+    ws.r[i] = ws.o[i] + ws.b[i];
+    ws.v[i] = v_o + ws.omega[i].cross(ws.b[i]);
+    ws.kinetic += 0.5 * (B.mass * ws.v[i].squaredNorm() + ws.omega[i].dot(ws.J_w[i] * ws.omega[i]));
+  }
+  ws.potential = potentialEnergy(m, q, ws);
+}
+
+double potentialEnergy(const Model& m, const double* q, const Workspace& ws) {
+  double V = 0;
+  for (int i = 0; i < m.n(); ++i) {
+    const Body& B = m.bodies[i];
+    V -= B.mass * m.gravity.dot(ws.r[i]);
+    if (!B.joint.has_spring) continue;
+    const Spring& sp = B.joint.spring;
+    for (int k = 0; k < B.nu(); ++k) {
+      const double e = q[B.iq + k] - sp.q_rest[k];
+      V += 0.5 * sp.k[k] * e * e;
+    }
+  }
+  return V;
+}
+
+void formK(const Model& m, Workspace& ws) {
+  // Subtree masses and s_k bottom-up (regular numbering: children after parents).
+  for (int k = m.n() - 1; k >= 0; --k) {
+    const Body& B = m.bodies[k];
+    ws.m_sub[k] = B.mass;
+    ws.s[k] = B.mass * ws.b[k];
+    for (int c : B.children) {
+      ws.m_sub[k] += ws.m_sub[c];
+      ws.s[k] += ws.m_sub[c] * ws.d[c];
+    }
+  }
+  ws.K.setZero();
+  for (int k = 0; k < m.n(); ++k) {
+    const Body& B = m.bodies[k];
+    // Diagonal: the augmented body k's inertia about joint k (docs/theory.md §4).
+    Mat3 Kkk = ws.J_w[k] + B.mass * kernel(ws.b[k], ws.b[k]);
+    for (int c : B.children) Kkk += ws.m_sub[c] * kernel(ws.d[c], ws.d[c]);
+    ws.K.block<3, 3>(3 * k, 3 * k) = Kkk;
+    // Off-diagonal with every strict ancestor j: l_ji = d_c for all i in subtree(k).
+    for (int c = k, j = B.parent; j >= 0; c = j, j = m.bodies[j].parent) {
+      const Mat3 Kjk = kernel(ws.d[c], ws.s[k]);
+      ws.K.block<3, 3>(3 * j, 3 * k) = Kjk;
+      ws.K.block<3, 3>(3 * k, 3 * j) = Kjk.transpose();
+    }
+  }
+}
+
+Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws) {
+  const int n = m.n();
+  // l_ji: inside body j from joint j toward body i (to CM i when j = i).
+  auto l = [&](int j, int i) -> Vec3 {
+    if (j == i) return ws.b[i];
+    int c = i;
+    while (m.bodies[c].parent != j) c = m.bodies[c].parent;
+    return ws.d[c];
+  };
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (int j = 0; j < n; ++j) {
+    K.block<3, 3>(3 * j, 3 * j) += ws.J_w[j];
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i < n; ++i)
+        if (m.T(j, i) && m.T(k, i))
+          K.block<3, 3>(3 * j, 3 * k) += m.bodies[i].mass * kernel(l(j, i), l(k, i));
+  }
+  return K;
+}
+
+namespace {
+
+// out = P^T X P block by block: P is block diagonal, so block (j,k) of the
+// (nu x nu) result is P_j^T X_jk P_k (docs/theory.md §4, eq. (2)).
+void projectBlocks(const Model& m, const Eigen::MatrixXd& X, const Eigen::Matrix3Xd& Pl,
+                   const Eigen::Matrix3Xd& Pr, Eigen::MatrixXd& out, bool accumulate = false) {
+  Block3 XP;
+  for (const Body& Bj : m.bodies) {
+    const int j = &Bj - m.bodies.data();
+    for (const Body& Bk : m.bodies) {
+      const int k = &Bk - m.bodies.data();
+      XP.noalias() = X.block<3, 3>(3 * j, 3 * k) * Pr.middleCols(Bk.iu, Bk.nu());
+      auto dst = out.block(Bj.iu, Bk.iu, Bj.nu(), Bk.nu());
+      if (accumulate)
+        dst.noalias() += Pl.middleCols(Bj.iu, Bj.nu()).transpose() * XP;
+      else
+        dst.noalias() = Pl.middleCols(Bj.iu, Bj.nu()).transpose() * XP;
+    }
+  }
+}
+
+}  // namespace
+
+void formA(const Model& m, Workspace& ws) {
+  ws.M = ws.K;
+  applyTXTt(m, ws.M);
+  projectBlocks(m, ws.M, ws.P, ws.P, ws.A);
+}
+
+void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
+  const int n = m.n();
+  for (int i = 0; i < n; ++i) {
+    const Body& Bi = m.bodies[i];
+    const int p = Bi.parent;
+    const Vec3& w = ws.omega[i];
+    // (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
+    Vec3 g_i = ws.Pdot.middleCols(Bi.iu, Bi.nu()) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu, Bi.nu());
+    // e_i: velocity-product acceleration of joint point i, from the parent's joint point.
+    Vec3 e_i = Vec3::Zero();
+    if (p >= 0) {
+      g_i += ws.x3n.segment<3>(3 * p);
+      e_i = ws.e[p] + ws.omega[p].cross(ws.omega[p].cross(ws.d[i]));
+    }
+    ws.x3n.segment<3>(3 * i) = g_i;
+    ws.e[i] = e_i;
+    ws.h[i] = e_i + w.cross(w.cross(ws.b[i]));
+  }
+  // F_k = sum over subtree(k) of m_i (h_i - g), bottom-up.
+  for (int k = n - 1; k >= 0; --k) {
+    ws.F[k] = m.bodies[k].mass * (ws.h[k] - m.gravity);
+    for (int c : m.bodies[k].children) ws.F[k] += ws.F[c];
+  }
+  // y = K T^T f + M', M'_j = w_j x J_j w_j + sum_i T_ji m_i l_ji x (h_i - g)
+  // (barycentric: l_ji is d_c for every i below child c).
+  ws.y3n.noalias() = ws.K * ws.x3n;
+  for (int j = 0; j < n; ++j) {
+    const Body& Bj = m.bodies[j];
+    const Vec3& w = ws.omega[j];
+    Vec3 Mp = w.cross(ws.J_w[j] * w) + Bj.mass * ws.b[j].cross(ws.h[j] - m.gravity);
+    for (int c : Bj.children) Mp += ws.d[c].cross(ws.F[c]);
+    ws.y3n.segment<3>(3 * j) += Mp;
+  }
+  // T y: subtree sums, then B = -P^T (T y) + Q.
+  for (int i = n - 1; i >= 0; --i)
+    if (int p = m.bodies[i].parent; p >= 0) ws.y3n.segment<3>(3 * p) += ws.y3n.segment<3>(3 * i);
+  for (const Body& Bi : m.bodies) {
+    const int i = &Bi - m.bodies.data();
+    ws.B.segment(Bi.iu, Bi.nu()).noalias() = -(ws.P.middleCols(Bi.iu, Bi.nu()).transpose() * ws.y3n.segment<3>(3 * i));
+  }
+  if (m.has_springs) addSpringForces(m, q, u, ws.B);
+}
+
+void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q) {
+  for (const Body& Bi : m.bodies) {
+    if (!Bi.joint.has_spring) continue;
+    const Spring& sp = Bi.joint.spring;
+    for (int k = 0; k < Bi.nu(); ++k)
+      Q[Bi.iu + k] += -sp.k[k] * (q[Bi.iq + k] - sp.q_rest[k]) - sp.c[k] * u[Bi.iu + k];
+  }
+}
+
+void formAdot(const Model& m, Workspace& ws) {
+  // K': every block is built of vectors fixed in one body, so each vector x
+  // fixed in body j has x' = w_j x x (docs/theory.md §6).
+  ws.Kdot.setZero();
+  for (int k = 0; k < m.n(); ++k) {
+    const Mat3 W = skew(ws.omega[k]);
+    const Mat3 Kkk = ws.K.block<3, 3>(3 * k, 3 * k);
+    ws.Kdot.block<3, 3>(3 * k, 3 * k) = W * Kkk - Kkk * W;
+    const Vec3& s = ws.s[k];
+    const Vec3 s_dot = ws.omega[k].cross(s);
+    for (int c = k, j = m.bodies[k].parent; j >= 0; c = j, j = m.bodies[j].parent) {
+      const Vec3& d = ws.d[c];
+      const Vec3 d_dot = ws.omega[j].cross(d);
+      const Mat3 Kjk_dot = kernel(d_dot, s) + kernel(d, s_dot);
+      ws.Kdot.block<3, 3>(3 * j, 3 * k) = Kjk_dot;
+      ws.Kdot.block<3, 3>(3 * k, 3 * j) = Kjk_dot.transpose();
+    }
+  }
+  ws.Mdot = ws.Kdot;
+  applyTXTt(m, ws.Mdot);
+  // A' = P'^T M P + P^T M' P + P^T M P'; the first is the transpose of the last.
+  projectBlocks(m, ws.M, ws.P, ws.Pdot, ws.Adot);
+  for (int a = 0; a < m.nu; ++a)
+    for (int c = a; c < m.nu; ++c) ws.Adot(a, c) = ws.Adot(c, a) = ws.Adot(a, c) + ws.Adot(c, a);
+  projectBlocks(m, ws.Mdot, ws.P, ws.P, ws.Adot, true);
+}
+
+void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot) {
+  formKinematics(m, q, u, ws);
+  formK(m, ws);
+  formA(m, ws);
+  formB(m, q, u, ws);
+  if (with_Adot) formAdot(m, ws);
+}
+
+void formQdot(const Model& m, const double* q, const double* u, double* qdot) {
+  for (const Body& Bi : m.bodies) jointQdot(Bi.joint, q + Bi.iq, u + Bi.iu, qdot + Bi.iq);
+}
+
+}  // namespace em

@@ -1,0 +1,65 @@
+#pragma once
+/// Wittenburg's direct formation of the equations of motion A u' = B on a
+/// preallocated workspace (docs/theory.md §3–6; paper eqs. (1)–(4), (18)).
+#include <vector>
+
+#include "solver/joint.hpp"
+#include "solver/model.hpp"
+
+namespace em {
+
+/// Per-evaluation scratch (Pinocchio's Data, MuJoCo's mjData). Sized once from
+/// the model; evaluations never allocate. All vectors in the world frame,
+/// bodies in internal (regular) order.
+struct Workspace {
+  explicit Workspace(const Model& m);
+
+  std::vector<Mat3> R;      ///< R_i: world <- body i
+  std::vector<Mat3> J_w;    ///< inertia of body i about its CM, world frame
+  std::vector<Vec3> omega;  ///< omega_i: angular velocity of body i
+  std::vector<Vec3> b;      ///< l_ii = -R_i c_i: joint point i -> CM i
+  std::vector<Vec3> d;      ///< d_i = R_p (a_i - c_p): parent's joint point -> joint point i (0 for roots)
+  std::vector<Vec3> o;      ///< position of joint point i
+  std::vector<Vec3> r;      ///< position of CM i
+  std::vector<Vec3> v;      ///< velocity of CM i
+  std::vector<Vec3> s;      ///< s_k = sum over subtree(k) of m_i l_ki
+  std::vector<double> m_sub;  ///< mass of subtree(k)
+  std::vector<Vec3> e;      ///< velocity-product part of joint point i's acceleration
+  std::vector<Vec3> h;      ///< velocity-product part of CM i's acceleration
+  std::vector<Vec3> F;      ///< sum over subtree(k) of m_i (h_i - g)
+  Eigen::Matrix3Xd P;       ///< the paper's p: world axes p_jk as columns (block diagonal, stored 3 x nu)
+  Eigen::Matrix3Xd Pdot;    ///< axis rates p_jk'  (3 x nu)
+  Eigen::MatrixXd K;        ///< inertia block matrix  (3n x 3n)
+  Eigen::MatrixXd M;        ///< T K T^T  (3n x 3n)
+  Eigen::MatrixXd Kdot, Mdot;  ///< K', T K' T^T  (3n x 3n)
+  Eigen::MatrixXd A, Adot;  ///< mass matrix and its time derivative  (nu x nu)
+  Eigen::VectorXd B;        ///< right-hand side  (nu)
+  Eigen::VectorXd x3n, y3n; ///< scratch  (3n)
+  double kinetic = 0, potential = 0;
+
+  double energy() const { return kinetic + potential; }
+};
+
+/// Orientations, axes, positions, velocities, energies at (q, u).  // q: (nq), u: (nu)
+void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws);
+/// K by the barycentric O(n^2) form (needs formKinematics).  // -> ws.K (3n x 3n)
+void formK(const Model& m, Workspace& ws);
+/// K by the naive triple sum over i, j, k: the test oracle.  // (3n x 3n)
+Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws);
+/// A = (P^T T) K (P^T T)^T (paper eq. (2); needs formK).  // -> ws.M, ws.A
+void formA(const Model& m, Workspace& ws);
+/// B = -(P^T T)[K T^T f + M'] + Q (paper eq. (18); needs formK).  // -> ws.B (nu)
+void formB(const Model& m, const double* q, const double* u, Workspace& ws);
+/// Q += generalized spring-damper forces -k (q - q_rest) - c u.  // Q: (nu)
+void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q);
+/// A' (docs/theory.md §6; needs formA).  // -> ws.Adot (nu x nu)
+void formAdot(const Model& m, Workspace& ws);
+/// All of the above in order; A' only when asked.
+void formEquations(const Model& m, const double* q, const double* u, Workspace& ws,
+                   bool with_Adot = false);
+/// Total potential energy (gravity + springs) at q, using ws's CM positions.
+double potentialEnergy(const Model& m, const double* q, const Workspace& ws);
+/// q' from u for all joints.  // q, u -> qdot (nq)
+void formQdot(const Model& m, const double* q, const double* u, double* qdot);
+
+}  // namespace em

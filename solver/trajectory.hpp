@@ -1,0 +1,54 @@
+#pragma once
+/// The trajectory type shared by the in-house methods and the Simbody
+/// reference: samples on an output grid, in the scene file's order.
+#include <string>
+#include <vector>
+
+#include "solver/model.hpp"
+
+namespace em {
+
+/// Pose of one body: CM position and orientation quaternion [w,x,y,z], world frame.
+struct Pose {
+  Vec3 p = Vec3::Zero();
+  Vec4 quat = Vec4(1, 0, 0, 0);
+};
+
+/// Eigenfactor drift at one sample (NaN when the method has none).
+struct SampleDiagnostics {
+  double orth_err, offdiag_rel, min_gap, max_Omega, inv_err;
+};
+
+/// A sampled run. Coordinates, speeds and bodies in the file's order.
+struct Trajectory {
+  std::string scene, method, integrator;
+  std::vector<std::string> q_names, u_names, body_names;
+  std::vector<double> t;                   ///< sample times
+  std::vector<Eigen::VectorXd> q, u;       ///< (nq), (nu) per sample
+  std::vector<double> energy;              ///< total energy per sample
+  std::vector<std::vector<Pose>> poses;    ///< per sample, per body
+  std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
+  // Run summary.
+  std::string status = "ok";               ///< "ok" or "failed"
+  std::string failure;                     ///< cause when failed
+  double failure_time = 0;
+  double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
+  double sample_time_s = 0;                ///< CPU time spent recording samples
+  long steps = 0, rhs_evals = 0;
+  long jacobi_sweeps = 0, jacobi_rotations = 0, jacobi_single_sweep_steps = 0;
+  int jacobi_max_sweeps = 0;
+  double max_abs_Omega = 0, min_gap = 0, min_gap_time = 0;
+
+  size_t size() const { return t.size(); }
+  bool failed() const { return status != "ok"; }
+};
+
+/// Empty trajectory with names taken from the model.
+Trajectory makeTrajectory(const Model& m, const std::string& method, const std::string& integrator);
+
+/// CSV: t, coordinates, speeds, energy, per body x,y,z,qw,qx,qy,qz, then diagnostics if any.
+void writeCsv(const Trajectory& tr, const std::string& path);
+/// Read back a CSV written by writeCsv (names, q, u, energy, poses).
+Trajectory readCsv(const std::string& path);
+
+}  // namespace em
