@@ -6,7 +6,12 @@
 namespace em {
 
 double offDiagonalNorm(const Eigen::Ref<const Eigen::MatrixXd>& D) {
-  return std::sqrt(std::max(0.0, D.squaredNorm() - D.diagonal().squaredNorm()));
+  // Summed directly: ||D||^2 - ||diag D||^2 cancels catastrophically near diagonal D.
+  double s = 0;
+  for (int j = 0; j < D.cols(); ++j)
+    for (int i = 0; i < D.rows(); ++i)
+      if (i != j) s += D(i, j) * D(i, j);
+  return std::sqrt(s);
 }
 
 namespace {
