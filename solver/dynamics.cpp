@@ -102,29 +102,14 @@ bool Dynamics::eigenRhs(double t, const double* y, double* dydt) {
   const double lmax = lambda.maxCoeff();
   for (int i = 0; i < N; ++i)
     if (!(lambda[i] > 0)) { fail(t, "eigenvalue lambda_" + std::to_string(i) + " = " + fmt(lambda[i]) + " <= 0"); return false; }
-  // G = C A' C^T; lambda' = diag(G); Omega_ij = G_ij / (lambda_j - lambda_i) (paper eqs. (11), (14), (15)).
-  T1_.noalias() = ws_.Adot * C.transpose();
-  G_.noalias() = C * T1_;
-  lambda_dot = G_.diagonal();
-  const double floor = opt_.gap_floor_rel * lmax;
-  for (int i = 0; i < N; ++i) {
-    G_(i, i) = 0;
-    for (int j = i + 1; j < N; ++j) {
-      const double gap = lambda[j] - lambda[i];
-      if (!(std::abs(gap) >= floor)) {
-        fail(t, "eigenvalue gap |lambda_" + std::to_string(i) + " - lambda_" + std::to_string(j) + "| = " + fmt(std::abs(gap)) +
-                    " below the floor " + fmt(floor));
-        return false;
-      }
-      // Omega is skew: Omega_ji = G_ji / (lambda_i - lambda_j) = -Omega_ij since G is symmetric.
-      const double w = G_(i, j) / gap;
-      G_(i, j) = w;
-      G_(j, i) = -w;
-      max_abs_Omega = std::max(max_abs_Omega, std::abs(w));
-    }
+  const RateStatus st = eigenRates(C, lambda, ws_.Adot, opt_.gap_floor_rel * lmax, G_, T1_, lambda_dot, Cdot);
+  if (!st.ok) {
+    fail(t, "eigenvalue gap |lambda_" + std::to_string(st.i) + " - lambda_" + std::to_string(st.j) + "| = " +
+                fmt(st.gap) + " below the floor " + fmt(opt_.gap_floor_rel * lmax));
+    return false;
   }
-  // C' = -Omega C (paper eq. (8)); u' = C^T Lambda^-1 C B (paper eq. (17)).
-  Cdot.noalias() = -G_ * C;
+  max_abs_Omega = std::max(max_abs_Omega, st.max_Omega);
+  // u' = C^T Lambda^-1 C B (paper eq. (17)).
   z_.noalias() = C * ws_.B;
   z_.array() /= lambda.array();
   udot.noalias() = C.transpose() * z_;
@@ -179,9 +164,7 @@ EigenDiagnostics Dynamics::diagnosticsAt(const double* y) {
   rhs_evals = evals;
   failure_ = saved;
   max_abs_Omega = omega_seen;
-  double wmax = ok ? 0 : std::numeric_limits<double>::infinity();
-  for (int i = 0; i < N; ++i)
-    for (int j = i + 1; j < N; ++j) wmax = std::max(wmax, std::abs(G_(i, j)));
+  const double wmax = ok ? G_.cwiseAbs().maxCoeff() : std::numeric_limits<double>::infinity();
   return eigenDiagnostics(ws_.A, Eigen::Map<const RowMatrix>(y + offsetC(), N, N),
                           Eigen::Map<const Eigen::VectorXd>(y + offsetLambda(), N), wmax);
 }

@@ -72,6 +72,30 @@ void symmetricOrthonormalize(Eigen::Ref<RowMatrix> C, CorrectionScratch& w) {
   C = w.W;
 }
 
+RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& T,
+                      Eigen::Ref<Eigen::VectorXd> lambda_dot, Eigen::Ref<RowMatrix> Cdot) {
+  RateStatus st;
+  const int N = static_cast<int>(lambda.size());
+  T.noalias() = Adot * C.transpose();
+  Omega.noalias() = C * T;  // G = C A' C^T, overwritten by Omega below
+  lambda_dot = Omega.diagonal();
+  for (int i = 0; i < N; ++i) {
+    Omega(i, i) = 0;
+    for (int j = i + 1; j < N; ++j) {
+      const double gap = lambda[j] - lambda[i];
+      if (!(std::abs(gap) >= gap_floor)) return {false, i, j, std::abs(gap), st.max_Omega};
+      // G is symmetric, so Omega_ji = G_ij / (lambda_i - lambda_j) = -Omega_ij: Omega is skew.
+      const double w = Omega(i, j) / gap;
+      Omega(i, j) = w;
+      Omega(j, i) = -w;
+      st.max_Omega = std::max(st.max_Omega, std::abs(w));
+    }
+  }
+  Cdot.noalias() = -Omega * C;
+  return st;
+}
+
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda) {
   double g = std::numeric_limits<double>::infinity();
   for (int i = 0; i < lambda.size(); ++i)

@@ -11,6 +11,22 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 /// Off-diagonal Frobenius norm of a square matrix.
 double offDiagonalNorm(const Eigen::Ref<const Eigen::MatrixXd>& D);
 
+/// Outcome of eigenRates: ok, or the pair whose eigenvalue gap fell below the floor.
+struct RateStatus {
+  bool ok = true;
+  int i = -1, j = -1;
+  double gap = 0;
+  double max_Omega = 0;  ///< max |Omega_ij| (when ok)
+};
+
+/// Junkins–Schaub rates (paper eqs. (8), (11), (14), (15); docs/theory.md §7):
+/// G = C A' C^T, lambda' = diag G, Omega_ij = G_ij / (lambda_j - lambda_i),
+/// C' = -Omega C. Omega is left in `Omega`; T is scratch. Stops with !ok when a
+/// gap |lambda_j - lambda_i| is below gap_floor.  // all (N x N) or (N)
+RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& T,
+                      Eigen::Ref<Eigen::VectorXd> lambda_dot, Eigen::Ref<RowMatrix> Cdot);
+
 /// Statistics of one Jacobi correction.
 struct JacobiStats {
   int sweeps = 0;

@@ -61,7 +61,7 @@ Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int
   if (len < min_len || len > max_len)
     throw SceneError(path, "expected " + std::to_string(min_len) +
                                (max_len != min_len ? " or " + std::to_string(max_len) : "") +
-                               " numbers, got " + std::to_string(len));
+                               (max_len == 1 ? " number" : " numbers") + ", got " + std::to_string(len));
   Eigen::VectorXd x(len);
   for (int i = 0; i < len; ++i) x[i] = number(v[i], at(path, i));
   return x;
@@ -176,19 +176,54 @@ BodySpec body(const json& v, const std::string& path) {
   return b;
 }
 
-// nlohmann keeps the last of duplicate keys silently; a scene must not have them.
-json parseStrict(const std::string& text) {
-  std::vector<std::set<std::string>> seen;
-  std::vector<std::string> dup;
-  json::parser_callback_t cb = [&](int, json::parse_event_t ev, json& parsed) {
-    if (ev == json::parse_event_t::object_start) seen.emplace_back();
-    if (ev == json::parse_event_t::object_end) seen.pop_back();
-    if (ev == json::parse_event_t::key && !seen.back().insert(parsed.get<std::string>()).second && dup.empty())
-      dup.push_back(parsed.get<std::string>());
-    return true;
+// The parse callback tracks the JSON path of the value being read, so that
+// parser-level failures (a number overflow such as 1e999) and duplicate keys
+// (which nlohmann would silently resolve to the last) name their key.
+struct PathTracker {
+  struct Frame {
+    explicit Frame(bool is_array) : array(is_array) {}
+    bool array;
+    long count = 0;   // completed elements of an array: the index of the one being read
+    std::string key;  // current key of an object
+    std::set<std::string> keys;
   };
-  json doc = json::parse(text, cb);
-  if (!dup.empty()) throw SceneError(dup[0], "duplicate key");
+  std::vector<Frame> stack;
+  std::string duplicate;
+
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : stack) {
+      if (f.array) p += "[" + std::to_string(f.count) + "]";
+      else if (!f.key.empty()) p += (p.empty() ? "" : ".") + f.key;
+    }
+    return p.empty() ? "(document)" : p;
+  }
+  // nlohmann emits `value` only for primitives; a container completes at its end event.
+  void completed() {
+    if (!stack.empty() && stack.back().array) ++stack.back().count;
+  }
+  bool operator()(int, json::parse_event_t ev, json& parsed) {
+    using E = json::parse_event_t;
+    switch (ev) {
+      case E::object_start: stack.emplace_back(false); break;
+      case E::array_start: stack.emplace_back(true); break;
+      case E::object_end:
+      case E::array_end: stack.pop_back(); completed(); break;
+      case E::key:
+        stack.back().key = parsed.get<std::string>();
+        if (!stack.back().keys.insert(stack.back().key).second && duplicate.empty()) duplicate = path();
+        break;
+      case E::value: completed(); break;
+    }
+    return true;
+  }
+};
+
+json parseStrict(const std::string& text, PathTracker& tracker) {
+  json doc = json::parse(text, [&tracker](int depth, json::parse_event_t ev, json& parsed) {
+    return tracker(depth, ev, parsed);
+  });
+  if (!tracker.duplicate.empty()) throw SceneError(tracker.duplicate, "duplicate key");
   return doc;
 }
 
@@ -230,14 +265,15 @@ SceneSpec spec(const json& doc) {
 SceneSpec parseSceneSpec(const std::string& text, const std::string& source) {
   try {
     json doc;
+    PathTracker tracker;
     try {
-      doc = parseStrict(text);
+      doc = parseStrict(text, tracker);
     } catch (const json::parse_error& e) {
       throw SceneError("(document)", "invalid JSON at " + lineColumn(text, e.byte));
     } catch (const json::exception& e) {
-      // e.g. out_of_range.406: a number too large for a double (1e999).
-      std::string w = e.what();
-      throw SceneError("(document)", "invalid JSON: " + w.substr(w.find(']') + 2));
+      // out_of_range.406: a number too large for a double (1e999), at the tracked path.
+      const std::string w = e.what();
+      throw SceneError(tracker.path(), w.substr(w.find(']') + 2) + " (not a finite number)");
     }
     return spec(doc);
   } catch (const SceneError& e) {

@@ -1,0 +1,125 @@
+// Tier 3 (cross-check): the in-house Wittenburg formation against an
+// independent Simbody model of the same scene, state by state and over time.
+#include <catch2/catch.hpp>
+
+#include "reference/simbody_reference.hpp"
+#include "solver/formation.hpp"
+#include "solver/integrate.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// Round-off bound of the issue: relative to the reference's own magnitude.
+constexpr double kRel = 1e-12;
+// Absolute floors: B and u' may vanish (u = 0, hanging still); below these
+// magnitudes (N m, rad/s^2) an absolute error of kRel * floor is accepted.
+constexpr double kFloorB = 1e-3, kFloorUdot = 1e-3;
+constexpr int kStates = 20;
+
+double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+    for (size_t i = 0; i < a.poses[k].size(); ++i) {
+      d = std::max(d, (a.poses[k][i].p - b.poses[k][i].p).norm());
+      d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
+    }
+  return d;
+}
+
+SimOptions rk8pd(double tol, double t_end) {
+  SimOptions o;
+  o.integrator = Integrator::RK8PD;
+  o.tol = tol;
+  o.t_end = t_end;
+  o.output_dt = 0.01;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("A B udot energies and poses agree with Simbody at random states of every scene", "[crosscheck]") {
+  std::mt19937 rng(3);
+  for (const auto& name : test::dataScenes()) {
+    const Model m = test::loadData(name);
+    SimbodyReference ref(m);
+    Workspace ws(m);
+    Eigen::VectorXd q = m.q0(), u = m.u0();
+    for (int k = 0; k <= kStates; ++k) {
+      INFO(name << " state " << k);
+      formEquations(m, q.data(), u.data(), ws);
+      ref.setState(q, u);
+      const Eigen::MatrixXd A = ref.massMatrix();
+      const Eigen::VectorXd B = ref.rhs(), udot = ref.udot();
+      CHECK(test::relErr(ws.A, A) <= kRel);
+      CHECK(test::relErr(ws.B, B, kFloorB) <= kRel);
+      CHECK(test::relErr(Eigen::VectorXd(ws.A.llt().solve(ws.B)), udot, kFloorUdot) <= kRel);
+      CHECK(std::abs(ws.kinetic - ref.kineticEnergy()) <= kRel * std::max(ref.kineticEnergy(), 1.0));
+      CHECK(std::abs(ws.potential - ref.potentialEnergy()) <= kRel * std::max(std::abs(ref.potentialEnergy()), 1.0));
+      const std::vector<Pose> poses = ref.poses();
+      for (int i = 0; i < m.n(); ++i) {
+        CHECK((poses[i].p - ws.r[i]).norm() <= 1e-14 * std::max(1.0, ws.r[i].norm()));
+        CHECK(rotationAngleBetween(quatToMatrix(poses[i].quat), ws.R[i]) <= 1e-14);
+      }
+      test::randomState(m, rng, q, u);
+    }
+  }
+}
+
+TEST_CASE("state mapping round-trips for every joint kind (quaternion order - ball speeds)", "[crosscheck]") {
+  const Model m = test::loadData("tree_mixed.json");
+  SimbodyReference ref(m);
+  std::mt19937 rng(5);
+  Eigen::VectorXd q, u, q2, u2;
+  test::randomState(m, rng, q, u);
+  ref.setState(q, u);
+  ref.getState(q2, u2);
+  CHECK((q2 - q).cwiseAbs().maxCoeff() < 1e-15);
+  CHECK(u2 == u);
+}
+
+TEST_CASE("a balls u is the angular velocity in the parent frame in Simbody too", "[crosscheck]") {
+  // One asymmetric body on a ball at the origin: its kinetic energy is
+  // 1/2 w^T (R J R^T + pivot terms) w with w = u only if u is in the parent frame.
+  const Model m = test::loadData("pendulum5_ball.json");
+  SimbodyReference ref(m);
+  Workspace ws(m);
+  Eigen::VectorXd q = m.q0(), u = Eigen::VectorXd::Zero(m.nu);
+  u.head<3>() = Vec3(0.3, -1.1, 0.7);
+  ref.setState(q, u);
+  formKinematics(m, q.data(), u.data(), ws);
+  CHECK((ws.omega[0] - Vec3(0.3, -1.1, 0.7)).norm() < 1e-15);
+  CHECK(std::abs(ref.kineticEnergy() - ws.kinetic) < 1e-13);
+}
+
+TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12 over 5 s", "[crosscheck][slow]") {
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory in = simulate(m, Method::Classical, rk8pd(1e-13, 5.0));
+  const Trajectory sb = SimbodyReference(m).simulate("rkmerson", 1e-12, 5.0, 0.01);
+  REQUIRE(in.status == "ok");
+  REQUIRE(sb.status == "ok");
+  REQUIRE(in.size() == sb.size());
+  double dq = 0;
+  for (size_t k = 0; k < in.size(); ++k) dq = std::max(dq, (in.q[k] - sb.q[k]).cwiseAbs().maxCoeff());
+  CHECK(dq <= 1e-6);
+  CHECK(maxPoseDiff(in, sb) <= 1e-6);
+}
+
+TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
+  const Model g = test::loadData("pendulum5.json"), b = test::loadData("pendulum5_ball.json");
+  const Trajectory sg = SimbodyReference(g).simulate("rkmerson", 1e-12, 5.0, 0.01);
+  const Trajectory sball = SimbodyReference(b).simulate("rkmerson", 1e-12, 5.0, 0.01);
+  const Trajectory ib = simulate(b, Method::Classical, rk8pd(1e-13, 5.0));
+  CHECK(maxPoseDiff(sg, sball) <= 1e-8);
+  CHECK(maxPoseDiff(ib, sball) <= 1e-8);
+}
+
+TEST_CASE("a branched tree with every joint kind tracks Simbody over 2 s", "[crosscheck][slow]") {
+  const Model m = test::loadData("tree_mixed.json");
+  const Trajectory in = simulate(m, Method::Classical, rk8pd(1e-12, 2.0));
+  const Trajectory sb = SimbodyReference(m).simulate("rkmerson", 1e-11, 2.0, 0.01);
+  REQUIRE(in.status == "ok");
+  REQUIRE(sb.status == "ok");
+  CHECK(maxPoseDiff(in, sb) <= 1e-6);
+}

@@ -1,0 +1,180 @@
+// The three methods: the eigenfactor rates against finite differences of a
+// numerical eigendecomposition, agreement between methods (tier 2), drift
+// bounds of the paper's methods b and c, and every failure path.
+#include <catch2/catch.hpp>
+
+#include "solver/dynamics.hpp"
+#include "solver/integrate.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// Eigen-decomposition of A(q) with rows aligned in sign to `ref`.
+void eigenAt(const Model& m, const Eigen::VectorXd& q, const RowMatrix& ref, RowMatrix& C, Eigen::VectorXd& lambda) {
+  Workspace ws(m);
+  const Eigen::VectorXd u = Eigen::VectorXd::Zero(m.nu);
+  formEquations(m, q.data(), u.data(), ws);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(ws.A);
+  C = es.eigenvectors().transpose();
+  lambda = es.eigenvalues();
+  for (int i = 0; i < C.rows(); ++i)
+    if (C.row(i).dot(ref.row(i)) < 0) C.row(i) *= -1;
+}
+
+SimOptions rk4(double t_end) {
+  SimOptions o;
+  o.integrator = Integrator::RK4;
+  o.dt = 1e-3;
+  o.t_end = t_end;
+  o.output_dt = 0.01;
+  return o;
+}
+
+double maxAngleDiff(const Trajectory& a, const Trajectory& b) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k) d = std::max(d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff());
+  return d;
+}
+
+// A sphere on a ball joint at its centre: A = I E, all eigenvalues equal.
+Model sphereOnBall() {
+  SceneSpec s;
+  s.name = "sphere";
+  BodySpec b;
+  b.name = "sphere";
+  b.parent = "ground";
+  b.inertia = 0.4 * Mat3::Identity();
+  b.joint.type = JointType::Ball;
+  b.joint.q0 = Vec4(1, 0, 0, 0);
+  b.joint.u0 = Vec3(0.1, 0.2, 0.3);
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
+}  // namespace
+
+TEST_CASE("lambda dot and Omega equal finite differences of a numerical eigendecomposition", "[identity][dynamics]") {
+  // pendulum5's eigenvalues are well separated (smallest gap ~0.1), so the
+  // eigenvectors are smooth in q; central differences with h = 1e-6 are good to ~1e-9.
+  const Model m = test::loadData("pendulum5.json");
+  Dynamics dyn(m, Method::Eigen);
+  Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+  REQUIRE(dyn.rhs(0, y.data(), dy.data()));
+  const int N = m.nu;
+  const Eigen::Map<const RowMatrix> C0(y.data() + dyn.offsetC(), N, N);
+  const Eigen::Map<const RowMatrix> Cdot(dy.data() + dyn.offsetC(), N, N);
+  const Eigen::Map<const Eigen::VectorXd> ldot(dy.data() + dyn.offsetLambda(), N);
+  const double h = 1e-6, kFdRel = 1e-6;
+  const Eigen::VectorXd qdot = dy.head(m.nq);
+  RowMatrix Cp, Cm;
+  Eigen::VectorXd lp, lm;
+  eigenAt(m, m.q0() + h * qdot, C0, Cp, lp);
+  eigenAt(m, m.q0() - h * qdot, C0, Cm, lm);
+  const Eigen::VectorXd ldot_fd = (lp - lm) / (2 * h);
+  CHECK((ldot - ldot_fd).cwiseAbs().maxCoeff() <= kFdRel * ldot_fd.cwiseAbs().maxCoeff());
+  // C' = -Omega C, so Omega = -C' C^T.
+  const Eigen::MatrixXd Omega_fd = -((Cp - Cm) / (2 * h)) * C0.transpose();
+  const Eigen::MatrixXd Omega = -Cdot * C0.transpose();
+  CHECK((Omega - Omega_fd).cwiseAbs().maxCoeff() <= kFdRel * Omega_fd.cwiseAbs().maxCoeff());
+  CHECK(Omega_fd.cwiseAbs().maxCoeff() > 1e-3);  // the check is not vacuous
+}
+
+TEST_CASE("all methods give the same udot at the initial state", "[identity][dynamics]") {
+  for (const auto& name : test::dataScenes()) {
+    const Model m = test::loadData(name);
+    Eigen::VectorXd ref;
+    // A repeated eigenvalue (forest: an isotropic body on a ball) is outside the
+    // parameterization: the eigenfactor methods must refuse it with the cause.
+    Workspace ws(m);
+    formEquations(m, m.q0().data(), m.u0().data(), ws);
+    const Eigen::VectorXd lam = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(ws.A).eigenvalues();
+    const bool repeated = minEigenGap(lam) < MethodOptions().gap_floor_rel * lam.maxCoeff();
+    CHECK(repeated == (name == "forest.json"));
+    for (Method meth : {Method::Classical, Method::Eigen, Method::EigenJacobi}) {
+      Dynamics dyn(m, meth);
+      Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+      if (repeated && meth != Method::Classical) {
+        CHECK_FALSE(dyn.rhs(0, y.data(), dy.data()));
+        CHECK_THAT(dyn.failure().cause, Catch::Contains("eigenvalue gap"));
+        continue;
+      }
+      REQUIRE(dyn.rhs(0, y.data(), dy.data()));
+      const Eigen::VectorXd udot = dy.segment(m.nq, m.nu);
+      if (meth == Method::Classical) ref = udot;
+      INFO(name << " " << methodName(meth));
+      // C^T Lambda^-1 C B vs a Cholesky solve: both backward stable, cond(A) <= 1e4 here.
+      CHECK(test::relErr(udot, ref, 1e-3) < 1e-11);
+    }
+  }
+}
+
+TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-jacobi", "[identity][dynamics]") {
+  const Model m = test::loadData("pendulum5.json");
+  SimOptions o = rk4(0.1);
+  const Trajectory e = simulate(m, Method::Eigen, o);
+  const Trajectory j = simulate(m, Method::EigenJacobi, o);
+  REQUIRE(e.diag.size() == 11);
+  double off_e = 0, off_j = 0;
+  for (size_t k = 0; k < e.size(); ++k) {
+    off_e = std::max(off_e, e.diag[k].offdiag_rel);
+    off_j = std::max(off_j, j.diag[k].offdiag_rel);
+  }
+  CHECK(off_e <= 1e-6);
+  CHECK(off_e > 1e-14);  // the uncorrected method does drift
+  CHECK(off_j <= 1e-12);
+  REQUIRE(j.steps == 100);
+  CHECK(j.jacobi_single_sweep_steps >= 99);
+}
+
+TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[identity][dynamics]") {
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory c = simulate(m, Method::Classical, rk4(1.0));
+  for (Method meth : {Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
+    const Trajectory t = simulate(m, meth, rk4(1.0));
+    INFO(methodName(meth));
+    CHECK(t.status == "ok");
+    CHECK(maxAngleDiff(t, c) <= 1e-6);
+  }
+}
+
+TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classical runs", "[dynamics][failure]") {
+  const Model m = sphereOnBall();
+  SimOptions o = rk4(0.5);
+  const Trajectory e = simulate(m, Method::Eigen, o);
+  CHECK(e.status == "failed");
+  CHECK(e.failure_time == 0.0);
+  CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
+  const Trajectory c = simulate(m, Method::Classical, o);
+  CHECK(c.status == "ok");
+  CHECK(c.size() == 51);
+}
+
+TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a failure - not a crash", "[dynamics][failure]") {
+  const Model m = test::loadData("pendulum5.json");
+  {
+    Dynamics dyn(m, Method::Classical);
+    Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+    y[2] = std::nan("");
+    CHECK_FALSE(dyn.rhs(1.5, y.data(), dy.data()));
+    CHECK(dyn.failure().t == 1.5);
+    CHECK_THAT(dyn.failure().cause, Catch::Contains("non-finite"));
+  }
+  {
+    Dynamics dyn(m, Method::Eigen);
+    Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+    y[dyn.offsetLambda()] = -0.1;
+    CHECK_FALSE(dyn.rhs(0, y.data(), dy.data()));
+    CHECK_THAT(dyn.failure().cause, Catch::Contains("lambda_0") && Catch::Contains("<= 0"));
+  }
+  {
+    MethodOptions mo;
+    mo.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
+    const Trajectory t = simulate(m, Method::Classical, rk4(2.0), mo);
+    CHECK(t.status == "failed");
+    CHECK_THAT(t.failure, Catch::Contains("blow-up"));
+    CHECK(t.failure_time > 0);
+    CHECK(t.failure_time < 2.0);
+  }
+}

@@ -1,0 +1,119 @@
+// The Junkins–Schaub pieces on hand-made matrices: Jacobi correction,
+// symmetric orthonormalization, the off-diagonal norm, and the rates near an
+// eigenvalue crossing (closed form: |Omega| = delta / (2 (t^2 + delta^2))).
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "solver/eigenfactor.hpp"
+
+using namespace em;
+
+namespace {
+
+constexpr int N = 7;
+
+Eigen::MatrixXd randomSpd(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd X(N, N);
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) X(i, j) = g(rng);
+  return X * X.transpose() + Eigen::MatrixXd::Identity(N, N);
+}
+
+RowMatrix eigenRows(const Eigen::MatrixXd& A) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvectors().transpose();
+}
+
+}  // namespace
+
+TEST_CASE("offDiagonalNorm is accurate for a nearly diagonal matrix", "[closedform][eigenfactor]") {
+  // Regression: ||D||^2 - ||diag D||^2 loses everything below eps ||D||^2.
+  Eigen::MatrixXd D = 1e3 * Eigen::MatrixXd::Identity(3, 3);
+  D(0, 1) = D(1, 0) = 3e-12;
+  D(1, 2) = D(2, 1) = 4e-12;
+  CHECK(std::abs(offDiagonalNorm(D) - std::sqrt(2.0) * 5e-12) < 1e-26);
+}
+
+TEST_CASE("Jacobi correction re-diagonalizes a perturbed eigenbasis", "[identity][eigenfactor]") {
+  std::mt19937 rng(7);
+  const Eigen::MatrixXd A = randomSpd(rng);
+  RowMatrix C = eigenRows(A) + 1e-6 * Eigen::MatrixXd::Random(N, N);
+  const double orth_before = (C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm();
+  Eigen::VectorXd lambda(N);
+  CorrectionScratch w(N);
+  const double tol = 1e-13;
+  const JacobiStats st = jacobiCorrect(A, C, lambda, w, tol, 50);
+  CHECK(st.converged);
+  CHECK(st.sweeps >= 1);
+  CHECK(st.sweeps <= 3);  // quadratic convergence from a warm start
+  CHECK(offDiagonalNorm(C * A * C.transpose()) <= 2 * tol * A.norm());
+  CHECK((lambda - (C * A * C.transpose()).diagonal()).cwiseAbs().maxCoeff() < 1e-13 * A.norm());
+  // Rotations keep C C^T - I as it was: only orthonormalization mends it.
+  CHECK(std::abs((C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm() - orth_before) < 1e-13);
+}
+
+TEST_CASE("Jacobi from an exact eigenbasis needs at most one sweep", "[identity][eigenfactor]") {
+  std::mt19937 rng(8);
+  const Eigen::MatrixXd A = randomSpd(rng);
+  RowMatrix C = eigenRows(A);
+  Eigen::VectorXd lambda(N);
+  CorrectionScratch w(N);
+  CHECK(jacobiCorrect(A, C, lambda, w, 1e-13, 50).sweeps <= 1);
+}
+
+TEST_CASE("symmetric orthonormalization gives the nearest orthogonal matrix", "[identity][eigenfactor]") {
+  std::mt19937 rng(9);
+  const RowMatrix C0 = eigenRows(randomSpd(rng)) + 1e-4 * Eigen::MatrixXd::Random(N, N);
+  RowMatrix C = C0;
+  CorrectionScratch w(N);
+  symmetricOrthonormalize(C, w);
+  CHECK((C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm() < 1e-14);
+  // Nearer to C0 than Gram–Schmidt's orthonormalization of the same rows.
+  const Eigen::MatrixXd Q = Eigen::HouseholderQR<Eigen::MatrixXd>(C0.transpose()).householderQ();
+  Eigen::MatrixXd Qrows = Q.transpose();
+  for (int i = 0; i < N; ++i)
+    if (Qrows.row(i).dot(C0.row(i)) < 0) Qrows.row(i) *= -1;
+  CHECK((C - C0).norm() <= (Qrows - C0).norm());
+}
+
+TEST_CASE("near an eigenvalue crossing |Omega| grows as delta / (2 (t2 + delta2))", "[closedform][eigenfactor]") {
+  // A(t) = [[1 + t, delta], [delta, 1 - t]], A' = diag(1, -1): the eigenvectors
+  // turn at phi' = -delta / (2 (t^2 + delta^2)); the gap is 2 sqrt(t^2 + delta^2).
+  const double delta = 1e-3;
+  Eigen::MatrixXd Om(2, 2), T(2, 2), Adot(2, 2);
+  Adot << 1, 0, 0, -1;
+  Eigen::VectorXd ld(2);
+  RowMatrix Cd(2, 2);
+  double previous = 0;
+  for (double t : {1e-1, 1e-2, 1e-3, 0.0}) {
+    Eigen::MatrixXd A(2, 2);
+    A << 1 + t, delta, delta, 1 - t;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+    const RowMatrix C = es.eigenvectors().transpose();
+    const RateStatus st = eigenRates(C, es.eigenvalues(), Adot, 1e-12, Om, T, ld, Cd);
+    REQUIRE(st.ok);
+    const double exact = delta / (2 * (t * t + delta * delta));
+    INFO("t = " << t);
+    CHECK(std::abs(st.max_Omega - exact) < 1e-9 * exact);
+    CHECK(st.max_Omega > previous);  // grows toward the crossing
+    previous = st.max_Omega;
+    // lambda' = -/+ t / sqrt(t^2 + delta^2): the eigenvalues' own rates.
+    CHECK(std::abs(ld[1] - t / std::sqrt(t * t + delta * delta)) < 1e-9);
+  }
+  CHECK(previous == Approx(1.0 / (2 * delta)).epsilon(1e-9));
+}
+
+TEST_CASE("a gap below the floor stops the rates and names the pair", "[closedform][eigenfactor]") {
+  Eigen::MatrixXd A(3, 3), Adot = Eigen::MatrixXd::Identity(3, 3), Om(3, 3), T(3, 3);
+  A << 2, 0, 0, 0, 1 + 1e-14, 0, 0, 0, 1;
+  Eigen::VectorXd ld(3);
+  RowMatrix Cd(3, 3);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+  const RateStatus st = eigenRates(es.eigenvectors().transpose(), es.eigenvalues(), Adot, 1e-12, Om, T, ld, Cd);
+  CHECK_FALSE(st.ok);
+  CHECK(st.i == 0);
+  CHECK(st.j == 1);
+  CHECK(st.gap < 1e-12);
+  CHECK(minEigenGap(es.eigenvalues()) == Approx(1e-14).margin(1e-16));
+}

@@ -1,0 +1,193 @@
+// The Wittenburg formation: closed-form cases (tier 1) and identities between
+// its parts (tier 2): barycentric K = naive K, A SPD, A' = d/dt A, the
+// energy identity, power balance, and no allocation per evaluation.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "solver/dynamics.hpp"
+#include "solver/formation.hpp"
+#include "support.hpp"
+
+// Counting allocator: every heap allocation in this test binary is counted.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace em;
+
+namespace {
+
+// Round-off of sums of O(n) products of unit-size terms.
+constexpr double kRoundoff = 1e-13;
+// Random states per scene for the identity checks.
+constexpr int kStates = 20;
+
+Workspace formAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u, bool adot = false) {
+  Workspace ws(m);
+  formEquations(m, q.data(), u.data(), ws, adot);
+  return ws;
+}
+
+template <class F>
+void forEachState(F&& f) {
+  std::mt19937 rng(20261122);
+  for (const auto& name : test::dataScenes()) {
+    const Model m = test::loadData(name);
+    Eigen::VectorXd q = m.q0(), u = m.u0();
+    for (int k = 0; k <= kStates; ++k) {
+      INFO(name << " state " << k);
+      f(m, q, u);
+      test::randomState(m, rng, q, u);
+    }
+  }
+}
+
+SceneSpec revoluteSpec(int n) {
+  SceneSpec s;
+  s.name = "planar";
+  for (int i = 0; i < n; ++i) {
+    BodySpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i ? "b" + std::to_string(i - 1) : "ground";
+    b.joint.type = JointType::Revolute;
+    b.joint.axis[0] = Vec3::UnitX();
+    b.joint.q0 = Eigen::VectorXd::Zero(1);
+    b.joint.u0 = Eigen::VectorXd::Zero(1);
+    s.bodies.push_back(b);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("compound pendulum: A = I + m l2 and udot = -m g l sin q / (I + m l2)", "[closedform][formation]") {
+  const double m = 2.5, l = 0.7, I = 0.11, g = 9.81, q = 0.9, u = -1.3;
+  SceneSpec s = revoluteSpec(1);
+  s.bodies[0].mass = m;
+  s.bodies[0].inertia = Vec3(I, 0.2, 0.2).asDiagonal();
+  s.bodies[0].joint.in_body = Vec3(0, 0, l);  // CM a distance l below the pivot at q = 0
+  const Model model = buildModel(s);
+  const Eigen::VectorXd qv = Eigen::VectorXd::Constant(1, q), uv = Eigen::VectorXd::Constant(1, u);
+  const Workspace ws = formAt(model, qv, uv);
+  CHECK(std::abs(ws.A(0, 0) - (I + m * l * l)) < kRoundoff);
+  CHECK(std::abs(ws.B[0] / ws.A(0, 0) - (-m * g * l * std::sin(q) / (I + m * l * l))) < kRoundoff);
+  CHECK(std::abs(ws.kinetic - 0.5 * (I + m * l * l) * u * u) < kRoundoff);
+  CHECK(std::abs(ws.potential - (-m * g * l * std::cos(q))) < kRoundoff);
+}
+
+TEST_CASE("planar double pendulum of point masses matches the textbook equations", "[closedform][formation]") {
+  // Point masses: inertia eps about the CM; its effect on u' is O(eps / (m l^2)).
+  const double m1 = 1.3, m2 = 0.8, l1 = 1.1, l2 = 0.6, g = 9.81, eps = 1e-12;
+  const double kPointMassTol = 1e-9;
+  SceneSpec s = revoluteSpec(2);
+  s.bodies[0].mass = m1;
+  s.bodies[1].mass = m2;
+  for (auto& b : s.bodies) b.inertia = eps * Mat3::Identity();
+  s.bodies[0].joint.in_body = Vec3(0, 0, l1);
+  s.bodies[1].joint.in_parent = Vec3::Zero();  // joint 2 sits at mass 1
+  s.bodies[1].joint.in_body = Vec3(0, 0, l2);
+  const Model model = buildModel(s);
+  const double q1 = 0.4, q2 = -1.1, u1 = 0.7, u2 = 1.9;
+  const Workspace ws = formAt(model, Eigen::Vector2d(q1, q2), Eigen::Vector2d(u1, u2));
+  const Eigen::Vector2d qdd = ws.A.llt().solve(ws.B);
+  // Textbook form in absolute angles th1 = q1, th2 = q1 + q2.
+  const double t1 = q1, t2 = q1 + q2, w1 = u1, w2 = u1 + u2, d = t1 - t2;
+  Eigen::Matrix2d M;
+  M << (m1 + m2) * l1, m2 * l2 * std::cos(d), m2 * l1 * std::cos(d), m2 * l2;
+  const Eigen::Vector2d rhs(-m2 * l2 * w2 * w2 * std::sin(d) - (m1 + m2) * g * std::sin(t1),
+                            m2 * l1 * w1 * w1 * std::sin(d) - m2 * g * std::sin(t2));
+  const Eigen::Vector2d tdd = M.lu().solve(rhs);
+  CHECK(std::abs(qdd[0] - tdd[0]) < kPointMassTol * tdd.cwiseAbs().maxCoeff());
+  CHECK(std::abs(qdd[0] + qdd[1] - tdd[1]) < kPointMassTol * tdd.cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("barycentric K equals the naive triple sum", "[identity][formation]") {
+  forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    const Workspace ws = formAt(m, q, u);
+    const Eigen::MatrixXd Kn = naiveK(m, ws);
+    CHECK((ws.K - Kn).cwiseAbs().maxCoeff() <= kRoundoff * Kn.cwiseAbs().maxCoeff());
+  });
+}
+
+TEST_CASE("A is symmetric positive definite and 1/2 uTAu is the kinetic energy", "[identity][formation]") {
+  forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    const Workspace ws = formAt(m, q, u);
+    CHECK((ws.A - ws.A.transpose()).cwiseAbs().maxCoeff() <= kRoundoff * ws.A.cwiseAbs().maxCoeff());
+    const Eigen::VectorXd lam = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(ws.A).eigenvalues();
+    CHECK(lam.minCoeff() > 0);
+    // Kinetic energy from the body velocities, formed independently of A.
+    CHECK(std::abs(0.5 * u.dot(ws.A * u) - ws.kinetic) <= kRoundoff * std::max(ws.kinetic, 1.0));
+  });
+}
+
+TEST_CASE("Adot equals a central finite difference of A along the motion", "[identity][formation]") {
+  // Central difference: truncation O(h^2 |A'''|) ~ 1e-10, round-off eps |A| / h ~ 1e-11.
+  const double h = 1e-5, kFdRel = 1e-6;
+  forEachState([&](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    const Workspace ws = formAt(m, q, u, true);
+    Eigen::VectorXd qdot(m.nq);
+    formQdot(m, q.data(), u.data(), qdot.data());
+    const Eigen::MatrixXd fd = (formAt(m, q + h * qdot, u).A - formAt(m, q - h * qdot, u).A) / (2 * h);
+    CHECK((ws.Adot - fd).cwiseAbs().maxCoeff() <= kFdRel * std::max(fd.cwiseAbs().maxCoeff(), 1.0));
+  });
+}
+
+TEST_CASE("power balance: uT B + uT Adot u / 2 + dV/dt = -(damper power)", "[identity][formation]") {
+  // d/dt (1/2 u^T A u + V) = u^T (A u' ) + 1/2 u^T A' u + V' and A u' = B.
+  forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    const Workspace ws = formAt(m, q, u, true);
+    double Vdot = 0, damping = 0, scale = 0;
+    for (int i = 0; i < m.n(); ++i) {
+      const Body& b = m.bodies[i];
+      Vdot -= b.mass * m.gravity.dot(ws.v[i]);
+      scale += std::abs(b.mass * m.gravity.dot(ws.v[i]));
+      if (!b.joint.has_spring) continue;
+      for (int k = 0; k < b.nu(); ++k) {
+        Vdot += b.joint.spring.k[k] * (q[b.iq + k] - b.joint.spring.q_rest[k]) * u[b.iu + k];
+        damping += b.joint.spring.c[k] * u[b.iu + k] * u[b.iu + k];
+      }
+    }
+    const double residual = u.dot(ws.B) + 0.5 * u.dot(ws.Adot * u) + Vdot + damping;
+    scale += std::abs(u.dot(ws.B)) + std::abs(0.5 * u.dot(ws.Adot * u)) + damping;
+    CHECK(std::abs(residual) <= 1e-12 * std::max(scale, 1.0));
+  });
+}
+
+TEST_CASE("only declared terms are built: springs only when a scene has them", "[formation]") {
+  CHECK_FALSE(test::loadData("pendulum5.json").has_springs);
+  const Model m = test::loadData("spring_damper.json");
+  REQUIRE(m.has_springs);
+  // With the springs' B part removed, B equals that of the same model without springs.
+  Model bare = m;
+  bare.has_springs = false;
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  Eigen::VectorXd Q = Eigen::VectorXd::Zero(m.nu);
+  addSpringForces(m, q.data(), u.data(), Q);
+  CHECK(Q.norm() > 1.0);
+  CHECK((formAt(m, q, u).B - formAt(bare, q, u).B - Q).norm() <= kRoundoff * Q.norm());
+}
+
+TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identity][formation][allocation]") {
+  for (const char* scene : {"pendulum5.json", "tree_mixed.json", "chain10.json"}) {
+    const Model m = test::loadData(scene);
+    for (Method method : {Method::Classical, Method::Eigen, Method::EigenJacobi}) {
+      Dynamics dyn(m, method);
+      Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+      REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
+      const long before = g_allocations.load();
+      for (int k = 0; k < 10; ++k) dyn.rhs(0, y.data(), dy.data());
+      dyn.postStep(0, y.data());
+      const long allocations = g_allocations.load() - before;  // read before INFO allocates
+      INFO(scene << " " << methodName(method));
+      CHECK(allocations == 0);
+    }
+  }
+}

@@ -1,0 +1,151 @@
+// Integrators: the hand-written RK4 step (exactly four evaluations, a
+// hand-computed step), GSL's rk4 is not that, energy conservation and
+// dissipation over long runs, quaternion norm, options and determinism.
+#include <catch2/catch.hpp>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "solver/integrate.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+SimOptions opts(Integrator i, double t_end, double dt_or_tol) {
+  SimOptions o;
+  o.integrator = i;
+  o.t_end = t_end;
+  o.output_dt = 0.01;
+  (isFixedStep(i) ? o.dt : o.tol) = dt_or_tol;
+  return o;
+}
+
+double maxRelEnergyError(const Trajectory& t) {
+  double e = 0;
+  for (double E : t.energy) e = std::max(e, std::abs(E - t.energy[0]) / std::abs(t.energy[0]));
+  return e;
+}
+
+int countingRhs(double, const double y[], double dydt[], void* calls) {
+  ++*static_cast<int*>(calls);
+  dydt[0] = -2.0 * y[0];
+  return GSL_SUCCESS;
+}
+
+}  // namespace
+
+TEST_CASE("rk4Step evaluates four times and matches the hand-computed step", "[closedform][integrate]") {
+  // y' = -2 y: one RK4 step multiplies y by 1 + z + z^2/2 + z^3/6 + z^4/24, z = -2 h.
+  int calls = 0;
+  auto f = [&calls](double, const double* y, double* dy) {
+    ++calls;
+    dy[0] = -2.0 * y[0];
+    return true;
+  };
+  double y = 1.5, k1, k2, k3, k4, tmp;
+  const double h = 0.1, z = -2 * h;
+  REQUIRE(rk4Step(f, 0.0, h, &y, 1, &k1, &k2, &k3, &k4, &tmp));
+  CHECK(calls == 4);
+  CHECK(std::abs(y - 1.5 * (1 + z + z * z / 2 + z * z * z / 6 + z * z * z * z / 24)) < 1e-15);
+}
+
+TEST_CASE("GSLs rk4 stepper is not one classical step: it does step doubling", "[closedform][integrate]") {
+  // The reason rk4 is hand-written: gsl_odeiv2_step_rk4 spends 11 evaluations
+  // per step and returns two half steps.
+  int calls = 0;
+  gsl_odeiv2_system sys{countingRhs, nullptr, 1, &calls};
+  gsl_odeiv2_step* s = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk4, 1);
+  double y = 1.5, err;
+  gsl_odeiv2_step_apply(s, 0.0, 0.1, &y, &err, nullptr, nullptr, &sys);
+  gsl_odeiv2_step_free(s);
+  CHECK(calls == 11);
+  const double z = -0.2, one = 1 + z + z * z / 2 + z * z * z / 6 + z * z * z * z / 24;
+  CHECK(std::abs(y - 1.5 * one) > 1e-7);  // not the single classical step
+}
+
+TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[integrate]") {
+  const Model m = test::loadData("chain03.json");
+  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK4, 0.5, 1e-3));
+  CHECK(t.steps == 500);
+  CHECK(t.rhs_evals == 4 * 500);
+  CHECK(t.size() == 51);
+  CHECK(t.t.back() == Approx(0.5).epsilon(1e-15));
+}
+
+TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10", "[integrate][energy]") {
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK8PD, 10.0, 1e-12));
+  REQUIRE(t.status == "ok");
+  REQUIRE(t.size() == 1001);
+  CHECK(maxRelEnergyError(t) < 1e-10);
+}
+
+TEST_CASE("with dampers the energy never increases", "[integrate][energy]") {
+  const Model m = test::loadData("spring_damper.json");
+  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK8PD, 5.0, 1e-12));
+  REQUIRE(t.status == "ok");
+  // Allowance per sample: the integration error of a tol-1e-12 run, far below
+  // the dissipation per sample (~1e-3 J here).
+  const double kAllowance = 1e-9 * std::abs(t.energy[0]);
+  for (size_t k = 1; k < t.size(); ++k) CHECK(t.energy[k] <= t.energy[k - 1] + kAllowance);
+  CHECK(t.energy.back() < t.energy[0] - 0.1);  // and it does dissipate
+}
+
+TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum", "[integrate][identity]") {
+  const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), Method::Classical, opts(Integrator::RK8PD, 2.0, 1e-12));
+  const Trajectory g = simulate(test::loadData("pendulum5.json"), Method::Classical, opts(Integrator::RK8PD, 2.0, 1e-12));
+  REQUIRE(b.status == "ok");
+  double pose = 0;
+  for (size_t k = 0; k < b.size(); ++k) {
+    CHECK(std::abs(b.q[k].head<4>().norm() - 1) < 1e-15);
+    for (size_t i = 0; i < b.poses[k].size(); ++i) pose = std::max(pose, (b.poses[k][i].p - g.poses[k][i].p).norm());
+  }
+  CHECK(pose < 1e-8);
+}
+
+TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity]") {
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-13));
+  for (auto [i, p, bound] : {std::tuple{Integrator::RK4, 1e-3, 1e-8}, std::tuple{Integrator::RKF45, 1e-10, 1e-7},
+                             std::tuple{Integrator::BSIMP, 1e-10, 1e-7}}) {
+    const Trajectory t = simulate(m, Method::Classical, opts(i, 1.0, p));
+    INFO(integratorName(i));
+    REQUIRE(t.status == "ok");
+    CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < bound);
+  }
+}
+
+TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[integrate][identity]") {
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-12));
+  for (Method meth : {Method::Eigen, Method::EigenJacobi})
+    for (Integrator i : {Integrator::RKF45, Integrator::RK8PD}) {
+      const Trajectory t = simulate(m, meth, opts(i, 1.0, 1e-10));
+      INFO(methodName(meth) << " " << integratorName(i));
+      REQUIRE(t.status == "ok");
+      CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < 1e-6);
+    }
+}
+
+TEST_CASE("inconsistent options are rejected before any computation", "[integrate]") {
+  const Model m = test::loadData("chain01.json");
+  CHECK_THROWS_AS(simulate(m, Method::Classical, opts(Integrator::RK4, 1.0, 0.003)), std::invalid_argument);
+  SimOptions o = opts(Integrator::RK8PD, 1.0, 0.0);
+  CHECK_THROWS_AS(simulate(m, Method::Classical, o), std::invalid_argument);
+  o = opts(Integrator::RK4, 1.0, 1e-3);
+  o.output_dt = 0.3;
+  CHECK_THROWS_AS(simulate(m, Method::Classical, o), std::invalid_argument);
+}
+
+TEST_CASE("the same scene and options give bitwise the same numbers", "[integrate]") {
+  const Model m = test::loadData("tree_mixed.json");
+  for (Method meth : {Method::Classical, Method::EigenJacobi}) {
+    const Trajectory a = simulate(m, meth, opts(Integrator::RKF45, 0.5, 1e-9));
+    const Trajectory b = simulate(m, meth, opts(Integrator::RKF45, 0.5, 1e-9));
+    CHECK(a.q == b.q);
+    CHECK(a.u == b.u);
+    CHECK(a.energy == b.energy);
+  }
+}

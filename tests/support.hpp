@@ -1,0 +1,50 @@
+#pragma once
+// Shared helpers of the tests: data paths, relative errors, random states.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "solver/model.hpp"
+#include "solver/scene.hpp"
+
+namespace em::test {
+
+inline std::string sourcePath(const std::string& rel) { return std::string(EM_SOURCE_DIR) + "/" + rel; }
+inline Model loadData(const std::string& scene) { return loadScene(sourcePath("data/scenes/" + scene)); }
+
+/// Every scene of data/scenes/ (kept in step with the folder by a test).
+inline const std::vector<std::string>& dataScenes() {
+  static const std::vector<std::string> s = {
+      "chain01.json", "chain02.json", "chain03.json", "chain04.json", "chain05.json", "chain06.json",
+      "chain07.json", "chain08.json", "chain09.json", "chain10.json", "forest.json", "pendulum5.json",
+      "pendulum5_ball.json", "spring_damper.json", "tree_mixed.json"};
+  return s;
+}
+
+/// max|a - b| / max(max|b|, floor): relative to the reference's own magnitude.
+template <class X, class Y>
+double relErr(const X& a, const Y& b, double floor = 0.0) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), floor);
+}
+
+/// A random state: angles in [-pi, pi], unit quaternions, speeds in [-2, 2] rad/s.
+inline void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), spd(-2.0, 2.0);
+  std::normal_distribution<double> gauss;
+  q.resize(m.nq);
+  u.resize(m.nu);
+  for (const Body& b : m.bodies) {
+    if (b.joint.type == JointType::Ball) {
+      Vec4 v(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
+      q.segment<4>(b.iq) = v.normalized();
+    } else {
+      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = ang(rng);
+      // Keep gimbals 20 deg away from lock (middle angle +-90 deg), where A is singular.
+      if (b.joint.type == JointType::Gimbal) q[b.iq + 1] *= 1.2 / M_PI;
+    }
+    for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = spd(rng);
+  }
+}
+
+}  // namespace em::test

@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Writes tests/scenes/malformed/: one defect per scene, and expected.json
+mapping each file to the JSON path and the phrase its error must name.
+Run from the project root: python3 tools/make_malformed.py."""
+import copy, json, os
+
+OUT = "tests/scenes/malformed"
+BASE = {
+    "format": "eigenmass-scene/1", "name": "base", "gravity": [0, 0, -9.81],
+    "bodies": [
+        {"name": "upper", "parent": "ground", "mass": 1.0, "inertia": [0.08, 0.08, 0.002],
+         "joint": {"type": "gimbal", "in_parent": [0, 0, 0], "in_body": [0, 0, 0.5],
+                   "q0": [0.1, 0.2, 0.3], "u0": [0, 0, 0]}},
+        {"name": "lower", "parent": "upper", "mass": 1.0, "inertia": [0.08, 0.08, 0.002],
+         "joint": {"type": "revolute", "axis": [1, 0, 0], "in_parent": [0, 0, -0.5],
+                   "in_body": [0, 0, 0.5], "q0": [0.4], "u0": [0.1]}}],
+}
+cases = {}
+
+
+def case(name, path, phrase, edit=None, text=None):
+    doc = copy.deepcopy(BASE)
+    if edit:
+        edit(doc)
+    body = text if text is not None else json.dumps(doc, indent=1)
+    with open(os.path.join(OUT, name + ".json"), "w") as f:
+        f.write(body)
+    cases[name + ".json"] = {"path": path, "phrase": phrase}
+
+
+def b(i):
+    return lambda d: d["bodies"][i]
+
+
+def setk(getter, key, value):
+    def f(d):
+        getter(d)[key] = value
+    return f
+
+
+def delk(getter, key):
+    def f(d):
+        del getter(d)[key]
+    return f
+
+
+J0 = lambda d: d["bodies"][0]["joint"]
+J1 = lambda d: d["bodies"][1]["joint"]
+os.makedirs(OUT, exist_ok=True)
+case("bad_json", "(document)", "invalid JSON at line", text='{"format": "eigenmass-scene/1",\n "name": "x",\n "bodies": [}')
+case("not_an_object", "(document)", "expected a JSON object", text="[1, 2, 3]")
+case("wrong_format", "format", "unsupported format", setk(lambda d: d, "format", "eigenmass-scene/2"))
+case("unknown_top_key", "gravty", "unknown key", setk(lambda d: d, "gravty", [0, 0, -9.81]))
+case("unknown_body_key", "bodies[1].masss", "unknown key", setk(b(1), "masss", 1.0))
+case("unknown_joint_key", "bodies[0].joint.q_0", "unknown key", setk(J0, "q_0", [0, 0, 0]))
+case("missing_mass", "bodies[0].mass", "missing required key", delk(b(0), "mass"))
+case("zero_mass", "bodies[1].mass", "must be > 0", setk(b(1), "mass", 0))
+case("negative_mass", "bodies[1].mass", "must be > 0", setk(b(1), "mass", -2.5))
+case("inertia_not_pd", "bodies[0].inertia", "not positive definite", setk(b(0), "inertia", [0.08, 0.08, -0.002]))
+case("inertia_products_not_pd", "bodies[1].inertia", "not positive definite",
+     setk(b(1), "inertia", [1.0, 1.0, 1.0, 1.5, 0.0, 0.0]))
+case("inertia_triangle", "bodies[1].inertia", "triangle inequality", setk(b(1), "inertia", [0.1, 0.1, 0.5]))
+case("inertia_wrong_length", "bodies[0].inertia", "expected 3 or 6 numbers", setk(b(0), "inertia", [1, 1, 1, 0]))
+case("cycle", "bodies[0].parent", "cycle", lambda d: (d["bodies"][0].update(parent="lower")))
+case("self_parent", "bodies[1].parent", "own parent", setk(b(1), "parent", "lower"))
+case("unknown_parent", "bodies[1].parent", "unknown parent", setk(b(1), "parent", "uper"))
+case("duplicate_name", "bodies[1].name", "duplicate name", setk(b(1), "name", "upper"))
+case("ground_name", "bodies[1].name", "reserved", setk(b(1), "name", "ground"))
+case("empty_bodies", "bodies", "empty body list", setk(lambda d: d, "bodies", []))
+case("zero_axis", "bodies[1].joint.axis", "zero axis", setk(J1, "axis", [0, 0, 0]))
+case("missing_axis", "bodies[1].joint.axis", "missing required key", delk(J1, "axis"))
+case("universal_not_perpendicular", "bodies[1].joint.axes", "not perpendicular",
+     lambda d: (J1(d).update(type="universal", axes=[[1, 0, 0], [0.1, 1, 0]], q0=[0, 0], u0=[0, 0]), J1(d).pop("axis")))
+case("axis_on_gimbal", "bodies[0].joint.axis", "not allowed on a gimbal joint", setk(J0, "axis", [1, 0, 0]))
+case("spring_on_ball", "bodies[0].joint.spring", "not allowed on a ball joint",
+     lambda d: J0(d).update(type="ball", q0=[1, 0, 0, 0], spring={"k": 1}))
+case("unknown_joint_type", "bodies[1].joint.type", "unknown joint type", setk(J1, "type", "hinge"))
+case("q0_wrong_length", "bodies[1].joint.q0", "expected 1 number, got 2", setk(J1, "q0", [0.1, 0.2]))
+case("u0_wrong_length", "bodies[0].joint.u0", "expected 3 numbers, got 2", setk(J0, "u0", [1, 2]))
+case("ball_q0_length", "bodies[0].joint.q0", "expected 4 numbers, got 3",
+     lambda d: J0(d).update(type="ball", q0=[1, 0, 0]))
+case("zero_quaternion", "bodies[0].joint.q0", "zero quaternion", lambda d: J0(d).update(type="ball", q0=[0, 0, 0, 0]))
+case("nan_string", "bodies[0].mass", "expected a number", setk(b(0), "mass", "NaN"))
+case("inf_string", "gravity[2]", "expected a number", setk(lambda d: d, "gravity", [0, 0, "Infinity"]))
+case("huge_number", "bodies[1].joint.in_body[2]", "not a finite number",
+     text=json.dumps(BASE, indent=1).replace('"in_body": [\n     0,\n     0,\n     0.5\n    ],\n    "q0": [\n     0.4', '"in_body": [\n     0,\n     0,\n     1e999\n    ],\n    "q0": [\n     0.4'))
+case("duplicate_key", "bodies[0].mass", "duplicate key",
+     text=json.dumps(BASE, indent=1).replace('"mass": 1.0,', '"mass": 1.0, "mass": 2.0,', 1))
+case("missing_in_body", "bodies[1].joint.in_body", "missing required key", delk(J1, "in_body"))
+case("negative_damping", "bodies[1].joint.spring.c", "must be >= 0", setk(J1, "spring", {"k": 1, "c": -0.5}))
+case("spring_wrong_length", "bodies[0].joint.spring.k", "expected 3 numbers, got 2", setk(J0, "spring", {"k": [1, 2]}))
+case("output_dt_zero", "simulate.output_dt", "must be > 0", setk(lambda d: d, "simulate", {"t_end": 1, "output_dt": 0}))
+case("name_not_string", "name", "expected a string", setk(lambda d: d, "name", 5))
+with open(os.path.join(OUT, "expected.json"), "w") as f:
+    json.dump(cases, f, indent=1, sort_keys=True)
+    f.write("\n")
+print(len(cases), "malformed scenes")
