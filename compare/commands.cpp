@@ -8,6 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compare/comparison.hpp"
+#include "compare/gate.hpp"
+#include "compare/report.hpp"
 #include "compare/runner.hpp"
 #include "solver/scene.hpp"
 
@@ -115,6 +118,90 @@ void addSimulate(CLI::App& app) {
   });
 }
 
-void addCompare(CLI::App&) {}
+namespace {
+
+struct CompareArgs {
+  std::string scene, out, csv_dir, gate, reference = "simbody", reference_integrator;
+  std::vector<std::string> methods = CompareOptions().methods;
+  CompareOptions opt;
+};
+
+void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }
+
+int runCompare(CompareArgs a, const CLI::App& cmd) {
+  // Bad input fails here, before any simulation.
+  const Model m = loadScene(a.scene);
+  const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
+  CompareOptions& o = a.opt;
+  o.methods = a.methods;
+  o.reference.method = a.reference;
+  o.reference.integrator = !a.reference_integrator.empty() ? a.reference_integrator
+                           : a.reference == "simbody"    ? "rkmerson"
+                                                         : "rk8pd";
+  if (cmd.count("--tol") && !cmd.count("--integrator")) o.inhouse.integrator = "rk8pd";
+  const ComparisonResult r = runComparison(m, a.scene, o, progress);
+  nlohmann::json gate = nullptr;
+  GateResult g;
+  if (!a.gate.empty()) {
+    g = evaluateGate(r, tol);
+    gate = gateJson(g);
+  }
+  const std::string out = a.out.empty() ? "out/" + m.name + ".report.json" : a.out;
+  ensureParentDir(out);
+  if (!a.csv_dir.empty()) {
+    std::filesystem::create_directories(a.csv_dir);
+    writeCsv(r.reference, a.csv_dir + "/reference.csv");
+    for (const Trajectory& t : r.runs) writeCsv(t, a.csv_dir + "/" + t.method + ".csv");
+  }
+  writeJsonAtomic(makeReport(r, gate), out);
+  std::printf("%s: %d bodies, %d speeds, t_end %g s, output every %g s\n", m.name.c_str(), m.n(), m.nu, r.t_end,
+              r.output_dt);
+  std::fputs(summaryTable(r).c_str(), stdout);
+  std::printf("report: %s\n", out.c_str());
+  if (a.gate.empty()) return 0;
+  if (g.passed) {
+    std::printf("gate passed: %zu checks (%s)\n", g.checks.size(), a.gate.c_str());
+    return 0;
+  }
+  std::fputs(brokenChecks(g).c_str(), stdout);
+  return 1;
+}
+
+}  // namespace
+
+void addCompare(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compare", "Run several methods side by side against a reference and write a JSON report");
+  auto a = std::make_shared<CompareArgs>();
+  CompareOptions& o = a->opt;
+  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  cmd->add_option("--methods", a->methods, std::string("Methods to compare, comma-separated: ") + knownMethods())
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--reference", a->reference, "Reference engine: simbody or classical (in-house)")
+      ->check(CLI::IsMember({"simbody", "classical"}))
+      ->capture_default_str();
+  cmd->add_option("--reference-integrator", a->reference_integrator,
+                  "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)");
+  cmd->add_option("--reference-tol", o.reference.tol, "Tolerance (accuracy) of the reference; its horizon run uses 1/100 of it")
+      ->capture_default_str();
+  cmd->add_option("--integrator", o.inhouse.integrator, "Integrator of the in-house methods: rk4, rkf45, rk8pd, bsimp")
+      ->capture_default_str();
+  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")->capture_default_str();
+  auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")
+                  ->capture_default_str();
+  dt->excludes(tol);
+  cmd->add_option("--simbody-integrator", o.simbody.integrator, "Integrator of the compared simbody method: rkmerson, rk3, cpodes")
+      ->capture_default_str();
+  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")->capture_default_str();
+  cmd->add_option("--t-end", o.t_end, "End time (s); default: the scene's simulate.t_end");
+  cmd->add_option("--output-dt", o.output_dt, "Common output grid (s); default: the scene's simulate.output_dt");
+  cmd->add_option("--thresholds", o.thresholds, "Pose-error thresholds of the divergence times (rad), comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
+  cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");
+  cmd->add_option("--gate", a->gate, "Tolerance file (data/tolerances.json): exit 1 and list the broken bounds if any");
+  cmd->callback([cmd, a] { guarded([&] { return runCompare(*a, *cmd); }); });
+}
 
 }  // namespace em::cli

@@ -213,7 +213,9 @@ Trajectory SimbodyReference::simulate(const std::string& integrator, double accu
     tr.t.push_back(t);
     tr.q.push_back(qf);
     tr.u.push_back(uf);
-    tr.energy.push_back(kineticEnergy() + potentialEnergy());
+    const double T = kineticEnergy();
+    tr.energy.push_back(T + potentialEnergy());
+    tr.kinetic.push_back(T);
     tr.poses.push_back(pf);
   };
   sample(0.0, I.state);

@@ -141,7 +141,13 @@ bool Dynamics::postStep(double t, double* y) {
     jacobi_rotations += st.rotations;
     jacobi_single_sweep_steps += st.sweeps <= 1;
     jacobi_max_sweeps_seen = std::max(jacobi_max_sweeps_seen, st.sweeps);
-    if (!st.converged) { fail(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) + " sweeps"); return false; }
+    if (!st.converged) {
+      const double orth = (C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm();
+      fail(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) +
+                  " sweeps (off(C A C^T)/||A|| = " + fmt(offDiagonalNorm(corr_.D) / ws_.A.norm()) +
+                  ", ||C C^T - I|| = " + fmt(orth) + ")");
+      return false;
+    }
   }
   const double gap = minEigenGap(lambda);
   if (gap < min_gap_seen) { min_gap_seen = gap; min_gap_time = t; }

@@ -126,6 +126,7 @@ void appendSample(Dynamics& dyn, double t, const double* y, bool diagnostics, Tr
   tr.q.push_back(qf);
   tr.u.push_back(uf);
   tr.energy.push_back(energy);
+  tr.kinetic.push_back(ws.kinetic);
   tr.poses.push_back(std::move(poses));
   if (diagnostics && dyn.eigenfactor()) {
     const EigenDiagnostics d = dyn.diagnosticsAt(y);

@@ -36,7 +36,7 @@ void writeCsv(const Trajectory& tr, const std::string& path) {
     out << "t";
     for (auto& n : tr.q_names) out << ',' << n;
     for (auto& n : tr.u_names) out << ',' << n;
-    out << ",energy";
+    out << ",energy,kinetic";
     for (auto& b : tr.body_names)
       for (auto* c : kPoseCols) out << ',' << b << '.' << c;
     if (!tr.diag.empty())
@@ -46,7 +46,7 @@ void writeCsv(const Trajectory& tr, const std::string& path) {
       out << tr.t[k];
       for (int i = 0; i < tr.q[k].size(); ++i) out << ',' << tr.q[k][i];
       for (int i = 0; i < tr.u[k].size(); ++i) out << ',' << tr.u[k][i];
-      out << ',' << tr.energy[k];
+      out << ',' << tr.energy[k] << ',' << tr.kinetic[k];
       for (const Pose& p : tr.poses[k])
         out << ',' << p.p.x() << ',' << p.p.y() << ',' << p.p.z() << ',' << p.quat[0] << ',' << p.quat[1] << ','
             << p.quat[2] << ',' << p.quat[3];
@@ -78,11 +78,13 @@ Trajectory readCsv(const std::string& path) {
     tr.q_names.push_back(cols[k]);
   for (; k < cols.size() && cols[k].find(".u") != std::string::npos; ++k) tr.u_names.push_back(cols[k]);
   const size_t e = k;
-  if (e >= cols.size() || cols[e] != "energy") throw std::runtime_error(path + ": not an eigenmass trajectory CSV");
-  size_t pose_cols = 0;  // diagnostics columns, if any, have no "body." prefix
-  while (e + 1 + pose_cols < cols.size() && cols[e + 1 + pose_cols].find('.') != std::string::npos) ++pose_cols;
+  if (e + 1 >= cols.size() || cols[e] != "energy" || cols[e + 1] != "kinetic")
+    throw std::runtime_error(path + ": not an eigenmass trajectory CSV");
+  const size_t p0 = e + 2;  // first pose column
+  size_t pose_cols = 0;     // diagnostics columns, if any, have no "body." prefix
+  while (p0 + pose_cols < cols.size() && cols[p0 + pose_cols].find('.') != std::string::npos) ++pose_cols;
   const size_t nb = pose_cols / 7;
-  for (size_t b = 0; b < nb; ++b) tr.body_names.push_back(cols[e + 1 + 7 * b].substr(0, cols[e + 1 + 7 * b].size() - 2));
+  for (size_t b = 0; b < nb; ++b) tr.body_names.push_back(cols[p0 + 7 * b].substr(0, cols[p0 + 7 * b].size() - 2));
   while (std::getline(in, line)) {
     std::vector<double> v;
     std::stringstream ss(line);
@@ -92,9 +94,10 @@ Trajectory readCsv(const std::string& path) {
     tr.q.push_back(Eigen::Map<Eigen::VectorXd>(v.data() + 1, tr.q_names.size()));
     tr.u.push_back(Eigen::Map<Eigen::VectorXd>(v.data() + 1 + tr.q_names.size(), tr.u_names.size()));
     tr.energy.push_back(v[e]);
+    tr.kinetic.push_back(v[e + 1]);
     std::vector<Pose> poses(nb);
     for (size_t b = 0; b < nb; ++b) {
-      const double* p = v.data() + e + 1 + 7 * b;
+      const double* p = v.data() + p0 + 7 * b;
       poses[b].p = Vec3(p[0], p[1], p[2]);
       poses[b].quat = Vec4(p[3], p[4], p[5], p[6]);
     }

@@ -26,6 +26,7 @@ struct Trajectory {
   std::vector<double> t;                   ///< sample times
   std::vector<Eigen::VectorXd> q, u;       ///< (nq), (nu) per sample
   std::vector<double> energy;              ///< total energy per sample
+  std::vector<double> kinetic;             ///< kinetic energy per sample
   std::vector<std::vector<Pose>> poses;    ///< per sample, per body
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
   // Run summary.
@@ -46,7 +47,7 @@ struct Trajectory {
 /// Empty trajectory with names taken from the model.
 Trajectory makeTrajectory(const Model& m, const std::string& method, const std::string& integrator);
 
-/// CSV: t, coordinates, speeds, energy, per body x,y,z,qw,qx,qy,qz, then diagnostics if any.
+/// CSV: t, coordinates, speeds, energy, kinetic, per body x,y,z,qw,qx,qy,qz, then diagnostics if any.
 void writeCsv(const Trajectory& tr, const std::string& path);
 /// Read back a CSV written by writeCsv (names, q, u, energy, poses).
 Trajectory readCsv(const std::string& path);

@@ -86,3 +86,48 @@ TEST_CASE("bad options are one-line errors - --help documents defaults", "[cli]"
   CHECK(h.out.find("--dt") != std::string::npos);
   CHECK(h.out.find("0.001") != std::string::npos);
 }
+
+TEST_CASE("compare writes the report and prints the table - a broken gate exits 1", "[cli][comparison]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_compare";
+  std::filesystem::remove_all(dir);
+  const std::string base = "compare " + scene("chain02.json") + " --t-end 0.3 --methods classical,eigen";
+  const Run r = eigenmass(base + " --out " + dir + "/r.json --csv-dir " + dir + "/csv");
+  CHECK(r.status == 0);
+  CHECK(r.out.find("eigen ") != std::string::npos);
+  std::ifstream in(dir + "/r.json");
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["format"] == "eigenmass-report/1");
+  CHECK(j["methods"].size() == 2);
+  CHECK(std::filesystem::exists(dir + "/csv/eigen.csv"));
+  CHECK(std::filesystem::exists(dir + "/csv/reference.csv"));
+  // A tolerance file with an impossible bound for this scene.
+  const std::string tol = dir + "/tol.json";
+  std::ofstream(tol) << R"({"format": "eigenmass-tolerances/1", "scenes": {"chain02": {"horizon_s": 0.3,
+    "inhouse": {"integrator": "rk4", "dt": 0.001},
+    "methods": {"classical": {"max_pose_error_rad": {"value": 1e-30, "reason": "impossible"}}}}}})";
+  const Run g = eigenmass(base + " --out " + dir + "/g.json --gate " + tol);
+  CHECK(g.status == 1);
+  CHECK(g.out.find("gate broken: classical max_pose_error_rad") != std::string::npos);
+  std::ifstream gin(dir + "/g.json");
+  CHECK(nlohmann::json::parse(gin)["gate"]["passed"] == false);
+}
+
+TEST_CASE("an interrupted compare leaves no report and no temporary", "[cli][comparison]") {
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_interrupted.json";
+  std::filesystem::remove(out);
+  // pendulum5 over 10 s takes several seconds; SIGINT after one.
+  const std::string cmd = "timeout -s INT 1 " + std::string(EM_BINARY_DIR) + "/bin/eigenmass compare " +
+                          scene("pendulum5.json") + " --out " + out + " >/dev/null 2>&1";
+  const int st = std::system(cmd.c_str());
+  CHECK(WEXITSTATUS(st) != 0);
+  CHECK_FALSE(std::filesystem::exists(out));
+  CHECK_FALSE(std::filesystem::exists(out + ".tmp"));
+}
+
+TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {
+  const std::string bad = em::test::sourcePath("tests/scenes/malformed/cycle.json");
+  const Run r = eigenmass("compare " + bad + " --out /tmp/never.json", true);
+  CHECK(r.status == 2);
+  CHECK(r.out.find("bodies[0].parent: cycle") != std::string::npos);
+  CHECK(r.out.find("running") == std::string::npos);
+}

@@ -21,7 +21,7 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
   std::string header;
   std::getline(in, header);
   CHECK(header.rfind("t,hand.q0,hand.q1,torso.q0,", 0) == 0);
-  CHECK(header.find(",energy,hand.x,hand.y,hand.z,hand.qw,hand.qx,hand.qy,hand.qz,torso.x") != std::string::npos);
+  CHECK(header.find(",energy,kinetic,hand.x,hand.y,hand.z,hand.qw,hand.qx,hand.qy,hand.qz,torso.x") != std::string::npos);
   CHECK(header.find(",orth_err,offdiag_rel,min_gap,max_Omega,inv_err") != std::string::npos);
   const Trajectory r = readCsv(path);
   CHECK(r.q_names == t.q_names);
@@ -31,5 +31,6 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
   CHECK(r.t == t.t);
   CHECK(r.q == t.q);  // 17 significant digits: exact
   CHECK(r.energy == t.energy);
+  CHECK(r.kinetic == t.kinetic);
   CHECK(r.poses.back()[3].quat == t.poses.back()[3].quat);
 }

@@ -1,0 +1,75 @@
+#pragma once
+/// Metrics of one run against a reference on a common output grid
+/// (docs/report-format.md): coordinate-free pose error, joint-coordinate error,
+/// divergence times per threshold, relative energy error, cost and diagnostics.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "solver/trajectory.hpp"
+
+namespace em {
+
+/// Per-sample errors of a run against the reference (common grid, up to the
+/// shorter of the two).
+struct ErrorSeries {
+  std::vector<double> t;
+  std::vector<double> pose_rad;    ///< max over bodies of the angle of R_ref^T R
+  std::vector<double> position_m;  ///< max over bodies of |r - r_ref| (CM)
+  std::vector<double> coord_rad;   ///< max |q - q_ref| over angle coordinates (empty if not shared)
+  std::vector<double> energy_rel;  ///< |E(t) - E(0)| / E_scale
+};
+
+/// A maximum and when it happened.
+struct Peak {
+  double value = 0, t = 0;
+};
+
+/// Everything the report says about one method.
+struct MethodMetrics {
+  std::string name, integrator;
+  bool fixed_step = true;
+  double step_or_tol = 0;
+  std::string status, failure;
+  std::optional<double> failure_time;
+  double run_time_s = 0;
+  long steps = 0, rhs_evals = 0;
+  Peak pose, position, coord, energy;
+  bool coords_shared = false;
+  double energy_error_final = 0;
+  std::vector<std::optional<double>> divergence_time_s;        ///< per threshold (pose)
+  std::vector<std::optional<double>> coord_divergence_time_s;  ///< per threshold (joint coordinates)
+  std::vector<bool> divergence_meaningful;                     ///< below the reference horizon
+  // Eigenfactor diagnostics (eigenfactor methods only).
+  bool has_diagnostics = false;
+  Peak orth_err, offdiag_rel, max_Omega, inv_err, min_gap_sampled;
+  double max_Omega_all = 0, min_gap_all = 0, min_gap_all_time = 0;
+  long jacobi_sweeps = 0, jacobi_rotations = 0, jacobi_single_sweep_steps = 0;
+  int jacobi_max_sweeps = 0;
+  ErrorSeries series;
+};
+
+/// Shortest "%g" text of a number ("0.001", "1e-10"): threshold keys, messages.
+std::string gnum(double x);
+
+/// Scale of the relative energy error: the largest kinetic energy of the
+/// reference run (datum-free, never zero for a moving system); |E(0)| if the
+/// reference never moves; 1 J if both vanish.
+double energyScale(const Trajectory& ref);
+
+/// Per-sample errors of `run` against `ref`.
+ErrorSeries errorSeries(const Trajectory& run, const Trajectory& ref, double energy_scale);
+
+/// First sample time at which `err` exceeds `threshold` (nullopt if never).
+std::optional<double> firstExceedance(const std::vector<double>& t, const std::vector<double>& err, double threshold);
+
+/// Full metrics of one run. A run that failed before a threshold was crossed
+/// counts as diverged at its failure time.
+MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
+                         const std::vector<std::optional<double>>& horizon, double energy_scale);
+
+/// Reference horizon per threshold: when the reference and a tighter run of it part.
+std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const Trajectory& tight,
+                                                    const std::vector<double>& thresholds);
+
+}  // namespace em

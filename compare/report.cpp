@@ -1,0 +1,148 @@
+#include "compare/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace em {
+
+namespace {
+
+using json = nlohmann::json;
+
+json orNull(const std::optional<double>& x) { return x ? json(*x) : json(nullptr); }
+
+// NaN and Inf are not JSON: a non-finite metric is reported as null.
+json num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json peak(const Peak& p) { return {{"value", num(p.value)}, {"t", p.t}}; }
+
+json perThreshold(const std::vector<double>& th, const std::vector<std::optional<double>>& v) {
+  json o = json::object();
+  for (size_t i = 0; i < th.size(); ++i) o[thresholdKey(th[i])] = orNull(v[i]);
+  return o;
+}
+
+json runSpec(const RunSpec& s) {
+  const bool fixed = s.integrator == "rk4";
+  json j = {{"method", s.method}, {"integrator", s.integrator}};
+  if (fixed) j["dt"] = s.dt;
+  else j["tolerance"] = s.tol;
+  return j;
+}
+
+json methodJson(const MethodMetrics& m, const RunSpec& spec, const std::vector<double>& th) {
+  json j = {{"name", m.name},
+            {"integrator", m.integrator},
+            {"status", m.status},
+            {"failure", m.status == "ok" ? json(nullptr) : json({{"t", orNull(m.failure_time)}, {"cause", m.failure}})},
+            {"run_time_s", m.run_time_s},
+            {"steps", m.steps},
+            {"rhs_evals", m.rhs_evals},
+            {"max_pose_error_rad", num(m.pose.value)},
+            {"max_pose_error_t", m.pose.t},
+            {"max_position_error_m", num(m.position.value)},
+            {"max_coordinate_error_rad", m.coords_shared ? num(m.coord.value) : json(nullptr)},
+            {"divergence_time_s", perThreshold(th, m.divergence_time_s)},
+            {"coordinate_divergence_time_s", perThreshold(th, m.coord_divergence_time_s)},
+            {"energy_error_max", num(m.energy.value)},
+            {"energy_error_max_t", m.energy.t},
+            {"energy_error_final", num(m.energy_error_final)}};
+  if (spec.integrator == "rk4") j["step"] = spec.dt;
+  else j["tolerance"] = spec.tol;
+  json meaningful = json::object();
+  for (size_t i = 0; i < th.size(); ++i) meaningful[thresholdKey(th[i])] = bool(m.divergence_meaningful[i]);
+  j["divergence_meaningful"] = meaningful;
+  if (!m.has_diagnostics) {
+    j["diagnostics"] = nullptr;
+    return j;
+  }
+  j["diagnostics"] = {{"orthogonality_error_max", peak(m.orth_err)},
+                      {"offdiag_rel_max", peak(m.offdiag_rel)},
+                      {"inverse_error_max", peak(m.inv_err)},
+                      {"max_abs_Omega", num(m.max_Omega_all)},
+                      {"max_abs_Omega_sampled", peak(m.max_Omega)},
+                      {"min_eigen_gap", num(m.min_gap_all)},
+                      {"min_eigen_gap_t", m.min_gap_all_time},
+                      {"jacobi",
+                       {{"sweeps", m.jacobi_sweeps},
+                        {"rotations", m.jacobi_rotations},
+                        {"steps_with_at_most_one_sweep", m.jacobi_single_sweep_steps},
+                        {"max_sweeps_in_a_step", m.jacobi_max_sweeps}}}};
+  return j;
+}
+
+// Every k-th sample so that at most max_points remain (the last one always kept).
+json decimated(const std::vector<double>& v, size_t stride) {
+  json a = json::array();
+  for (size_t k = 0; k < v.size(); k += stride) a.push_back(num(v[k]));
+  if (!v.empty() && (v.size() - 1) % stride) a.push_back(num(v.back()));
+  return a;
+}
+
+}  // namespace
+
+std::string thresholdKey(double th) { return gnum(th); }
+
+json makeReport(const ComparisonResult& r, const json& gate, int max_series_points) {
+  const CompareOptions& o = r.options;
+  json methods = json::array();
+  for (size_t i = 0; i < r.metrics.size(); ++i) {
+    RunSpec spec = r.metrics[i].name == "simbody" ? o.simbody : o.inhouse;
+    methods.push_back(methodJson(r.metrics[i], spec, o.thresholds));
+  }
+  const size_t n = r.reference.t.size();
+  const size_t stride = std::max<size_t>(1, (n + max_series_points - 1) / std::max(1, max_series_points));
+  json series = {{"t", decimated(r.reference.t, stride)}, {"stride", stride}, {"methods", json::object()}};
+  for (const MethodMetrics& m : r.metrics)
+    series["methods"][m.name] = {{"pose_error_rad", decimated(m.series.pose_rad, stride)},
+                                 {"position_error_m", decimated(m.series.position_m, stride)},
+                                 {"energy_error", decimated(m.series.energy_rel, stride)}};
+  json horizon = perThreshold(o.thresholds, r.horizon);
+  return {{"format", "eigenmass-report/1"},
+          {"scene", {{"name", r.scene_name}, {"file", r.scene_file}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}}},
+          {"options",
+           {{"methods", o.methods},
+            {"inhouse", runSpec(o.inhouse)},
+            {"simbody", runSpec(o.simbody)},
+            {"t_end", r.t_end},
+            {"output_dt", r.output_dt},
+            {"thresholds_rad", o.thresholds},
+            {"energy_scale_J", r.energy_scale},
+            {"energy_scale_definition", "largest kinetic energy of the reference run"}}},
+          {"reference",
+           {{"engine", r.reference.method == "simbody" ? "simbody" : "inhouse"},
+            {"method", r.reference.method},
+            {"integrator", r.reference.integrator},
+            {"tolerance", o.reference.tol},
+            {"horizon_tolerance", o.reference.tol / o.tight_factor},
+            {"horizon_s", horizon},
+            {"status", r.reference.status},
+            {"run_time_s", r.reference.run_time_s},
+            {"steps", r.reference.steps},
+            {"rhs_evals", r.reference.rhs_evals},
+            {"energy_error_max", num(r.reference_metrics.energy.value)}}},
+          {"methods", methods},
+          {"series", series},
+          {"gate", gate}};
+}
+
+void writeJsonAtomic(const json& j, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error(path + ": cannot write the report");
+    out << j.dump(2) << "\n";
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the temporary report");
+  }
+}
+
+}  // namespace em

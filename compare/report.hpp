@@ -1,0 +1,22 @@
+#pragma once
+/// The JSON report `eigenmass-report/1` (docs/report-format.md), written atomically.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "compare/comparison.hpp"
+
+namespace em {
+
+/// Key of a threshold in the report's maps ("0.001", "0.1").
+std::string thresholdKey(double th);
+
+/// The report of a comparison; `gate` is null when no gate was asked for.
+/// `max_series_points` bounds the decimated plotting series.
+nlohmann::json makeReport(const ComparisonResult& r, const nlohmann::json& gate = nullptr, int max_series_points = 1000);
+
+/// Write JSON to a temporary file beside `path`, then rename: a reader never
+/// sees a half-written report, and an interrupted run leaves none.
+void writeJsonAtomic(const nlohmann::json& j, const std::string& path);
+
+}  // namespace em

@@ -1,0 +1,78 @@
+// The report: documented schema, round trip through a file, failed methods,
+// decimated series, atomic writing.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "compare/report.hpp"
+#include "synthetic.hpp"
+
+using namespace em;
+using json = nlohmann::json;
+
+namespace {
+
+ComparisonResult synthetic() {
+  CompareOptions o;
+  o.methods = {"classical", "eigen"};
+  Trajectory failed = test::turning("eigen", 0.021, 0.5, 3.0);
+  failed.status = "failed";
+  failed.failure = "eigenvalue lambda_0 = -0.1 <= 0";
+  failed.failure_time = 3.0;
+  ComparisonResult r = compareRuns(test::turning("simbody", 0, 0), test::turning("simbody", 1e-6, 0),
+                                   {test::turning("classical", 1e-5, 0), failed}, o);
+  r.scene_name = "synthetic";
+  r.t_end = 10;
+  r.output_dt = 0.01;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("the report has the documented top level and method fields", "[report]") {
+  const json j = makeReport(synthetic());
+  CHECK(j["format"] == "eigenmass-report/1");
+  for (const char* k : {"scene", "options", "reference", "methods", "series", "gate"}) CHECK(j.contains(k));
+  CHECK(j["gate"].is_null());
+  for (const char* k : {"engine", "integrator", "tolerance", "horizon_s"}) CHECK(j["reference"].contains(k));
+  REQUIRE(j["methods"].size() == 2);
+  const json& c = j["methods"][0];
+  for (const char* k : {"name", "integrator", "status", "failure", "run_time_s", "steps", "rhs_evals",
+                        "max_pose_error_rad", "max_position_error_m", "divergence_time_s", "energy_error_max",
+                        "energy_error_final", "diagnostics"})
+    CHECK(c.contains(k));
+  CHECK(c["step"] == 1e-3);
+  CHECK(c["divergence_time_s"]["0.001"].is_null());
+  CHECK(c["max_pose_error_rad"].get<double>() == Approx(1e-4).epsilon(1e-9));
+}
+
+TEST_CASE("a failed method appears with its time and cause", "[report]") {
+  const json j = makeReport(synthetic());
+  const json& e = j["methods"][1];
+  CHECK(e["status"] == "failed");
+  CHECK(e["failure"]["t"] == 3.0);
+  CHECK(e["failure"]["cause"] == "eigenvalue lambda_0 = -0.1 <= 0");
+  CHECK(e["divergence_time_s"]["0.1"] == 3.0);
+  CHECK(e["divergence_time_s"]["0.001"].get<double>() == Approx(0.05));
+}
+
+TEST_CASE("series are decimated to at most the asked number of points", "[report]") {
+  const json j = makeReport(synthetic(), nullptr, 100);
+  const size_t n = j["series"]["t"].size();
+  CHECK(n <= 101);  // stride 11 over 1001 samples, plus the last
+  CHECK(n >= 90);
+  CHECK(j["series"]["t"].back() == 10.0);
+  CHECK(j["series"]["methods"]["classical"]["pose_error_rad"].size() == n);
+  CHECK(j["series"]["methods"]["eigen"]["pose_error_rad"].size() < n);  // stopped at 3 s
+}
+
+TEST_CASE("a report round-trips through its file and no temporary is left", "[report]") {
+  const std::string path = std::string(EM_BINARY_DIR) + "/test_report.json";
+  const json j = makeReport(synthetic());
+  writeJsonAtomic(j, path);
+  CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
+  std::ifstream in(path);
+  CHECK(json::parse(in) == j);
+  CHECK_THROWS_WITH(writeJsonAtomic(j, "/nonexistent-dir/r.json"), Catch::Contains("/nonexistent-dir/r.json"));
+}
