@@ -127,15 +127,7 @@ MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std
     m.offdiag_rel = peakOf(run.t, n, [&](size_t k) { return d[k].offdiag_rel; });
     m.max_Omega = peakOf(run.t, n, [&](size_t k) { return d[k].max_Omega; });
     m.inv_err = peakOf(run.t, n, [&](size_t k) { return d[k].inv_err; });
-    m.min_gap_sampled = peakOf(run.t, n, [&](size_t k) { return -d[k].min_gap; });
-    m.min_gap_sampled.value = -m.min_gap_sampled.value;
-    m.max_Omega_all = run.max_abs_Omega;
-    m.min_gap_all = run.min_gap;
-    m.min_gap_all_time = run.min_gap_time;
-    m.jacobi_sweeps = run.jacobi_sweeps;
-    m.jacobi_rotations = run.jacobi_rotations;
-    m.jacobi_single_sweep_steps = run.jacobi_single_sweep_steps;
-    m.jacobi_max_sweeps = run.jacobi_max_sweeps;
+    m.eigen = run.eigen;
   }
   return m;
 }

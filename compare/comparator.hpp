@@ -42,10 +42,8 @@ struct MethodMetrics {
   std::vector<bool> divergence_meaningful;                     ///< below the reference horizon
   // Eigenfactor diagnostics (eigenfactor methods only).
   bool has_diagnostics = false;
-  Peak orth_err, offdiag_rel, max_Omega, inv_err, min_gap_sampled;
-  double max_Omega_all = 0, min_gap_all = 0, min_gap_all_time = 0;
-  long jacobi_sweeps = 0, jacobi_rotations = 0, jacobi_single_sweep_steps = 0;
-  int jacobi_max_sweeps = 0;
+  Peak orth_err, offdiag_rel, max_Omega, inv_err;
+  EigenStats eigen;
   ErrorSeries series;
 };
 

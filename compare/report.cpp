@@ -61,15 +61,15 @@ json methodJson(const MethodMetrics& m, const RunSpec& spec, const std::vector<d
   j["diagnostics"] = {{"orthogonality_error_max", peak(m.orth_err)},
                       {"offdiag_rel_max", peak(m.offdiag_rel)},
                       {"inverse_error_max", peak(m.inv_err)},
-                      {"max_abs_Omega", num(m.max_Omega_all)},
+                      {"max_abs_Omega", num(m.eigen.max_abs_Omega)},
                       {"max_abs_Omega_sampled", peak(m.max_Omega)},
-                      {"min_eigen_gap", num(m.min_gap_all)},
-                      {"min_eigen_gap_t", m.min_gap_all_time},
+                      {"min_eigen_gap", num(m.eigen.min_gap)},
+                      {"min_eigen_gap_t", m.eigen.min_gap_time},
                       {"jacobi",
-                       {{"sweeps", m.jacobi_sweeps},
-                        {"rotations", m.jacobi_rotations},
-                        {"steps_with_at_most_one_sweep", m.jacobi_single_sweep_steps},
-                        {"max_sweeps_in_a_step", m.jacobi_max_sweeps}}}};
+                       {{"sweeps", m.eigen.jacobi_sweeps},
+                        {"rotations", m.eigen.jacobi_rotations},
+                        {"steps_with_at_most_one_sweep", m.eigen.jacobi_single_sweep_steps},
+                        {"max_sweeps_in_a_step", m.eigen.jacobi_max_sweeps}}}};
   return j;
 }
 

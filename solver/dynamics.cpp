@@ -45,7 +45,7 @@ Dynamics::Dynamics(const Model& m, Method method, MethodOptions opt)
   G_.setZero(N, N);
   T1_.setZero(N, N);
   z_.setZero(N);
-  min_gap_seen = std::numeric_limits<double>::infinity();
+  stats.min_gap = std::numeric_limits<double>::infinity();
 }
 
 void Dynamics::fail(double t, const std::string& cause) {
@@ -108,7 +108,7 @@ bool Dynamics::eigenRhs(double t, const double* y, double* dydt) {
                 fmt(st.gap) + " below the floor " + fmt(opt_.gap_floor_rel * lmax));
     return false;
   }
-  max_abs_Omega = std::max(max_abs_Omega, st.max_Omega);
+  stats.max_abs_Omega = std::max(stats.max_abs_Omega, st.max_Omega);
   // u' = C^T Lambda^-1 C B (paper eq. (17)).
   z_.noalias() = C * ws_.B;
   z_.array() /= lambda.array();
@@ -136,11 +136,10 @@ bool Dynamics::postStep(double t, double* y) {
     formK(model_, ws_);
     formA(model_, ws_);
     const JacobiStats st = jacobiCorrect(ws_.A, C, lambda, corr_, opt_.jacobi_tol, opt_.jacobi_max_sweeps);
-    ++jacobi_steps;
-    jacobi_sweeps += st.sweeps;
-    jacobi_rotations += st.rotations;
-    jacobi_single_sweep_steps += st.sweeps <= 1;
-    jacobi_max_sweeps_seen = std::max(jacobi_max_sweeps_seen, st.sweeps);
+    stats.jacobi_sweeps += st.sweeps;
+    stats.jacobi_rotations += st.rotations;
+    stats.jacobi_single_sweep_steps += st.sweeps <= 1;
+    stats.jacobi_max_sweeps = std::max(stats.jacobi_max_sweeps, st.sweeps);
     if (!st.converged) {
       const double orth = (C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm();
       fail(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) +
@@ -150,7 +149,7 @@ bool Dynamics::postStep(double t, double* y) {
     }
   }
   const double gap = minEigenGap(lambda);
-  if (gap < min_gap_seen) { min_gap_seen = gap; min_gap_time = t; }
+  if (gap < stats.min_gap) { stats.min_gap = gap; stats.min_gap_time = t; }
   return true;
 }
 
@@ -165,11 +164,11 @@ EigenDiagnostics Dynamics::diagnosticsAt(const double* y) {
   std::vector<double> scratch(size_);
   const long evals = rhs_evals;
   const Failure saved = failure_;
-  const double omega_seen = max_abs_Omega;
+  const EigenStats seen = stats;
   const bool ok = rhs(0.0, y, scratch.data());
   rhs_evals = evals;
   failure_ = saved;
-  max_abs_Omega = omega_seen;
+  stats = seen;
   const double wmax = ok ? G_.cwiseAbs().maxCoeff() : std::numeric_limits<double>::infinity();
   return eigenDiagnostics(ws_.A, Eigen::Map<const RowMatrix>(y + offsetC(), N, N),
                           Eigen::Map<const Eigen::VectorXd>(y + offsetLambda(), N), wmax);

@@ -7,6 +7,7 @@
 
 #include "solver/eigenfactor.hpp"
 #include "solver/formation.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em {
 
@@ -63,10 +64,7 @@ class Dynamics {
   Workspace& workspace() { return ws_; }
 
   long rhs_evals = 0;
-  long jacobi_steps = 0, jacobi_sweeps = 0, jacobi_rotations = 0, jacobi_single_sweep_steps = 0;
-  int jacobi_max_sweeps_seen = 0;
-  double max_abs_Omega = 0;  ///< over all evaluations
-  double min_gap_seen = 0, min_gap_time = 0;
+  EigenStats stats;
 
  private:
   bool eigenRhs(double t, const double* y, double* dydt);

@@ -164,13 +164,7 @@ Trajectory simulate(const Model& m, Method method, const SimOptions& opt, const 
   tr.run_time_s = cpuSeconds() - c0 - tr.sample_time_s;
   gsl_set_error_handler(old);
   tr.rhs_evals = dyn.rhs_evals;
-  tr.jacobi_sweeps = dyn.jacobi_sweeps;
-  tr.jacobi_rotations = dyn.jacobi_rotations;
-  tr.jacobi_single_sweep_steps = dyn.jacobi_single_sweep_steps;
-  tr.jacobi_max_sweeps = dyn.jacobi_max_sweeps_seen;
-  tr.max_abs_Omega = dyn.max_abs_Omega;
-  tr.min_gap = dyn.min_gap_seen;
-  tr.min_gap_time = dyn.min_gap_time;
+  if (dyn.eigenfactor()) tr.eigen = dyn.stats;
   if (dyn.failure().failed) {
     tr.status = "failed";
     tr.failure = dyn.failure().cause;

@@ -19,6 +19,15 @@ struct SampleDiagnostics {
   double orth_err, offdiag_rel, min_gap, max_Omega, inv_err;
 };
 
+/// Counters of the eigenfactor methods over a whole run.
+struct EigenStats {
+  long jacobi_sweeps = 0, jacobi_rotations = 0;
+  long jacobi_single_sweep_steps = 0;  ///< accepted steps that needed at most one sweep
+  int jacobi_max_sweeps = 0;           ///< most sweeps in one step
+  double max_abs_Omega = 0;            ///< over every right-hand-side evaluation
+  double min_gap = 0, min_gap_time = 0;  ///< smallest eigenvalue gap over accepted steps, and when
+};
+
 /// A sampled run. Coordinates, speeds and bodies in the file's order.
 struct Trajectory {
   std::string scene, method, integrator;
@@ -36,9 +45,7 @@ struct Trajectory {
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   double sample_time_s = 0;                ///< CPU time spent recording samples
   long steps = 0, rhs_evals = 0;
-  long jacobi_sweeps = 0, jacobi_rotations = 0, jacobi_single_sweep_steps = 0;
-  int jacobi_max_sweeps = 0;
-  double max_abs_Omega = 0, min_gap = 0, min_gap_time = 0;
+  EigenStats eigen;  ///< eigenfactor methods only
 
   size_t size() const { return t.size(); }
   bool failed() const { return status != "ok"; }

@@ -125,7 +125,7 @@ TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-
   CHECK(off_e > 1e-14);  // the uncorrected method does drift
   CHECK(off_j <= 1e-12);
   REQUIRE(j.steps == 100);
-  CHECK(j.jacobi_single_sweep_steps >= 99);
+  CHECK(j.eigen.jacobi_single_sweep_steps >= 99);
 }
 
 TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[identity][dynamics]") {
