@@ -62,7 +62,7 @@ def write(path, doc):
 
 
 if __name__ == "__main__":
-    for n in range(1, 11):
+    for n in list(range(1, 11)) + [20, 50]:
         write("data/scenes/chain%02d.json" % n, scene("chain%02d" % n, chain(n, GIMBAL)))
     p5 = json.load(open("data/scenes/pendulum5.json"))
     p5["name"] = "pendulum5_ball"
