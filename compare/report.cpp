@@ -26,7 +26,7 @@ json perThreshold(const std::vector<double>& th, const std::vector<std::optional
 
 json runSpec(const RunSpec& s) {
   const bool fixed = s.integrator == "rk4";
-  json j = {{"method", s.method}, {"integrator", s.integrator}};
+  json j = {{"integrator", s.integrator}};
   if (fixed) j["dt"] = s.dt;
   else j["tolerance"] = s.tol;
   return j;
@@ -52,7 +52,8 @@ json methodJson(const MethodMetrics& m, const RunSpec& spec, const std::vector<d
   if (spec.integrator == "rk4") j["step"] = spec.dt;
   else j["tolerance"] = spec.tol;
   json meaningful = json::object();
-  for (size_t i = 0; i < th.size(); ++i) meaningful[thresholdKey(th[i])] = bool(m.divergence_meaningful[i]);
+  for (size_t i = 0; i < th.size(); ++i)
+    meaningful[thresholdKey(th[i])] = m.divergence_time_s[i] ? json(bool(m.divergence_meaningful[i])) : json(nullptr);
   j["divergence_meaningful"] = meaningful;
   if (!m.has_diagnostics) {
     j["diagnostics"] = nullptr;
