@@ -198,6 +198,8 @@ Trajectory SimbodyReference::simulate(const std::string& integrator, double accu
     throw std::invalid_argument("t_end must be a whole multiple of output_dt");
   integ->setAccuracy(accuracy);
   Trajectory tr = makeTrajectory(m, "simbody", integrator.empty() ? "rkmerson" : integrator);
+  // Start from t = 0 whatever an earlier run left in the state.
+  I.state = I.system.getDefaultState();
   setState(m.q0(), m.u0());
   I.system.realize(I.state, SimTK::Stage::Acceleration);
 

@@ -83,6 +83,14 @@ bool Dynamics::rhs(double t, const double* y, double* dydt) {
     formEquations(model_, q, u, ws_);
     llt_.compute(ws_.A);
     if (llt_.info() != Eigen::Success) { fail(t, "mass matrix A not positive definite (Cholesky failed)"); return false; }
+    // A nearly singular A (a gimbal at +-90 deg) factors with a tiny positive
+    // pivot and gives garbage: cond(A) >= max L_ii^2 / min L_ii^2 catches it.
+    const auto pivots = llt_.matrixLLT().diagonal().cwiseAbs2();
+    if (pivots.maxCoeff() > opt_.max_pivot_ratio * pivots.minCoeff()) {
+      fail(t, "mass matrix A numerically singular (cond(A) >= " + fmt(pivots.maxCoeff() / pivots.minCoeff()) +
+                  "; a gimbal at +-90 deg?)");
+      return false;
+    }
     udot = ws_.B;
     llt_.solveInPlace(udot);
   }

@@ -23,6 +23,7 @@ struct MethodOptions {
   int jacobi_max_sweeps = 50;
   double gap_floor_rel = 1e-12;  ///< fail when min |lambda_i - lambda_j| < floor * max lambda
   double blowup_speed = 1e6;     ///< fail when max |u| exceeds this (rad/s): the run has blown up
+  double max_pivot_ratio = 1e14; ///< fail when max/min squared Cholesky pivot (a lower bound on cond(A)) exceeds this
 };
 
 /// Why and when a run ended early.
