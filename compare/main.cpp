@@ -1,10 +1,5 @@
 // The `eigenmass` command-line tool: equations, simulate, compare.
-#include <cstdio>
-#include <iostream>
-
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include "compare/commands.hpp"
 
 int main(int argc, char** argv) {

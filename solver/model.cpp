@@ -127,22 +127,22 @@ Eigen::VectorXd Model::u0() const {
   return u;
 }
 
-void Model::qFromFile(const Eigen::VectorXd& qf, Eigen::VectorXd& q) const {
-  q.resize(nq);
-  for (const Body& b : bodies) q.segment(b.iq, b.nq()) = qf.segment(b.file_iq, b.nq());
+namespace {
+// Copy each body's block of q (or u) between internal and file order.
+void permute(const Model& m, bool speeds, bool to_file, const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+  out.resize(speeds ? m.nu : m.nq);
+  for (const Body& b : m.bodies) {
+    const int k = speeds ? b.nu() : b.nq();
+    const int internal = speeds ? b.iu : b.iq, file = speeds ? b.file_iu : b.file_iq;
+    out.segment(to_file ? file : internal, k) = in.segment(to_file ? internal : file, k);
+  }
 }
-void Model::qToFile(const Eigen::VectorXd& q, Eigen::VectorXd& qf) const {
-  qf.resize(nq);
-  for (const Body& b : bodies) qf.segment(b.file_iq, b.nq()) = q.segment(b.iq, b.nq());
-}
-void Model::uFromFile(const Eigen::VectorXd& uf, Eigen::VectorXd& u) const {
-  u.resize(nu);
-  for (const Body& b : bodies) u.segment(b.iu, b.nu()) = uf.segment(b.file_iu, b.nu());
-}
-void Model::uToFile(const Eigen::VectorXd& u, Eigen::VectorXd& uf) const {
-  uf.resize(nu);
-  for (const Body& b : bodies) uf.segment(b.file_iu, b.nu()) = u.segment(b.iu, b.nu());
-}
+}  // namespace
+
+void Model::qFromFile(const Eigen::VectorXd& qf, Eigen::VectorXd& q) const { permute(*this, false, false, qf, q); }
+void Model::qToFile(const Eigen::VectorXd& q, Eigen::VectorXd& qf) const { permute(*this, false, true, q, qf); }
+void Model::uFromFile(const Eigen::VectorXd& uf, Eigen::VectorXd& u) const { permute(*this, true, false, uf, u); }
+void Model::uToFile(const Eigen::VectorXd& u, Eigen::VectorXd& uf) const { permute(*this, true, true, u, uf); }
 
 std::vector<int> Model::uFilePermutation() const {
   std::vector<int> p(nu);
