@@ -10,6 +10,7 @@
 
 #include "compare/comparison.hpp"
 #include "compare/gate.hpp"
+#include "compare/precision.hpp"
 #include "compare/report.hpp"
 #include "compare/runner.hpp"
 #include "solver/scene.hpp"
@@ -202,6 +203,37 @@ void addCompare(CLI::App& app) {
   cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");
   cmd->add_option("--gate", a->gate, "Tolerance file (data/tolerances.json): exit 1 and list the broken bounds if any");
   cmd->callback([cmd, a] { guarded([&] { return runCompare(*a, *cmd); }); });
+}
+
+void addPrecision(CLI::App& app) {
+  auto* cmd = app.add_subcommand("precision", "Work-precision: each method at several steps or tolerances, error against CPU time");
+  auto scene = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto o = std::make_shared<PrecisionOptions>();
+  cmd->add_option("scene", *scene, "Scene file (eigenmass-scene/1)")->required();
+  cmd->add_option("--methods", o->methods, std::string("Methods, comma-separated: ") + knownMethods())
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--integrator", o->integrator, "rk4 (settings are steps dt) or rkf45, rk8pd, bsimp (settings are tolerances)")
+      ->capture_default_str();
+  cmd->add_option("--settings", o->settings, "Steps (rk4) or tolerances, comma-separated")->delimiter(',')->capture_default_str();
+  cmd->add_option("--reference-tol", o->reference.tol, "Accuracy of the Simbody RK-Merson reference")->capture_default_str();
+  cmd->add_option("--t-end", o->t_end, "End time (s); default: the scene's simulate.t_end");
+  cmd->add_option("--output-dt", o->output_dt,
+                  "Sampling interval (s), a multiple of every step; default: the scene's simulate.output_dt");
+  cmd->add_option("--out", *out, "JSON file to write; default out/<scene>.precision.json");
+  cmd->callback([=] {
+    guarded([&] {
+      const Model m = loadScene(*scene);
+      const PrecisionResult r = runPrecision(m, *o, progress);
+      const std::string path = out->empty() ? "out/" + m.name + ".precision.json" : *out;
+      ensureParentDir(path);
+      writeJsonAtomic(precisionJson(r), path);
+      std::fputs(precisionTable(r).c_str(), stdout);
+      std::printf("report: %s\n", path.c_str());
+      return 0;
+    });
+  });
 }
 
 }  // namespace em::cli

@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   em::cli::addEquations(app);
   em::cli::addSimulate(app);
   em::cli::addCompare(app);
+  em::cli::addPrecision(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

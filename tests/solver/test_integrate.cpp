@@ -149,3 +149,23 @@ TEST_CASE("the same scene and options give bitwise the same numbers", "[integrat
     CHECK(a.energy == b.energy);
   }
 }
+
+TEST_CASE("the hand-written rk4 converges at fourth order", "[integrate][closedform]") {
+  // Halving dt must divide the error by 2^4: the observed order over two
+  // halvings lies in [3.7, 4.3] (the leading term dominates at these steps).
+  const Model m = test::loadData("chain03.json");
+  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-14));
+  std::vector<double> err;
+  for (double dt : {0.02, 0.01, 0.005}) {
+    SimOptions o = opts(Integrator::RK4, 1.0, dt);
+    o.output_dt = 0.02;
+    const Trajectory t = simulate(m, Method::Classical, o);
+    err.push_back((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff());
+  }
+  for (int k = 0; k < 2; ++k) {
+    const double order = std::log2(err[k] / err[k + 1]);
+    INFO("dt halving " << k << ": errors " << err[k] << " -> " << err[k + 1]);
+    CHECK(order > 3.7);
+    CHECK(order < 4.3);
+  }
+}

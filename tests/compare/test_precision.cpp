@@ -1,0 +1,41 @@
+// Work-precision sweeps: errors fall with the step at the method's order; bad
+// combinations are refused before any run.
+#include <catch2/catch.hpp>
+
+#include "compare/precision.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles", "[precision]") {
+  const Model m = test::loadData("chain03.json");
+  PrecisionOptions o;
+  o.methods = {"classical", "eigen-jacobi"};
+  o.settings = {1e-2, 5e-3};
+  o.t_end = 1.0;
+  const PrecisionResult r = runPrecision(m, o);
+  REQUIRE(r.points.size() == 4);
+  for (int k : {0, 2}) {
+    const MethodMetrics &coarse = r.points[k].metrics, &fine = r.points[k + 1].metrics;
+    INFO(r.points[k].method);
+    CHECK(coarse.status == "ok");
+    // Fourth order: 16x; allow 8x to 32x (pose error is a max over time, not one final value).
+    CHECK(coarse.pose.value / fine.pose.value > 8);
+    CHECK(coarse.pose.value / fine.pose.value < 32);
+    CHECK(fine.rhs_evals == 2 * coarse.rhs_evals);
+  }
+  const auto j = precisionJson(r);
+  CHECK(j["format"] == "eigenmass-precision/1");
+  CHECK(j["points"][1]["step"] == 5e-3);
+  CHECK(precisionTable(r).find("eigen-jacobi") != std::string::npos);
+}
+
+TEST_CASE("simbody needs tolerances: refused under rk4 before any run", "[precision]") {
+  const Model m = test::loadData("chain01.json");
+  PrecisionOptions o;
+  o.methods = {"classical", "simbody"};
+  CHECK_THROWS_WITH(runPrecision(m, o), Catch::Contains("simbody has no fixed-step integrator"));
+  o.methods = {"classical"};
+  o.settings = {1e-3, 0};
+  CHECK_THROWS_WITH(runPrecision(m, o), Catch::Contains("must be > 0"));
+}
