@@ -13,10 +13,11 @@ std::string gnum(double x) {
 }
 
 double energyScale(const Trajectory& ref) {
-  double T = 0;
-  for (double k : ref.kinetic) T = std::max(T, k);
+  double T = 0;  // non-finite samples (a blown-up reference) carry no scale
+  for (double k : ref.kinetic)
+    if (std::isfinite(k)) T = std::max(T, k);
   if (T > 0) return T;
-  if (!ref.energy.empty() && ref.energy[0] != 0) return std::abs(ref.energy[0]);
+  if (!ref.energy.empty() && std::isfinite(ref.energy[0]) && ref.energy[0] != 0) return std::abs(ref.energy[0]);
   return 1.0;
 }
 

@@ -109,8 +109,11 @@ std::string summaryTable(const ComparisonResult& r) {
     o << line;
   };
   for (const MethodMetrics& m : r.metrics) row(m, m.name);
-  o << "reference: " << r.reference.method << "/" << r.reference.integrator << " tol " << r.options.reference.tol
-    << "; horizon (reference vs tol/" << r.options.tight_factor << "):";
+  o << "reference: " << r.reference.method << "/" << r.reference.integrator << " tol " << r.options.reference.tol;
+  if (r.reference.failed())
+    o << " FAILED at t = " << r.reference.failure_time << " s: " << r.reference.failure
+      << " (errors are measured against its samples only)";
+  o << "; horizon (reference vs tol/" << r.options.tight_factor << "):";
   for (size_t i = 0; i < r.horizon.size(); ++i)
     o << " " << r.options.thresholds[i] << " rad " << (r.horizon[i] ? std::to_string(*r.horizon[i]) + " s" : "not within t_end");
   o << "\n";

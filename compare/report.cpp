@@ -120,6 +120,8 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"horizon_tolerance", o.reference.tol / o.tight_factor},
             {"horizon_s", horizon},
             {"status", r.reference.status},
+            {"failure", r.reference.failed() ? json({{"t", r.reference.failure_time}, {"cause", r.reference.failure}})
+                                             : json(nullptr)},
             {"run_time_s", r.reference.run_time_s},
             {"steps", r.reference.steps},
             {"rhs_evals", r.reference.rhs_evals},

@@ -17,6 +17,18 @@ using SimTK::Vector;
 
 namespace {
 
+// SimTK exceptions span several indented lines; a failure cause is one line.
+std::string oneLine(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    const bool space = c == '\n' || c == ' ' || c == '\t';
+    if (space && (out.empty() || out.back() == ' ')) continue;
+    out += space ? ' ' : c;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
 SimTK::Vec3 toSimTK(const em::Vec3& v) { return SimTK::Vec3(v.x(), v.y(), v.z()); }
 
 em::Mat3 toEigen(const Rotation& R) {
@@ -237,7 +249,7 @@ Trajectory SimbodyReference::simulate(const std::string& integrator, double accu
     }
   } catch (const std::exception& e) {
     tr.status = "failed";
-    tr.failure = std::string("Simbody: ") + e.what();
+    tr.failure = "Simbody: " + oneLine(e.what());
     tr.failure_time = integ->getTime();
   }
   tr.run_time_s = cpu;

@@ -87,8 +87,8 @@ bool Dynamics::rhs(double t, const double* y, double* dydt) {
     // pivot and gives garbage: cond(A) >= max L_ii^2 / min L_ii^2 catches it.
     const auto pivots = llt_.matrixLLT().diagonal().cwiseAbs2();
     if (pivots.maxCoeff() > opt_.max_pivot_ratio * pivots.minCoeff()) {
-      fail(t, "mass matrix A numerically singular (cond(A) >= " + fmt(pivots.maxCoeff() / pivots.minCoeff()) +
-                  "; a gimbal at +-90 deg?)");
+      fail(t, "mass matrix A numerically singular: cond(A) >= " + fmt(pivots.maxCoeff() / pivots.minCoeff()) +
+                  " > 1/eps (gimbal lock or extreme mass ratios)");
       return false;
     }
     udot = ws_.B;

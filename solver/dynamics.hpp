@@ -23,7 +23,9 @@ struct MethodOptions {
   int jacobi_max_sweeps = 50;
   double gap_floor_rel = 1e-12;  ///< fail when min |lambda_i - lambda_j| < floor * max lambda
   double blowup_speed = 1e6;     ///< fail when max |u| exceeds this (rad/s): the run has blown up
-  double max_pivot_ratio = 1e14; ///< fail when max/min squared Cholesky pivot (a lower bound on cond(A)) exceeds this
+  /// Fail when max/min squared Cholesky pivot, a lower bound on cond(A), exceeds
+  /// 1/eps: u' then has no reliable digit (gimbal lock, extreme mass ratios).
+  double max_pivot_ratio = 4.5e15;
 };
 
 /// Why and when a run ended early.

@@ -75,4 +75,7 @@ TEST_CASE("energy scale falls back when the reference never moves", "[comparator
   CHECK(energyScale(still) == 5.0);  // |E(0)|
   for (double& e : still.energy) e = 0;
   CHECK(energyScale(still) == 1.0);
+  Trajectory blown = test::turning("reference", 0, 0);
+  blown.kinetic[3] = INFINITY;  // a non-finite sample carries no scale
+  CHECK(energyScale(blown) == 2.0);
 }

@@ -36,6 +36,19 @@ TEST_CASE("an unknown method or a bad threshold is refused before any run", "[co
   CHECK_THROWS_WITH(runComparison(m, "x", o), Catch::Contains("thresholds must be > 0"));
 }
 
+TEST_CASE("a failed reference is said in the table", "[comparison]") {
+  Trajectory ref;
+  ref.method = "simbody";
+  ref.integrator = "rkmerson";
+  ref.status = "failed";
+  ref.failure = "Simbody: step size underflow";
+  ref.failure_time = 0.25;
+  CompareOptions o;
+  o.methods = {};
+  const ComparisonResult r = compareRuns(ref, ref, {}, o);
+  CHECK_THAT(summaryTable(r), Catch::Contains("FAILED at t = 0.25 s: Simbody: step size underflow"));
+}
+
 TEST_CASE("the in-house classical method can be the reference", "[comparison]") {
   const Model m = test::loadData("chain02.json");
   CompareOptions o;

@@ -137,3 +137,15 @@ TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5
   }
   CHECK_THROWS_WITH(ref.simulate("euler", 1e-10, 1.0, 0.01), Catch::Contains("unknown Simbody integrator"));
 }
+
+TEST_CASE("a Simbody failure is a one-line cause with its time - not an exception", "[crosscheck][failure]") {
+  SceneSpec s = makeChainSpec(2);
+  s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
+  const Model m = buildModel(s);
+  const Trajectory t = SimbodyReference(m).simulate("rkmerson", 1e-10, 0.1, 0.01);
+  CHECK(t.status == "failed");
+  CHECK(t.failure_time == 0.0);
+  CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));
+  CHECK(t.failure.find('\n') == std::string::npos);
+  CHECK(t.size() == 1);  // the initial sample only
+}
