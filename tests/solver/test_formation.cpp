@@ -176,9 +176,10 @@ TEST_CASE("only declared terms are built: springs only when a scene has them", "
 }
 
 TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identity][formation][allocation]") {
-  for (const char* scene : {"pendulum5.json", "tree_mixed.json", "chain10.json"}) {
+  // chain50: N = 52, large enough for Eigen's blocked products and Cholesky.
+  for (const char* scene : {"pendulum5.json", "tree_mixed.json", "chain10.json", "chain50.json"}) {
     const Model m = test::loadData(scene);
-    for (Method method : {Method::Classical, Method::Eigen, Method::EigenJacobi}) {
+    for (Method method : {Method::Classical, Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
       Dynamics dyn(m, method);
       Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
       REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
