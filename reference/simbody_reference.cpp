@@ -6,6 +6,12 @@
 
 #include <Simbody.h>
 
+// GCC 12 reports -Warray-bounds inside SimTK::Vec<3,double,4> (the stride-4
+// view of a Rotation's diagonal) when Rotation's constructors are inlined
+// here: a false positive in Simbody's header that SYSTEM includes do not
+// silence, because it is diagnosed at the inlining site.
+#pragma GCC diagnostic ignored "-Warray-bounds"
+
 namespace em {
 
 // Using-declarations only: `using namespace SimTK` breaks Eigen 3.4's operators.
