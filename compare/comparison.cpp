@@ -47,11 +47,7 @@ ComparisonResult runComparison(const Model& m, const std::string& scene_file, co
     return runMethod(m, withGrid(s));
   };
   // Validate every method name before spending time on the reference.
-  for (const auto& name : opt.methods) {
-    Method dummy;
-    if (name != "simbody" && !parseMethod(name, dummy))
-      throw std::invalid_argument("unknown method '" + name + "' (" + knownMethods() + ")");
-  }
+  for (const auto& name : opt.methods) requireKnownMethod(name);
   const Trajectory ref = run(opt.reference, "reference " + opt.reference.method);
   RunSpec tight_spec = opt.reference;
   tight_spec.tol = opt.reference.tol / opt.tight_factor;

@@ -18,6 +18,7 @@ PrecisionResult runPrecision(const Model& m, const PrecisionOptions& opt, void (
   for (double s : opt.settings)
     if (!(s > 0)) throw std::invalid_argument("steps and tolerances must be > 0");
   const bool fixed = opt.integrator == "rk4";
+  for (const auto& method : opt.methods) requireKnownMethod(method);  // before the reference runs
   for (const auto& method : opt.methods)
     if (method == "simbody" && fixed)
       throw std::invalid_argument("simbody has no fixed-step integrator here: give an adaptive --integrator and tolerances");

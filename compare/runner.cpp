@@ -9,7 +9,14 @@ namespace em {
 
 const char* knownMethods() { return "classical, eigen, eigen-jacobi, eigen-jacobi-orth, simbody"; }
 
+void requireKnownMethod(const std::string& name) {
+  Method dummy;
+  if (name != "simbody" && !parseMethod(name, dummy))
+    throw std::invalid_argument("unknown method '" + name + "' (" + knownMethods() + ")");
+}
+
 Trajectory runMethod(const Model& m, const RunSpec& spec) {
+  requireKnownMethod(spec.method);
   const double t_end = spec.t_end > 0 ? spec.t_end : m.t_end;
   const double output_dt = spec.output_dt > 0 ? spec.output_dt : m.output_dt;
   if (spec.method == "simbody") {
@@ -18,8 +25,7 @@ Trajectory runMethod(const Model& m, const RunSpec& spec) {
                                         output_dt);
   }
   Method method;
-  if (!parseMethod(spec.method, method))
-    throw std::invalid_argument("unknown method '" + spec.method + "' (" + knownMethods() + ")");
+  parseMethod(spec.method, method);
   SimOptions opt;
   if (!spec.integrator.empty() && !parseIntegrator(spec.integrator, opt.integrator))
     throw std::invalid_argument("unknown integrator '" + spec.integrator + "' (rk4, rkf45, rk8pd, bsimp)");

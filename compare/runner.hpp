@@ -21,6 +21,8 @@ struct RunSpec {
 
 /// Known method names, comma-separated, for help texts.
 const char* knownMethods();
+/// Throws std::invalid_argument naming the known methods unless `name` is one.
+void requireKnownMethod(const std::string& name);
 /// Throws std::invalid_argument for unknown names or inconsistent options.
 Trajectory runMethod(const Model& m, const RunSpec& spec);
 

@@ -85,6 +85,12 @@ struct SimbodyReference::Impl {
     if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
     system.realizeTopology();
     state = system.getDefaultState();
+    // Simbody's q and u index of each in-house coordinate and speed, fixed from here on.
+    for (const Body& b : m.bodies) {
+      const MobilizedBody& mb = mobods[&b - m.bodies.data()];
+      for (int k = 0; k < b.nq(); ++k) q_index.push_back(mb.getFirstQIndex(state) + k);  // Ball: [w,x,y,z] as ours
+      for (int k = 0; k < b.nu(); ++k) u_index.push_back(mb.getFirstUIndex(state) + k);  // Ball: w_FM in F = parent axes
+    }
     setState(m.q0(), m.u0());
   }
 
@@ -98,41 +104,22 @@ struct SimbodyReference::Impl {
   }
 
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    for (const Body& b : model.bodies) {
-      const MobilizedBody& mb = mobods[&b - model.bodies.data()];
-      Vector qb(b.nq()), ub(b.nu());
-      for (int k = 0; k < b.nq(); ++k) qb[k] = q[b.iq + k];  // Ball: [w,x,y,z] as ours
-      for (int k = 0; k < b.nu(); ++k) ub[k] = u[b.iu + k];  // Ball: w_FM in F = parent axes, as ours
-      mb.setQFromVector(state, qb);
-      mb.setUFromVector(state, ub);
-    }
+    Vector& Q = state.updQ();
+    Vector& U = state.updU();
+    for (int i = 0; i < model.nq; ++i) Q[q_index[i]] = q[i];
+    for (int i = 0; i < model.nu; ++i) U[u_index[i]] = u[i];
   }
 
   void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
     q.resize(model.nq);
     u.resize(model.nu);
-    for (const Body& b : model.bodies) {
-      const MobilizedBody& mb = mobods[&b - model.bodies.data()];
-      const Vector qb = mb.getQAsVector(state), ub = mb.getUAsVector(state);
-      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = qb[k];
-      for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = ub[k];
-    }
+    for (int i = 0; i < model.nq; ++i) q[i] = state.getQ()[q_index[i]];
+    for (int i = 0; i < model.nu; ++i) u[i] = state.getU()[u_index[i]];
   }
 
-  // Simbody's u index of in-house speed iu, via each body's first u.
-  std::vector<int> uMap() {
-    std::vector<int> map(model.nu);
-    for (const Body& b : model.bodies) {
-      const int first = mobods[&b - model.bodies.data()].getFirstUIndex(state);
-      for (int k = 0; k < b.nu(); ++k) map[b.iu + k] = first + k;
-    }
-    return map;
-  }
-
-  Eigen::VectorXd toInhouse(const Vector& v) {
-    const std::vector<int> map = uMap();
+  Eigen::VectorXd toInhouse(const Vector& v) const {
     Eigen::VectorXd out(model.nu);
-    for (int i = 0; i < model.nu; ++i) out[i] = v[map[i]];
+    for (int i = 0; i < model.nu; ++i) out[i] = v[u_index[i]];
     return out;
   }
 
@@ -153,6 +140,7 @@ struct SimbodyReference::Impl {
   SimTK::GeneralForceSubsystem forces;
   std::vector<MobilizedBody> mobods;  // internal order
   State state;
+  std::vector<int> q_index, u_index;  // Simbody index of in-house q[i], u[i]
 };
 
 SimbodyReference::SimbodyReference(const Model& m) : impl_(std::make_unique<Impl>(m)) {}
@@ -165,7 +153,7 @@ Eigen::MatrixXd SimbodyReference::massMatrix() {
   impl_->system.realize(impl_->state, SimTK::Stage::Position);
   SimTK::Matrix M;
   impl_->matter.calcM(impl_->state, M);
-  const std::vector<int> map = impl_->uMap();
+  const std::vector<int>& map = impl_->u_index;
   const int n = impl_->model.nu;
   Eigen::MatrixXd A(n, n);
   for (int i = 0; i < n; ++i)

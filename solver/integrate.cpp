@@ -1,5 +1,6 @@
 #include "solver/integrate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <limits>
@@ -18,16 +19,25 @@ const std::pair<Integrator, const char*> kIntegrators[] = {
 
 double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
+// What GSL's callbacks get: the dynamics and the Jacobian's scratch (sized once per run).
+struct GslParams {
+  explicit GslParams(Dynamics& d) : dyn(&d), yp(d.size()), f0(d.size()), f1(d.size()) {}
+  Dynamics* dyn;
+  std::vector<double> yp, f0, f1;
+};
+
 int gslRhs(double t, const double y[], double dydt[], void* params) {
-  return static_cast<Dynamics*>(params)->rhs(t, y, dydt) ? GSL_SUCCESS : GSL_EBADFUNC;
+  return static_cast<GslParams*>(params)->dyn->rhs(t, y, dydt) ? GSL_SUCCESS : GSL_EBADFUNC;
 }
 
 // bsimp needs df/dy: a forward finite difference of the right-hand side
 // (the system is autonomous, df/dt = 0).
 int gslJacobian(double t, const double y[], double* dfdy, double dfdt[], void* params) {
-  auto* dyn = static_cast<Dynamics*>(params);
+  auto& p = *static_cast<GslParams*>(params);
+  Dynamics* dyn = p.dyn;
   const int n = dyn->size();
-  std::vector<double> yp(y, y + n), f0(n), f1(n);
+  std::vector<double>&yp = p.yp, &f0 = p.f0, &f1 = p.f1;
+  std::copy(y, y + n, yp.begin());
   if (!dyn->rhs(t, y, f0.data())) return GSL_EBADFUNC;
   for (int j = 0; j < n; ++j) {
     const double h = 1.4901161193847656e-08 * std::max(1.0, std::abs(y[j]));
@@ -73,7 +83,8 @@ void runAdaptive(Dynamics& dyn, const SimOptions& opt, int n_out, Eigen::VectorX
   std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(type, n));
   std::unique_ptr<gsl_odeiv2_control, GslDeleter> ctl(gsl_odeiv2_control_standard_new(opt.tol, opt.tol, 1.0, 0.0));
   std::unique_ptr<gsl_odeiv2_evolve, GslDeleter> evo(gsl_odeiv2_evolve_alloc(n));
-  gsl_odeiv2_system sys{gslRhs, gslJacobian, static_cast<size_t>(n), &dyn};
+  GslParams params(dyn);
+  gsl_odeiv2_system sys{gslRhs, gslJacobian, static_cast<size_t>(n), &params};
   double t = 0, h = std::min(1e-3, opt.output_dt);
   const bool corrects = dyn.method() == Method::EigenJacobi || dyn.method() == Method::EigenJacobiOrth;
   for (int k = 1; k <= n_out; ++k) {

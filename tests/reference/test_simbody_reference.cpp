@@ -28,6 +28,9 @@ double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
   return d;
 }
 
+// In-house classical rk8pd and Simbody RK-Merson runs of one scene, both required ok.
+std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end);
+
 SimOptions rk8pd(double tol, double t_end) {
   SimOptions o;
   o.integrator = Integrator::RK8PD;
@@ -35,6 +38,15 @@ SimOptions rk8pd(double tol, double t_end) {
   o.t_end = t_end;
   o.output_dt = 0.01;
   return o;
+}
+
+std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
+  Trajectory in = simulate(m, Method::Classical, rk8pd(tol_inhouse, t_end));
+  Trajectory sb = SimbodyReference(m).simulate("rkmerson", tol_simbody, t_end, 0.01);
+  REQUIRE(in.status == "ok");
+  REQUIRE(sb.status == "ok");
+  REQUIRE(in.size() == sb.size());
+  return {std::move(in), std::move(sb)};
 }
 
 }  // namespace
@@ -94,12 +106,7 @@ TEST_CASE("a balls u is the angular velocity in the parent frame in Simbody too"
 }
 
 TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12 over 5 s", "[crosscheck][slow]") {
-  const Model m = test::loadData("pendulum5.json");
-  const Trajectory in = simulate(m, Method::Classical, rk8pd(1e-13, 5.0));
-  const Trajectory sb = SimbodyReference(m).simulate("rkmerson", 1e-12, 5.0, 0.01);
-  REQUIRE(in.status == "ok");
-  REQUIRE(sb.status == "ok");
-  REQUIRE(in.size() == sb.size());
+  const auto [in, sb] = runBoth(test::loadData("pendulum5.json"), 1e-13, 1e-12, 5.0);
   double dq = 0;
   for (size_t k = 0; k < in.size(); ++k) dq = std::max(dq, (in.q[k] - sb.q[k]).cwiseAbs().maxCoeff());
   CHECK(dq <= 1e-6);
@@ -116,11 +123,7 @@ TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over
 }
 
 TEST_CASE("a branched tree with every joint kind tracks Simbody over 2 s", "[crosscheck][slow]") {
-  const Model m = test::loadData("tree_mixed.json");
-  const Trajectory in = simulate(m, Method::Classical, rk8pd(1e-12, 2.0));
-  const Trajectory sb = SimbodyReference(m).simulate("rkmerson", 1e-11, 2.0, 0.01);
-  REQUIRE(in.status == "ok");
-  REQUIRE(sb.status == "ok");
+  const auto [in, sb] = runBoth(test::loadData("tree_mixed.json"), 1e-12, 1e-11, 2.0);
   CHECK(maxPoseDiff(in, sb) <= 1e-6);
 }
 
