@@ -2,15 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace em {
-
-std::string gnum(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", x);
-  return b;
-}
 
 double energyScale(const Trajectory& ref) {
   double T = 0;  // non-finite samples (a blown-up reference) carry no scale
@@ -94,8 +87,7 @@ std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const
 MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale) {
   MethodMetrics m;
-  m.name = run.method;
-  m.integrator = run.integrator;
+  m.run = run.run;
   m.status = run.status;
   m.failure = run.failure;
   if (run.failed()) m.failure_time = run.failure_time;

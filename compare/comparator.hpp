@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/text.hpp"
 #include "solver/trajectory.hpp"
 
 namespace em {
@@ -27,9 +28,7 @@ struct Peak {
 
 /// Everything the report says about one method.
 struct MethodMetrics {
-  std::string name, integrator;
-  bool fixed_step = true;
-  double step_or_tol = 0;
+  RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
   std::string status, failure;
   std::optional<double> failure_time;
   double run_time_s = 0;
@@ -45,10 +44,9 @@ struct MethodMetrics {
   Peak orth_err, offdiag_rel, max_Omega, inv_err;
   EigenStats eigen;
   ErrorSeries series;
-};
 
-/// Shortest "%g" text of a number ("0.001", "1e-10"): threshold keys, messages.
-std::string gnum(double x);
+  std::string name() const { return methodName(run.method); }
+};
 
 /// Scale of the relative energy error: the largest kinetic energy of the
 /// reference run (datum-free, never zero for a moving system); |E(0)| if the

@@ -1,27 +1,34 @@
 #include "compare/comparison.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
 namespace em {
 
-CompareOptions::CompareOptions() {
-  inhouse.method = "classical";
-  inhouse.integrator = "rk4";
+CompareOptions::CompareOptions() : reference(referenceRun()) {
+  for (const MethodInfo& m : methodTable()) methods.push_back(m.id);
+  inhouse.method = Method::Classical;
+  inhouse.integrator = defaultIntegrator(Engine::InHouse);
   inhouse.dt = 1e-3;
-  simbody.method = "simbody";
-  simbody.integrator = "rkmerson";
+  simbody.method = Method::Simbody;
+  simbody.integrator = defaultIntegrator(Engine::Simbody);
   simbody.tol = 1e-6;
-  reference.method = "simbody";
-  reference.integrator = "rkmerson";
-  reference.tol = 1e-10;
+}
+
+RunSpec CompareOptions::specFor(Method method) const {
+  RunSpec s = info(method).engine == Engine::Simbody ? simbody : inhouse;
+  s.method = method;
+  return s;
 }
 
 ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
                              const CompareOptions& opt) {
   ComparisonResult r;
   r.options = opt;
+  r.t_end = reference.run.t_end;
+  r.output_dt = reference.run.output_dt;
   r.reference = reference;
   r.tight = tight;
   r.horizon = referenceHorizon(reference, tight, opt.thresholds);
@@ -32,93 +39,110 @@ ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tigh
   return r;
 }
 
-ComparisonResult runComparison(const Model& m, const std::string& scene_file, const CompareOptions& opt,
-                               void (*progress)(const std::string&)) {
+namespace {
+
+// Everything that can be refused is refused here, before the reference runs.
+void checkComparison(const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
-  auto withGrid = [&](RunSpec s) {
-    s.t_end = opt.t_end;
-    s.output_dt = opt.output_dt;
-    return s;
-  };
+  for (size_t i = 0; i < opt.methods.size(); ++i)
+    if (std::count(opt.methods.begin(), opt.methods.begin() + i, opt.methods[i]))
+      throw std::invalid_argument(std::string("method '") + methodName(opt.methods[i]) + "' is listed twice");
+  for (const RunSpec& s : specs) checkRunSpec(s);
+}
+
+}  // namespace
+
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+  const RunSpec ref_spec = onGrid(opt.reference, scene, opt.grid);
+  RunSpec tight_spec = ref_spec;
+  tight_spec.tol = ref_spec.tol / opt.tight_factor;
+  std::vector<RunSpec> specs = {ref_spec, tight_spec};
+  for (Method method : opt.methods) specs.push_back(onGrid(opt.specFor(method), scene, opt.grid));
+  checkComparison(opt, specs);
   auto run = [&](const RunSpec& s, const std::string& label) {
     if (progress) progress(label);
-    return runMethod(m, withGrid(s));
+    return runMethod(scene.model, s);
   };
-  // Validate every method name before spending time on the reference.
-  for (const auto& name : opt.methods) requireKnownMethod(name);
-  const Trajectory ref = run(opt.reference, "reference " + opt.reference.method);
-  RunSpec tight_spec = opt.reference;
-  tight_spec.tol = opt.reference.tol / opt.tight_factor;
-  const Trajectory tight = run(tight_spec, "horizon run (tolerance / " + std::to_string(int(opt.tight_factor)) + ")");
+  const Trajectory ref = run(ref_spec, std::string("reference ") + methodName(ref_spec.method));
+  const Trajectory tight = run(tight_spec, "horizon run (tolerance / " + gnum(opt.tight_factor) + ")");
   std::vector<Trajectory> runs;
-  for (const auto& name : opt.methods) {
-    RunSpec s = name == "simbody" ? opt.simbody : opt.inhouse;
-    s.method = name;
-    runs.push_back(run(s, name));
-  }
+  for (size_t i = 2; i < specs.size(); ++i) runs.push_back(run(specs[i], methodName(specs[i].method)));
   ComparisonResult r = compareRuns(ref, tight, std::move(runs), opt);
+  const Model& m = scene.model;
   r.scene_name = m.name;
-  r.scene_file = scene_file;
+  r.scene_file = scene.file;
   r.nq = m.nq;
   r.nu = m.nu;
   r.bodies = m.n();
-  r.t_end = opt.t_end > 0 ? opt.t_end : m.t_end;
-  r.output_dt = opt.output_dt > 0 ? opt.output_dt : m.output_dt;
   return r;
 }
 
 namespace {
+
 std::string timeOrDash(const std::optional<double>& t, bool meaningful) {
   if (!t) return "-";
   char b[32];
   std::snprintf(b, sizeof b, "%.2f%s", *t, meaningful ? "" : "*");
   return b;
 }
+
+void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
+  char cell[64];
+  std::snprintf(cell, sizeof cell, "%-18s %-7s", "method", "status");
+  o << cell;
+  for (const char* kind : {"pose", "joint"})
+    for (double th : thresholds) {
+      std::snprintf(cell, sizeof cell, " %12s", (std::string(kind) + ">" + gnum(th)).c_str());
+      o << cell;
+    }
+  std::snprintf(cell, sizeof cell, " %12s %12s %10s %10s\n", "max pose rad", "max dE/Escl", "steps", "CPU s");
+  o << cell;
+}
+
+void tableRow(std::ostream& o, const MethodMetrics& m) {
+  char cell[64];
+  std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), m.status.c_str());
+  o << cell;
+  for (size_t i = 0; i < m.divergence_time_s.size(); ++i) {
+    std::snprintf(cell, sizeof cell, " %12s", timeOrDash(m.divergence_time_s[i], m.divergence_meaningful[i]).c_str());
+    o << cell;
+  }
+  for (const auto& t : m.coord_divergence_time_s) {
+    std::snprintf(cell, sizeof cell, " %12s", timeOrDash(t, true).c_str());
+    o << cell;
+  }
+  std::snprintf(cell, sizeof cell, " %12.3e %12.3e %10ld %10.3f\n", m.pose.value, m.energy.value, m.steps, m.run_time_s);
+  o << cell;
+}
+
+void referenceLine(std::ostream& o, const ComparisonResult& r) {
+  const Trajectory& ref = r.reference;
+  o << "reference: " << ref.method() << "/" << ref.integrator() << " tol " << gnum(ref.run.tol);
+  if (ref.failed())
+    o << " FAILED at t = " << gnum(ref.failure_time) << " s: " << ref.failure
+      << " (errors are measured against its samples only)";
+  o << "; horizon (reference vs tol/" << gnum(r.options.tight_factor) << "):";
+  for (size_t i = 0; i < r.horizon.size(); ++i)
+    o << " " << gnum(r.options.thresholds[i]) << " rad " << (r.horizon[i] ? gnum(*r.horizon[i]) + " s" : "not within t_end");
+  o << "\n";
+}
+
 }  // namespace
 
 std::string summaryTable(const ComparisonResult& r) {
   std::ostringstream o;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-18s %-7s", "method", "status");
-  o << line;
-  for (const char* kind : {"pose", "joint"})
-    for (double th : r.options.thresholds) {
-      std::snprintf(line, sizeof line, " %12s", (std::string(kind) + ">" + gnum(th)).c_str());
-      o << line;
-    }
-  std::snprintf(line, sizeof line, " %12s %12s %10s %10s\n", "max pose rad", "max dE/Escl", "steps", "CPU s");
-  o << line;
-  auto row = [&](const MethodMetrics& m, const std::string& name) {
-    std::snprintf(line, sizeof line, "%-18s %-7s", name.c_str(), m.status.c_str());
-    o << line;
-    for (size_t i = 0; i < m.divergence_time_s.size(); ++i) {
-      std::snprintf(line, sizeof line, " %12s", timeOrDash(m.divergence_time_s[i], m.divergence_meaningful[i]).c_str());
-      o << line;
-    }
-    for (const auto& t : m.coord_divergence_time_s) {
-      std::snprintf(line, sizeof line, " %12s", timeOrDash(t, true).c_str());
-      o << line;
-    }
-    std::snprintf(line, sizeof line, " %12.3e %12.3e %10ld %10.3f\n", m.pose.value, m.energy.value, m.steps, m.run_time_s);
-    o << line;
-  };
-  for (const MethodMetrics& m : r.metrics) row(m, m.name);
-  o << "reference: " << r.reference.method << "/" << r.reference.integrator << " tol " << r.options.reference.tol;
-  if (r.reference.failed())
-    o << " FAILED at t = " << r.reference.failure_time << " s: " << r.reference.failure
-      << " (errors are measured against its samples only)";
-  o << "; horizon (reference vs tol/" << r.options.tight_factor << "):";
-  for (size_t i = 0; i < r.horizon.size(); ++i)
-    o << " " << r.options.thresholds[i] << " rad " << (r.horizon[i] ? std::to_string(*r.horizon[i]) + " s" : "not within t_end");
-  o << "\n";
+  tableHeader(o, r.options.thresholds);
+  for (const MethodMetrics& m : r.metrics) tableRow(o, m);
+  referenceLine(o, r);
   for (const MethodMetrics& m : r.metrics)
-    if (m.status != "ok") o << m.name << " failed at t = " << (m.failure_time ? *m.failure_time : 0) << " s: " << m.failure << "\n";
+    if (m.status != "ok")
+      o << m.name() << " failed at t = " << gnum(m.failure_time.value_or(0)) << " s: " << m.failure << "\n";
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"
        "exceeds x rad (- never; * at or beyond the reference horizon, not meaningful).\n"
        "dE/Escl = |E(t) - E(0)| / "
-    << r.energy_scale << " J (the reference's largest kinetic energy).\n";
+    << gnum(r.energy_scale) << " J (the reference's largest kinetic energy).\n";
   return o.str();
 }
 

@@ -7,38 +7,41 @@
 
 #include "compare/comparator.hpp"
 #include "compare/runner.hpp"
-#include "solver/model.hpp"
 
 namespace em {
 
 struct CompareOptions {
-  std::vector<std::string> methods = {"classical", "eigen", "eigen-jacobi", "eigen-jacobi-orth", "simbody"};
+  std::vector<Method> methods;  ///< default: every method of the registry, in table order
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
   RunSpec simbody;           ///< Simbody as a compared method (rkmerson, accuracy 1e-6)
-  RunSpec reference;         ///< the reference run (Simbody rkmerson, accuracy 1e-10)
+  RunSpec reference;         ///< the reference run (referenceRun(): Simbody rkmerson, accuracy 1e-10)
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
-  double t_end = 0, output_dt = 0;  ///< 0: the scene's
+  Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
   std::vector<double> thresholds = {1e-3, 1e-1};
 
   CompareOptions();
+  /// The settings a compared method runs with: `simbody` or `inhouse`, by its engine.
+  RunSpec specFor(Method method) const;
 };
 
 struct ComparisonResult {
   std::string scene_name, scene_file;
   int nq = 0, nu = 0, bodies = 0;
   CompareOptions options;
-  double t_end = 0, output_dt = 0;
+  double t_end = 0, output_dt = 0;             ///< the common grid (the reference run's)
   Trajectory reference, tight;
   std::vector<std::optional<double>> horizon;  ///< per threshold
   double energy_scale = 1;
   MethodMetrics reference_metrics;             ///< the reference's own energy error and cost
   std::vector<Trajectory> runs;                ///< per method, in options.methods order
   std::vector<MethodMetrics> metrics;
+
 };
 
 /// Run every method and the reference (and its tighter twin), then compare.
-/// `progress` (may be null) is told each run's name as it starts.
-ComparisonResult runComparison(const Model& m, const std::string& scene_file, const CompareOptions& opt,
+/// `progress` (may be null) is told each run's name as it starts. Settings are
+/// checked (and a method named twice refused) before anything runs.
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt,
                                void (*progress)(const std::string&) = nullptr);
 
 /// Compare already computed runs (used by runComparison and by tests).

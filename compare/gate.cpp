@@ -39,6 +39,24 @@ const std::vector<double>& seriesOf(const MethodMetrics& m, const std::string& m
   return m.series.energy_rel;
 }
 
+// The in-house integrator and its dt or tolerance that a scene's bounds hold for.
+RunSpec inhouseSettings(const json& run, const std::string& file, const std::string& path) {
+  if (!run.is_object() || !run.contains("integrator") || !run["integrator"].is_string())
+    bad(file, path, "expected {\"integrator\": ..., \"dt\" or \"tolerance\": ...}");
+  RunSpec s;
+  const std::string name = run["integrator"].get<std::string>();
+  if (!findIntegrator(name, s.integrator) || info(s.integrator).engine != Engine::InHouse)
+    bad(file, path + ".integrator", "unknown in-house integrator '" + name + "' (" + joined(integratorNames(Engine::InHouse)) + ")");
+  if (s.fixedStep()) s.dt = positive(run.value("dt", json()), file, path + ".dt");
+  else s.tol = positive(run.value("tolerance", json()), file, path + ".tolerance");
+  return s;
+}
+
+// The run was made with the integrator and the dt or tolerance the bounds were set for.
+bool sameSettings(const RunSpec& ran, const RunSpec& file) {
+  return ran.integrator == file.integrator && ran.setting() == file.setting();
+}
+
 }  // namespace
 
 Tolerances loadTolerances(const std::string& file) {
@@ -59,16 +77,12 @@ Tolerances loadTolerances(const std::string& file) {
     if (!s.is_object()) bad(file, sp, "expected an object");
     SceneTolerances st;
     st.horizon_s = positive(s.value("horizon_s", json()), file, sp + ".horizon_s");
-    // The in-house integrator settings the bounds hold for.
-    const json& run = s.value("inhouse", json());
-    if (!run.is_object() || !run.contains("integrator") || !run["integrator"].is_string())
-      bad(file, sp + ".inhouse", "expected {\"integrator\": ..., \"dt\" or \"tolerance\": ...}");
-    st.inhouse.integrator = run["integrator"].get<std::string>();
-    if (st.inhouse.integrator == "rk4") st.inhouse.dt = positive(run.value("dt", json()), file, sp + ".inhouse.dt");
-    else st.inhouse.tol = positive(run.value("tolerance", json()), file, sp + ".inhouse.tolerance");
+    st.inhouse = inhouseSettings(s.value("inhouse", json()), file, sp + ".inhouse");
     if (!s.contains("methods") || !s["methods"].is_object()) bad(file, sp + ".methods", "expected an object");
     for (auto& [method, bounds] : s["methods"].items()) {
       const std::string mp = sp + ".methods." + method;
+      Method id;
+      if (!findMethod(method, id)) bad(file, mp, "unknown method (" + joined(methodNames()) + ")");
       for (auto& [metric, b] : bounds.items()) {
         const std::string bp = mp + "." + metric;
         if (std::find(std::begin(kMetrics), std::end(kMetrics), metric) == std::end(kMetrics))
@@ -93,21 +107,18 @@ GateResult evaluateGate(const ComparisonResult& r, const Tolerances& tol) {
     return g;
   }
   const SceneTolerances& st = it->second;
-  const RunSpec& ran = r.options.inhouse;
-  const bool fixed = st.inhouse.integrator == "rk4";
-  const bool same_run = ran.integrator == st.inhouse.integrator &&
-                        (fixed ? ran.dt == st.inhouse.dt : ran.tol == st.inhouse.tol);
   for (const auto& [method, bounds] : st.methods) {
-    const auto m = std::find_if(r.metrics.begin(), r.metrics.end(), [&](const MethodMetrics& x) { return x.name == method; });
+    const auto m = std::find_if(r.metrics.begin(), r.metrics.end(), [&](const MethodMetrics& x) { return x.name() == method; });
     if (m == r.metrics.end()) continue;  // not run this time
     for (const Bound& b : bounds) {
       GateCheck c{method, b.metric, b.reason, "", 0, b.value, st.horizon_s, false};
       const std::vector<double>& s = seriesOf(*m, b.metric);
       c.value = maxUpTo(m->series.t, s, st.horizon_s);
       const bool covers = !m->series.t.empty() && m->series.t.back() >= st.horizon_s * (1 - 1e-12);
-      if (method != "simbody" && !same_run)
-        c.note = "run with other in-house integrator settings than the tolerance file's (" + st.inhouse.integrator +
-                 (fixed ? " dt " + gnum(st.inhouse.dt) : " tol " + gnum(st.inhouse.tol)) + ")";
+      if (m->run.engine() == Engine::InHouse && !sameSettings(m->run, st.inhouse))
+        c.note = std::string("run with other in-house integrator settings than the tolerance file's (") +
+                 integratorName(st.inhouse.integrator) + (st.inhouse.fixedStep() ? " dt " : " tol ") +
+                 gnum(st.inhouse.setting()) + ")";
       else if (m->status != "ok" && m->failure_time && *m->failure_time <= st.horizon_s)
         c.note = "method failed at t = " + gnum(*m->failure_time) + " s: " + m->failure;
       else if (!covers)

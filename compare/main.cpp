@@ -1,6 +1,6 @@
-// The `eigenmass` command-line tool: equations, simulate, compare.
+// The `eigenmass` command-line tool: equations, simulate, compare, precision.
 #include <CLI/CLI.hpp>
-#include "compare/commands.hpp"
+#include "compare/cli.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"eigenmass: cross-validation harness for rigid multibody dynamics"};

@@ -7,62 +7,70 @@
 
 namespace em {
 
-PrecisionOptions::PrecisionOptions() {
-  reference.method = "simbody";
-  reference.integrator = "rkmerson";
-  reference.tol = 1e-10;
+RunSpec PrecisionOptions::specFor(Method method, double setting) const {
+  RunSpec s;
+  s.method = method;
+  s.integrator = info(method).engine == Engine::InHouse ? integrator : defaultIntegrator(info(method).engine);
+  (s.fixedStep() ? s.dt : s.tol) = setting;
+  s.diagnostics = false;  // only errors and cost are wanted here
+  return s;
 }
 
-PrecisionResult runPrecision(const Model& m, const PrecisionOptions& opt, void (*progress)(const std::string&)) {
+namespace {
+
+// Every run of the sweep on the scene's grid, refused as a whole before any runs.
+std::vector<RunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& opt) {
   if (opt.settings.empty()) throw std::invalid_argument("at least one step or tolerance is needed");
   for (double s : opt.settings)
     if (!(s > 0)) throw std::invalid_argument("steps and tolerances must be > 0");
-  const bool fixed = opt.integrator == "rk4";
-  for (const auto& method : opt.methods) requireKnownMethod(method);  // before the reference runs
-  for (const auto& method : opt.methods)
-    if (method == "simbody" && fixed)
-      throw std::invalid_argument("simbody has no fixed-step integrator here: give an adaptive --integrator and tolerances");
+  const bool fixed = info(opt.integrator).fixed_step;
+  std::vector<RunSpec> specs;
+  for (Method method : opt.methods) {
+    if (fixed && info(method).engine != Engine::InHouse)
+      throw std::invalid_argument(std::string(methodName(method)) +
+                                  " has no fixed-step integrator here: give an adaptive --integrator and tolerances");
+    for (double setting : opt.settings) specs.push_back(onGrid(opt.specFor(method, setting), scene, opt.grid));
+  }
+  for (const RunSpec& s : specs) checkRunSpec(s);
+  return specs;
+}
+
+}  // namespace
+
+PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, void (*progress)(const std::string&)) {
+  const std::vector<RunSpec> specs = precisionSpecs(scene, opt);
+  RunSpec ref_spec = onGrid(opt.reference, scene, opt.grid);
+  ref_spec.diagnostics = false;
+  checkRunSpec(ref_spec);
   PrecisionResult r;
-  r.scene_name = m.name;
+  r.scene_name = scene.model.name;
   r.options = opt;
-  r.t_end = opt.t_end > 0 ? opt.t_end : m.t_end;
-  auto spec = [&](RunSpec s) {
-    s.t_end = opt.t_end;
-    s.output_dt = opt.output_dt;
-    s.diagnostics = false;  // only errors and cost are wanted here
-    return s;
-  };
-  if (progress) progress("reference " + opt.reference.method);
-  r.reference = runMethod(m, spec(opt.reference));
+  r.t_end = ref_spec.t_end;
+  if (progress) progress(std::string("reference ") + methodName(ref_spec.method));
+  r.reference = runMethod(scene.model, ref_spec);
   const double scale = energyScale(r.reference);
-  for (const auto& method : opt.methods)
-    for (double setting : opt.settings) {
-      RunSpec s;
-      s.method = method;
-      s.integrator = method == "simbody" ? "rkmerson" : opt.integrator;
-      (fixed ? s.dt : s.tol) = setting;
-      if (progress) progress(method + " " + opt.integrator + " " + gnum(setting));
-      const Trajectory t = runMethod(m, spec(s));
-      r.points.push_back({method, s.integrator, setting, compareRun(t, r.reference, {}, {}, scale)});
-    }
+  for (const RunSpec& s : specs) {
+    if (progress) progress(std::string(methodName(s.method)) + " " + integratorName(s.integrator) + " " + gnum(s.setting()));
+    r.points.push_back({compareRun(runMethod(scene.model, s), r.reference, {}, {}, scale)});
+  }
   return r;
 }
 
 std::string precisionTable(const PrecisionResult& r) {
   std::ostringstream o;
   char line[256];
-  const bool fixed = r.options.integrator == "rk4";
+  const bool fixed = info(r.options.integrator).fixed_step;
   std::snprintf(line, sizeof line, "%-18s %-10s %-7s %14s %14s %10s %10s\n", "method", fixed ? "dt" : "tol", "status",
                 "max pose rad", "max dE/Escl", "CPU s", "rhs evals");
   o << line;
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
-    std::snprintf(line, sizeof line, "%-18s %-10s %-7s %14.3e %14.3e %10.3f %10ld\n", p.method.c_str(),
-                  gnum(p.setting).c_str(), m.status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
+    std::snprintf(line, sizeof line, "%-18s %-10s %-7s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
+                  gnum(m.run.setting()).c_str(), m.status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
     o << line;
   }
-  o << "errors over 0.." << r.t_end << " s against " << r.reference.method << "/" << r.reference.integrator << " tol "
-    << gnum(r.options.reference.tol) << "; a failed run's errors cover only its samples.\n";
+  o << "errors over 0.." << gnum(r.t_end) << " s against " << r.reference.method() << "/" << r.reference.integrator()
+    << " tol " << gnum(r.reference.run.tol) << "; a failed run's errors cover only its samples.\n";
   return o.str();
 }
 
@@ -72,9 +80,9 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
   json points = json::array();
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
-    points.push_back({{"method", p.method},
-                      {"integrator", p.integrator},
-                      {p.integrator == "rk4" ? "step" : "tolerance", p.setting},
+    points.push_back({{"method", m.name()},
+                      {"integrator", integratorName(m.run.integrator)},
+                      {m.run.fixedStep() ? "step" : "tolerance", m.run.setting()},
                       {"status", m.status},
                       {"failure", m.status == "ok" ? json(nullptr)
                                                    : json({{"t", m.failure_time ? json(*m.failure_time) : json(nullptr)},
@@ -90,7 +98,7 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
           {"scene", r.scene_name},
           {"t_end", r.t_end},
           {"reference",
-           {{"method", r.reference.method}, {"integrator", r.reference.integrator}, {"tolerance", r.options.reference.tol}}},
+           {{"method", r.reference.method()}, {"integrator", r.reference.integrator()}, {"tolerance", r.reference.run.tol}}},
           {"points", points}};
 }
 

@@ -11,20 +11,20 @@
 namespace em {
 
 struct PrecisionOptions {
-  std::vector<std::string> methods = {"classical", "eigen", "eigen-jacobi"};
-  std::string integrator = "rk4";
+  std::vector<Method> methods = {Method::Classical, Method::Eigen, Method::EigenJacobi};
+  Integrator integrator = Integrator::RK4;  ///< of the in-house methods
   /// dt for rk4 (halvings that divide the 0.01 s output grid), tolerances otherwise;
-  /// `simbody` runs RK-Merson at the same tolerances (adaptive integrators only).
+  /// another engine's method runs its default integrator at the same tolerances (adaptive integrators only).
   std::vector<double> settings = {1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4};
-  RunSpec reference;   ///< Simbody rkmerson at 1e-10 by default
-  double t_end = 0, output_dt = 0;  ///< 0: the scene's
-  PrecisionOptions();
+  RunSpec reference = referenceRun();  ///< Simbody rkmerson at 1e-10 by default
+  Grid grid;                           ///< t_end and output_dt asked for (absent: the scene's)
+
+  /// The run of `method` at `setting` (dt or tolerance), on no grid yet.
+  RunSpec specFor(Method method, double setting) const;
 };
 
 struct PrecisionPoint {
-  std::string method, integrator;
-  double setting = 0;  ///< dt or tolerance
-  MethodMetrics metrics;
+  MethodMetrics metrics;  ///< metrics.run: the method, integrator and dt or tolerance of the point
 };
 
 struct PrecisionResult {
@@ -35,7 +35,10 @@ struct PrecisionResult {
   std::vector<PrecisionPoint> points;  ///< methods x settings, in that order
 };
 
-PrecisionResult runPrecision(const Model& m, const PrecisionOptions& opt, void (*progress)(const std::string&) = nullptr);
+/// Every method at every setting against one reference run. Settings are
+/// checked before the reference runs.
+PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt,
+                             void (*progress)(const std::string&) = nullptr);
 
 /// Table: method, dt or tol, status, max pose error, max energy error, CPU s, rhs evaluations.
 std::string precisionTable(const PrecisionResult& r);

@@ -1,9 +1,9 @@
 #include "compare/report.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <stdexcept>
+
+#include "io/atomic_file.hpp"
 
 namespace em {
 
@@ -25,16 +25,15 @@ json perThreshold(const std::vector<double>& th, const std::vector<std::optional
 }
 
 json runSpec(const RunSpec& s) {
-  const bool fixed = s.integrator == "rk4";
-  json j = {{"integrator", s.integrator}};
-  if (fixed) j["dt"] = s.dt;
+  json j = {{"integrator", integratorName(s.integrator)}};
+  if (s.fixedStep()) j["dt"] = s.dt;
   else j["tolerance"] = s.tol;
   return j;
 }
 
-json methodJson(const MethodMetrics& m, const RunSpec& spec, const std::vector<double>& th) {
-  json j = {{"name", m.name},
-            {"integrator", m.integrator},
+json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
+  json j = {{"name", m.name()},
+            {"integrator", integratorName(m.run.integrator)},
             {"status", m.status},
             {"failure", m.status == "ok" ? json(nullptr) : json({{"t", orNull(m.failure_time)}, {"cause", m.failure}})},
             {"run_time_s", m.run_time_s},
@@ -49,8 +48,8 @@ json methodJson(const MethodMetrics& m, const RunSpec& spec, const std::vector<d
             {"energy_error_max", num(m.energy.value)},
             {"energy_error_max_t", m.energy.t},
             {"energy_error_final", num(m.energy_error_final)}};
-  if (spec.integrator == "rk4") j["step"] = spec.dt;
-  else j["tolerance"] = spec.tol;
+  if (m.run.fixedStep()) j["step"] = m.run.dt;
+  else j["tolerance"] = m.run.tol;
   json meaningful = json::object();
   for (size_t i = 0; i < th.size(); ++i)
     meaningful[thresholdKey(th[i])] = m.divergence_time_s[i] ? json(bool(m.divergence_meaningful[i])) : json(nullptr);
@@ -89,22 +88,22 @@ std::string thresholdKey(double th) { return gnum(th); }
 json makeReport(const ComparisonResult& r, const json& gate, int max_series_points) {
   const CompareOptions& o = r.options;
   json methods = json::array();
-  for (size_t i = 0; i < r.metrics.size(); ++i) {
-    RunSpec spec = r.metrics[i].name == "simbody" ? o.simbody : o.inhouse;
-    methods.push_back(methodJson(r.metrics[i], spec, o.thresholds));
-  }
+  for (const MethodMetrics& m : r.metrics) methods.push_back(methodJson(m, o.thresholds));
   const size_t n = r.reference.t.size();
   const size_t stride = std::max<size_t>(1, (n + max_series_points - 1) / std::max(1, max_series_points));
   json series = {{"t", decimated(r.reference.t, stride)}, {"stride", stride}, {"methods", json::object()}};
   for (const MethodMetrics& m : r.metrics)
-    series["methods"][m.name] = {{"pose_error_rad", decimated(m.series.pose_rad, stride)},
+    series["methods"][m.name()] = {{"pose_error_rad", decimated(m.series.pose_rad, stride)},
                                  {"position_error_m", decimated(m.series.position_m, stride)},
                                  {"energy_error", decimated(m.series.energy_rel, stride)}};
   json horizon = perThreshold(o.thresholds, r.horizon);
+  std::vector<std::string> names;
+  for (Method m : o.methods) names.push_back(methodName(m));
+  const RunSpec& ref = r.reference.run;
   return {{"format", "eigenmass-report/1"},
           {"scene", {{"name", r.scene_name}, {"file", r.scene_file}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}}},
           {"options",
-           {{"methods", o.methods},
+           {{"methods", names},
             {"inhouse", runSpec(o.inhouse)},
             {"simbody", runSpec(o.simbody)},
             {"t_end", r.t_end},
@@ -113,11 +112,11 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"energy_scale_J", r.energy_scale},
             {"energy_scale_definition", "largest kinetic energy of the reference run"}}},
           {"reference",
-           {{"engine", r.reference.method == "simbody" ? "simbody" : "inhouse"},
-            {"method", r.reference.method},
-            {"integrator", r.reference.integrator},
-            {"tolerance", o.reference.tol},
-            {"horizon_tolerance", o.reference.tol / o.tight_factor},
+           {{"engine", engineName(ref.engine())},
+            {"method", r.reference.method()},
+            {"integrator", r.reference.integrator()},
+            {"tolerance", ref.tol},
+            {"horizon_tolerance", r.tight.run.tol},
             {"horizon_s", horizon},
             {"status", r.reference.status},
             {"failure", r.reference.failed() ? json({{"t", r.reference.failure_time}, {"cause", r.reference.failure}})
@@ -132,20 +131,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
 }
 
 void writeJsonAtomic(const json& j, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write the report");
-    out << j.dump(2) << "\n";
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": write failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the temporary report");
-  }
+  writeAtomic(path, "report", [&](std::ostream& out) { out << j.dump(2) << "\n"; });
 }
 
 }  // namespace em

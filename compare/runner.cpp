@@ -4,42 +4,40 @@
 
 #include "reference/simbody_reference.hpp"
 #include "solver/formation.hpp"
+#include "solver/integrate.hpp"
 
 namespace em {
 
-const char* knownMethods() { return "classical, eigen, eigen-jacobi, eigen-jacobi-orth, simbody"; }
+RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid) {
+  spec.t_end = grid.t_end.value_or(scene.t_end);
+  spec.output_dt = grid.output_dt.value_or(scene.output_dt);
+  return spec;
+}
 
-void requireKnownMethod(const std::string& name) {
-  Method dummy;
-  if (name != "simbody" && !parseMethod(name, dummy))
-    throw std::invalid_argument("unknown method '" + name + "' (" + knownMethods() + ")");
+RunSpec referenceRun(Method method) {
+  RunSpec s;
+  s.method = method;
+  s.integrator = info(method).engine == Engine::Simbody ? Integrator::RKMerson : Integrator::RK8PD;
+  s.tol = 1e-10;
+  return s;
+}
+
+Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
+  if (engine == Engine::InHouse && tolerance_given) return Integrator::RK8PD;
+  return defaultIntegrator(engine);
 }
 
 Trajectory runMethod(const Model& m, const RunSpec& spec) {
-  requireKnownMethod(spec.method);
-  const double t_end = spec.t_end > 0 ? spec.t_end : m.t_end;
-  const double output_dt = spec.output_dt > 0 ? spec.output_dt : m.output_dt;
-  if (spec.method == "simbody") {
-    if (!(spec.tol > 0)) throw std::invalid_argument("--tol must be > 0");
-    return SimbodyReference(m).simulate(spec.integrator.empty() ? "rkmerson" : spec.integrator, spec.tol, t_end,
-                                        output_dt);
+  switch (spec.engine()) {
+    case Engine::InHouse: return simulate(m, spec);
+    case Engine::Simbody: return SimbodyReference(m).simulate(spec);
   }
-  Method method;
-  parseMethod(spec.method, method);
-  SimOptions opt;
-  if (!spec.integrator.empty() && !parseIntegrator(spec.integrator, opt.integrator))
-    throw std::invalid_argument("unknown integrator '" + spec.integrator + "' (rk4, rkf45, rk8pd, bsimp)");
-  opt.dt = spec.dt;
-  opt.tol = spec.tol;
-  opt.t_end = t_end;
-  opt.output_dt = output_dt;
-  opt.diagnostics = spec.diagnostics;
-  return simulate(m, method, opt);
+  throw std::logic_error("runMethod: an engine without a runner");
 }
 
 namespace {
 
-// Reorder internal-order results to the file's order and add eigenvalues.
+// Reorder internal-order results to the source's order and add eigenvalues.
 Equations toFileOrder(const Model& m, const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const Eigen::VectorXd& udot,
                       double kinetic, double potential) {
   const std::vector<int> p = m.uFilePermutation();

@@ -1,32 +1,35 @@
 #pragma once
-/// Runs one method (in-house or Simbody) on a model: the one place that knows both engines.
+/// Runs one method on either engine (the one place that knows both), and the
+/// one place where a scene's run defaults and the reference's defaults apply.
+#include <optional>
 #include <string>
 
-#include "solver/integrate.hpp"
-#include "solver/model.hpp"
+#include "io/scene.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em {
 
-/// What to run: a method name (classical, eigen, eigen-jacobi, eigen-jacobi-orth,
-/// simbody), an integrator name and its step or tolerance.
-struct RunSpec {
-  std::string method = "classical";
-  std::string integrator;  ///< empty: rk4 in-house, rkmerson for simbody
-  double dt = 1e-3;
-  double tol = 1e-10;
-  double t_end = 0;        ///< 0: the scene's
-  double output_dt = 0;    ///< 0: the scene's
-  bool diagnostics = true;
+/// The output grid as asked for: an absent part means "the scene's".
+struct Grid {
+  std::optional<double> t_end, output_dt;
 };
 
-/// Known method names, comma-separated, for help texts.
-const char* knownMethods();
-/// Throws std::invalid_argument naming the known methods unless `name` is one.
-void requireKnownMethod(const std::string& name);
-/// Throws std::invalid_argument for unknown names or inconsistent options.
+/// `spec` on the grid asked for, the scene's where nothing was asked
+/// (simulate.t_end, simulate.output_dt): the one place scene defaults apply.
+RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid);
+
+/// The reference run of `method` when nothing else is asked: Simbody RK-Merson
+/// or in-house rk8pd, at tolerance 1e-10.
+RunSpec referenceRun(Method method = Method::Simbody);
+
+/// The integrator an engine runs when the user names none; a tolerance given
+/// alone selects an adaptive one (in-house rk8pd).
+Integrator chosenIntegrator(Engine engine, bool tolerance_given);
+
+/// Run `spec` on its engine. Throws for settings that cannot be run.
 Trajectory runMethod(const Model& m, const RunSpec& spec);
 
-/// Equations at the initial state as JSON-ready numbers (file order).
+/// Equations at the initial state, in the source's order.
 struct Equations {
   int nq = 0, nu = 0;
   Eigen::MatrixXd A;

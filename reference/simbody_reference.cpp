@@ -123,6 +123,19 @@ struct SimbodyReference::Impl {
     return out;
   }
 
+  double kineticEnergy() {
+    system.realize(state, SimTK::Stage::Velocity);
+    return system.calcKineticEnergy(state);
+  }
+
+  double potentialEnergy() {
+    system.realize(state, SimTK::Stage::Dynamics);
+    return system.calcPotentialEnergy(state);
+  }
+
+  // The sample at t of state s, through the shared sampler.
+  void sample(Trajectory& tr, double t, const State& s);
+
   std::vector<Pose> poses() {
     system.realize(state, SimTK::Stage::Position);
     std::vector<Pose> out(model.n());
@@ -176,62 +189,50 @@ Eigen::VectorXd SimbodyReference::udot() {
   return impl_->toInhouse(impl_->state.getUDot());
 }
 
-double SimbodyReference::kineticEnergy() {
-  impl_->system.realize(impl_->state, SimTK::Stage::Velocity);
-  return impl_->system.calcKineticEnergy(impl_->state);
-}
-
-double SimbodyReference::potentialEnergy() {
-  impl_->system.realize(impl_->state, SimTK::Stage::Dynamics);
-  return impl_->system.calcPotentialEnergy(impl_->state);
-}
+double SimbodyReference::kineticEnergy() { return impl_->kineticEnergy(); }
+double SimbodyReference::potentialEnergy() { return impl_->potentialEnergy(); }
 
 std::vector<Pose> SimbodyReference::poses() { return impl_->poses(); }
 
-const char* SimbodyReference::integrators() { return "rkmerson, rk3, cpodes"; }
+namespace {
 
-Trajectory SimbodyReference::simulate(const std::string& integrator, double accuracy, double t_end, double output_dt) {
+std::unique_ptr<SimTK::Integrator> makeIntegrator(Integrator i, const SimTK::MultibodySystem& system) {
+  switch (i) {
+    case Integrator::RKMerson: return std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system);
+    case Integrator::RK3: return std::make_unique<SimTK::RungeKutta3Integrator>(system);
+    case Integrator::CPodes: return std::make_unique<SimTK::CPodesIntegrator>(system);
+    default: throw std::logic_error(std::string("no Simbody integrator for ") + integratorName(i));
+  }
+}
+
+}  // namespace
+
+void SimbodyReference::Impl::sample(Trajectory& tr, double t, const State& s) {
+  state = s;
+  Eigen::VectorXd q, u;
+  getState(q, u);
+  const double T = kineticEnergy();
+  appendSample(tr, model, t, q.data(), u.data(), poses(), T + potentialEnergy(), T);
+}
+
+Trajectory SimbodyReference::simulate(const RunSpec& spec) {
+  checkRunSpec(spec);
+  if (spec.engine() != Engine::Simbody) throw std::invalid_argument(std::string(methodName(spec.method)) + " is not Simbody");
+  const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   auto& I = *impl_;
-  const Model& m = I.model;
-  std::unique_ptr<SimTK::Integrator> integ;
-  if (integrator == "rkmerson" || integrator.empty()) integ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(I.system);
-  else if (integrator == "rk3") integ = std::make_unique<SimTK::RungeKutta3Integrator>(I.system);
-  else if (integrator == "cpodes") integ = std::make_unique<SimTK::CPodesIntegrator>(I.system);
-  else throw std::invalid_argument("unknown Simbody integrator '" + integrator + "' (" + integrators() + ")");
-  const double ratio = t_end / output_dt;
-  const long n_out = std::lround(ratio);
-  if (!(output_dt > 0) || std::abs(ratio - n_out) > 1e-9 * ratio)
-    throw std::invalid_argument("t_end must be a whole multiple of output_dt");
-  integ->setAccuracy(accuracy);
-  Trajectory tr = makeTrajectory(m, "simbody", integrator.empty() ? "rkmerson" : integrator);
+  std::unique_ptr<SimTK::Integrator> integ = makeIntegrator(spec.integrator, I.system);
+  integ->setAccuracy(spec.tol);
+  Trajectory tr = makeTrajectory(I.model, spec);
   // Start from t = 0 whatever an earlier run left in the state.
   I.state = I.system.getDefaultState();
-  setState(m.q0(), m.u0());
+  setState(I.model.q0(), I.model.u0());
   I.system.realize(I.state, SimTK::Stage::Acceleration);
-
-  auto sample = [&](double t, const State& s) {
-    I.state = s;
-    Eigen::VectorXd q, u, qf, uf;
-    I.getState(q, u);
-    m.qToFile(q, qf);
-    m.uToFile(u, uf);
-    const std::vector<Pose> p = I.poses();
-    std::vector<Pose> pf(m.n());
-    for (int i = 0; i < m.n(); ++i) pf[m.bodies[i].file_index] = p[i];
-    tr.t.push_back(t);
-    tr.q.push_back(qf);
-    tr.u.push_back(uf);
-    const double T = kineticEnergy();
-    tr.energy.push_back(T + potentialEnergy());
-    tr.kinetic.push_back(T);
-    tr.poses.push_back(pf);
-  };
-  sample(0.0, I.state);
+  I.sample(tr, 0.0, I.state);
   double cpu = 0;
   try {
     integ->initialize(I.state);
     for (long k = 1; k <= n_out; ++k) {
-      const double t_out = k * output_dt;
+      const double t_out = k * spec.output_dt;
       const std::clock_t c0 = std::clock();
       // The first stepTo may return early (at an event or the first step): loop until t_out.
       while (integ->getTime() < t_out * (1 - 1e-14)) {
@@ -239,12 +240,10 @@ Trajectory SimbodyReference::simulate(const std::string& integrator, double accu
         if (st == SimTK::Integrator::EndOfSimulation) throw std::runtime_error("integrator ended the simulation early");
       }
       cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-      sample(t_out, integ->getState());
+      I.sample(tr, t_out, integ->getState());
     }
   } catch (const std::exception& e) {
-    tr.status = "failed";
-    tr.failure = "Simbody: " + oneLine(e.what());
-    tr.failure_time = integ->getTime();
+    markFailed(tr, integ->getTime(), "Simbody: " + oneLine(e.what()));
   }
   tr.run_time_s = cpu;
   tr.steps = integ->getNumStepsTaken();

@@ -33,12 +33,11 @@ class SimbodyReference {
   /// Body poses (CM position, orientation quaternion), internal order.
   std::vector<Pose> poses();
 
-  /// Integrate from the model's initial state with a Simbody integrator
-  /// ("rkmerson", "rk3", "cpodes") at the given accuracy, sampled every output_dt.
-  Trajectory simulate(const std::string& integrator, double accuracy, double t_end, double output_dt);
-
-  /// Simbody integrator names accepted by simulate().
-  static const char* integrators();
+  /// Integrate from the model's initial state as `spec` says: method simbody,
+  /// a Simbody integrator (rkmerson, rk3, cpodes) at accuracy spec.tol,
+  /// sampled every spec.output_dt. A numerical failure ends the run with its
+  /// time and cause in the trajectory; bad settings throw.
+  Trajectory simulate(const RunSpec& spec);
 
  private:
   struct Impl;

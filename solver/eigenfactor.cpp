@@ -73,12 +73,12 @@ void symmetricOrthonormalize(Eigen::Ref<RowMatrix> C, CorrectionScratch& w) {
 }
 
 RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<const Eigen::VectorXd>& lambda,
-                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& T,
+                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& AdotCt,
                       Eigen::Ref<Eigen::VectorXd> lambda_dot, Eigen::Ref<RowMatrix> Cdot) {
   RateStatus st;
   const int N = static_cast<int>(lambda.size());
-  T.noalias() = Adot * C.transpose();
-  Omega.noalias() = C * T;  // G = C A' C^T, overwritten by Omega below
+  AdotCt.noalias() = Adot * C.transpose();
+  Omega.noalias() = C * AdotCt;  // G = C A' C^T, overwritten by Omega below
   lambda_dot = Omega.diagonal();
   for (int i = 0; i < N; ++i) {
     Omega(i, i) = 0;

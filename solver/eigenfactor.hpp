@@ -21,10 +21,11 @@ struct RateStatus {
 
 /// Junkins–Schaub rates (paper eqs. (8), (11), (14), (15); docs/theory.md §7):
 /// G = C A' C^T, lambda' = diag G, Omega_ij = G_ij / (lambda_j - lambda_i),
-/// C' = -Omega C. Omega is left in `Omega`; T is scratch. Stops with !ok when a
-/// gap |lambda_j - lambda_i| is below gap_floor.  // all (N x N) or (N)
+/// C' = -Omega C. G is formed in `Omega` and left there as Omega; `AdotCt`
+/// is scratch for A' C^T. Stops with !ok when a gap |lambda_j - lambda_i| is
+/// below gap_floor.  // all (N x N) or (N)
 RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<const Eigen::VectorXd>& lambda,
-                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& T,
+                      const Eigen::MatrixXd& Adot, double gap_floor, Eigen::MatrixXd& Omega, Eigen::MatrixXd& AdotCt,
                       Eigen::Ref<Eigen::VectorXd> lambda_dot, Eigen::Ref<RowMatrix> Cdot);
 
 /// Statistics of one Jacobi correction.

@@ -4,8 +4,6 @@ namespace em {
 
 namespace {
 
-using Block3 = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3>;
-
 // (a . b) E - b (x) a: the dyadic kernel of K (docs/theory.md §4).
 inline Mat3 kernel(const Vec3& a, const Vec3& b) {
   return a.dot(b) * Mat3::Identity() - b * a.transpose();
@@ -28,15 +26,15 @@ Workspace::Workspace(const Model& m) {
   for (auto* v : {&omega, &b, &d, &o, &r, &v, &s, &e, &h, &F}) v->assign(n, Vec3::Zero());
   R.assign(n, Mat3::Identity());
   J_w.assign(n, Mat3::Zero());
-  m_sub.assign(n, 0.0);
+  mu.assign(n, 0.0);
   P = Eigen::Matrix3Xd::Zero(3, nu);
   Pdot = Eigen::Matrix3Xd::Zero(3, nu);
-  for (auto* X : {&K, &M, &Kdot, &Mdot}) *X = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (auto* X : {&K, &KT, &Kdot, &KTdot}) *X = Eigen::MatrixXd::Zero(3 * n, 3 * n);
   A = Eigen::MatrixXd::Zero(nu, nu);
   Adot = Eigen::MatrixXd::Zero(nu, nu);
   B = Eigen::VectorXd::Zero(nu);
-  x3n = Eigen::VectorXd::Zero(3 * n);
-  y3n = Eigen::VectorXd::Zero(3 * n);
+  phi = Eigen::VectorXd::Zero(3 * n);
+  psi = Eigen::VectorXd::Zero(3 * n);
 }
 
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
@@ -94,11 +92,11 @@ void formK(const Model& m, Workspace& ws) {
   // Subtree masses and s_k bottom-up (regular numbering: children after parents).
   for (int k = m.n() - 1; k >= 0; --k) {
     const Body& B = m.bodies[k];
-    ws.m_sub[k] = B.mass;
+    ws.mu[k] = B.mass;
     ws.s[k] = B.mass * ws.b[k];
     for (int c : B.children) {
-      ws.m_sub[k] += ws.m_sub[c];
-      ws.s[k] += ws.m_sub[c] * ws.d[c];
+      ws.mu[k] += ws.mu[c];
+      ws.s[k] += ws.mu[c] * ws.d[c];
     }
   }
   ws.K.setZero();
@@ -106,7 +104,7 @@ void formK(const Model& m, Workspace& ws) {
     const Body& B = m.bodies[k];
     // Diagonal: the augmented body k's inertia about joint k (docs/theory.md §4).
     Mat3 Kkk = ws.J_w[k] + B.mass * kernel(ws.b[k], ws.b[k]);
-    for (int c : B.children) Kkk += ws.m_sub[c] * kernel(ws.d[c], ws.d[c]);
+    for (int c : B.children) Kkk += ws.mu[c] * kernel(ws.d[c], ws.d[c]);
     ws.K.block<3, 3>(3 * k, 3 * k) = Kkk;
     // Off-diagonal with every strict ancestor j: l_ji = d_c for all i in subtree(k).
     for (int c = k, j = B.parent; j >= 0; c = j, j = m.bodies[j].parent) {
@@ -143,7 +141,7 @@ namespace {
 // (nu x nu) result is P_j^T X_jk P_k (docs/theory.md §4, eq. (2)).
 void projectBlocks(const Model& m, const Eigen::MatrixXd& X, const Eigen::Matrix3Xd& Pl,
                    const Eigen::Matrix3Xd& Pr, Eigen::MatrixXd& out, bool accumulate = false) {
-  Block3 XP;
+  Axes XP;
   for (const Body& Bj : m.bodies) {
     const int j = &Bj - m.bodies.data();
     for (const Body& Bk : m.bodies) {
@@ -161,9 +159,9 @@ void projectBlocks(const Model& m, const Eigen::MatrixXd& X, const Eigen::Matrix
 }  // namespace
 
 void formA(const Model& m, Workspace& ws) {
-  ws.M = ws.K;
-  applyTXTt(m, ws.M);
-  projectBlocks(m, ws.M, ws.P, ws.P, ws.A);
+  ws.KT = ws.K;
+  applyTXTt(m, ws.KT);
+  projectBlocks(m, ws.KT, ws.P, ws.P, ws.A);
 }
 
 void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
@@ -172,15 +170,15 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     const Body& Bi = m.bodies[i];
     const int p = Bi.parent;
     const Vec3& w = ws.omega[i];
-    // (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
-    Vec3 g_i = ws.Pdot.middleCols(Bi.iu, Bi.nu()) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu, Bi.nu());
+    // phi_i = (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
+    Vec3 phi_i = ws.Pdot.middleCols(Bi.iu, Bi.nu()) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu, Bi.nu());
     // e_i: velocity-product acceleration of joint point i, from the parent's joint point.
     Vec3 e_i = Vec3::Zero();
     if (p >= 0) {
-      g_i += ws.x3n.segment<3>(3 * p);
+      phi_i += ws.phi.segment<3>(3 * p);
       e_i = ws.e[p] + ws.omega[p].cross(ws.omega[p].cross(ws.d[i]));
     }
-    ws.x3n.segment<3>(3 * i) = g_i;
+    ws.phi.segment<3>(3 * i) = phi_i;
     ws.e[i] = e_i;
     ws.h[i] = e_i + w.cross(w.cross(ws.b[i]));
   }
@@ -189,22 +187,22 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     ws.F[k] = m.bodies[k].mass * (ws.h[k] - m.gravity);
     for (int c : m.bodies[k].children) ws.F[k] += ws.F[c];
   }
-  // y = K T^T f + M', M'_j = w_j x J_j w_j + sum_i T_ji m_i l_ji x (h_i - g)
+  // psi = K phi + M', M'_j = w_j x J_j w_j + sum_i T_ji m_i l_ji x (h_i - g)
   // (barycentric: l_ji is d_c for every i below child c).
-  ws.y3n.noalias() = ws.K * ws.x3n;
+  ws.psi.noalias() = ws.K * ws.phi;
   for (int j = 0; j < n; ++j) {
     const Body& Bj = m.bodies[j];
     const Vec3& w = ws.omega[j];
     Vec3 Mp = w.cross(ws.J_w[j] * w) + Bj.mass * ws.b[j].cross(ws.h[j] - m.gravity);
     for (int c : Bj.children) Mp += ws.d[c].cross(ws.F[c]);
-    ws.y3n.segment<3>(3 * j) += Mp;
+    ws.psi.segment<3>(3 * j) += Mp;
   }
-  // T y: subtree sums, then B = -P^T (T y) + Q.
+  // T psi: subtree sums, then B = -P^T (T psi) + Q.
   for (int i = n - 1; i >= 0; --i)
-    if (int p = m.bodies[i].parent; p >= 0) ws.y3n.segment<3>(3 * p) += ws.y3n.segment<3>(3 * i);
+    if (int p = m.bodies[i].parent; p >= 0) ws.psi.segment<3>(3 * p) += ws.psi.segment<3>(3 * i);
   for (const Body& Bi : m.bodies) {
     const int i = &Bi - m.bodies.data();
-    ws.B.segment(Bi.iu, Bi.nu()).noalias() = -(ws.P.middleCols(Bi.iu, Bi.nu()).transpose() * ws.y3n.segment<3>(3 * i));
+    ws.B.segment(Bi.iu, Bi.nu()).noalias() = -(ws.P.middleCols(Bi.iu, Bi.nu()).transpose() * ws.psi.segment<3>(3 * i));
   }
   if (m.has_springs) addSpringForces(m, q, u, ws.B);
 }
@@ -236,13 +234,13 @@ void formAdot(const Model& m, Workspace& ws) {
       ws.Kdot.block<3, 3>(3 * k, 3 * j) = Kjk_dot.transpose();
     }
   }
-  ws.Mdot = ws.Kdot;
-  applyTXTt(m, ws.Mdot);
-  // A' = P'^T M P + P^T M' P + P^T M P'; the first is the transpose of the last.
-  projectBlocks(m, ws.M, ws.P, ws.Pdot, ws.Adot);
+  ws.KTdot = ws.Kdot;
+  applyTXTt(m, ws.KTdot);
+  // A' = P'^T K_T P + P^T K_T' P + P^T K_T P'; the first is the transpose of the last.
+  projectBlocks(m, ws.KT, ws.P, ws.Pdot, ws.Adot);
   for (int a = 0; a < m.nu; ++a)
     for (int c = a; c < m.nu; ++c) ws.Adot(a, c) = ws.Adot(c, a) = ws.Adot(a, c) + ws.Adot(c, a);
-  projectBlocks(m, ws.Mdot, ws.P, ws.P, ws.Adot, true);
+  projectBlocks(m, ws.KTdot, ws.P, ws.P, ws.Adot, true);
 }
 
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot) {

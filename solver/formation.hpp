@@ -23,18 +23,19 @@ struct Workspace {
   std::vector<Vec3> r;      ///< position of CM i
   std::vector<Vec3> v;      ///< velocity of CM i
   std::vector<Vec3> s;      ///< s_k = sum over subtree(k) of m_i l_ki
-  std::vector<double> m_sub;  ///< mass of subtree(k)
-  std::vector<Vec3> e;      ///< velocity-product part of joint point i's acceleration
-  std::vector<Vec3> h;      ///< velocity-product part of CM i's acceleration
-  std::vector<Vec3> F;      ///< sum over subtree(k) of m_i (h_i - g)
+  std::vector<double> mu;   ///< mu_k: mass of subtree(k)
+  std::vector<Vec3> e;      ///< e_i: velocity-product part of joint point i's acceleration
+  std::vector<Vec3> h;      ///< h_i: velocity-product part of CM i's acceleration
+  std::vector<Vec3> F;      ///< F_k = sum over subtree(k) of m_i (h_i - g)
   Eigen::Matrix3Xd P;       ///< the paper's p: world axes p_jk as columns (block diagonal, stored 3 x nu)
   Eigen::Matrix3Xd Pdot;    ///< axis rates p_jk'  (3 x nu)
   Eigen::MatrixXd K;        ///< inertia block matrix  (3n x 3n)
-  Eigen::MatrixXd M;        ///< T K T^T  (3n x 3n)
-  Eigen::MatrixXd Kdot, Mdot;  ///< K', T K' T^T  (3n x 3n)
+  Eigen::MatrixXd KT;       ///< K_T = T K T^T  (3n x 3n)
+  Eigen::MatrixXd Kdot, KTdot;  ///< K', K_T' = T K' T^T  (3n x 3n)
   Eigen::MatrixXd A, Adot;  ///< mass matrix and its time derivative  (nu x nu)
   Eigen::VectorXd B;        ///< right-hand side  (nu)
-  Eigen::VectorXd x3n, y3n; ///< scratch  (3n)
+  Eigen::VectorXd phi;      ///< phi = T^T f: velocity-product angular accelerations  (3n)
+  Eigen::VectorXd psi;      ///< psi = K phi + M', then T psi  (3n)
   double kinetic = 0, potential = 0;
 
   double energy() const { return kinetic + potential; }
@@ -46,7 +47,7 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
 void formK(const Model& m, Workspace& ws);
 /// K by the naive triple sum over i, j, k: the test oracle.  // (3n x 3n)
 Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws);
-/// A = (P^T T) K (P^T T)^T (paper eq. (2); needs formK).  // -> ws.M, ws.A
+/// A = (P^T T) K (P^T T)^T (paper eq. (2); needs formK).  // -> ws.KT, ws.A
 void formA(const Model& m, Workspace& ws);
 /// B = -(P^T T)[K T^T f + M'] + Q (paper eq. (18); needs formK).  // -> ws.B (nu)
 void formB(const Model& m, const double* q, const double* u, Workspace& ws);

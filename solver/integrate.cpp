@@ -10,39 +10,129 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "solver/text.hpp"
+
 namespace em {
 
 namespace {
 
-const std::pair<Integrator, const char*> kIntegrators[] = {
-    {Integrator::RK4, "rk4"}, {Integrator::RKF45, "rkf45"}, {Integrator::RK8PD, "rk8pd"}, {Integrator::BSIMP, "bsimp"}};
-
 double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-// What GSL's callbacks get: the dynamics and the Jacobian's scratch (sized once per run).
+// The run's own state: the dynamics it drives, its counters and its first
+// failure; the trajectory receives them as they happen (steps) or at the end.
+class Run {
+ public:
+  Run(Dynamics& dyn, const RunSpec& spec, Trajectory& tr)
+      : dyn_(dyn), spec_(spec), tr_(tr), poses_(dyn.model().n()) {
+    stats_.min_gap = std::numeric_limits<double>::infinity();
+  }
+
+  // One right-hand-side evaluation, counted; a failure is recorded.
+  bool evaluate(double t, const double* y, double* dydt) {
+    ++rhs_evals_;
+    EvalInfo ev;
+    const Status s = dyn_.rhs(t, y, dydt, &ev);
+    if (!s) return fail(s);
+    stats_.max_abs_Omega = std::max(stats_.max_abs_Omega, ev.max_Omega);
+    return true;
+  }
+
+  // After an accepted step ending at t.
+  bool accept(double t, double* y) {
+    ++tr_.steps;
+    StepInfo st;
+    const Status s = dyn_.afterStep(t, y, st);
+    if (st.corrected) {
+      stats_.jacobi_sweeps += st.jacobi.sweeps;
+      stats_.jacobi_rotations += st.jacobi.rotations;
+      stats_.jacobi_single_sweep_steps += st.jacobi.sweeps <= 1;
+      stats_.jacobi_max_sweeps = std::max(stats_.jacobi_max_sweeps, st.jacobi.sweeps);
+    }
+    if (!s) return fail(s);
+    if (st.min_gap < stats_.min_gap) {
+      stats_.min_gap = st.min_gap;
+      stats_.min_gap_time = t;
+    }
+    return true;
+  }
+
+  bool fail(const Status& s) {
+    if (failure_.ok) failure_ = s;  // keep the first cause
+    return false;
+  }
+
+  // The sample at t; sampling is bookkeeping, not integration: timed apart.
+  void sample(double t, const double* y) {
+    const double c0 = cpuSeconds();
+    const Model& m = dyn_.model();
+    dyn_.kinematicsAt(y);
+    const Workspace& ws = dyn_.workspace();
+    for (int i = 0; i < m.n(); ++i) poses_[i] = {ws.r[i], matrixToQuat(ws.R[i])};
+    appendSample(tr_, m, t, y, y + m.nq, poses_, ws.energy(), ws.kinetic);
+    if (spec_.diagnostics && dyn_.eigenfactor()) {
+      const EigenDiagnostics d = dyn_.diagnosticsAt(y);
+      tr_.diag.push_back({d.orth_err, d.offdiag_rel, d.min_gap, d.max_Omega, d.inv_err});
+    }
+    tr_.sample_time_s += cpuSeconds() - c0;
+  }
+
+  void finish() {
+    tr_.rhs_evals = rhs_evals_;
+    if (dyn_.eigenfactor()) tr_.eigen = stats_;
+    if (!failure_.ok) markFailed(tr_, failure_.t, failure_.cause);
+  }
+
+  Dynamics& dynamics() { return dyn_; }
+
+ private:
+  Dynamics& dyn_;
+  const RunSpec& spec_;
+  Trajectory& tr_;
+  std::vector<Pose> poses_;  // (n) internal order
+  long rhs_evals_ = 0;
+  EigenStats stats_;
+  Status failure_;
+};
+
+// Fixed step: exact multiples of dt, output every `per_output` steps.
+void runFixed(Run& run, const RunSpec& spec, long n_out, long per_output, Eigen::VectorXd& y) {
+  const int n = run.dynamics().size();
+  Eigen::VectorXd k1(n), k2(n), k3(n), k4(n), tmp(n);
+  auto f = [&run](double t, const double* yy, double* dy) { return run.evaluate(t, yy, dy); };
+  for (long k = 1; k <= n_out; ++k) {
+    for (long s = 0; s < per_output; ++s) {
+      const long step = (k - 1) * per_output + s;
+      const double t = step * spec.dt;
+      if (!rk4Step(f, t, spec.dt, y.data(), n, k1.data(), k2.data(), k3.data(), k4.data(), tmp.data())) return;
+      if (!run.accept(t + spec.dt, y.data())) return;
+    }
+    run.sample(k * spec.output_dt, y.data());
+  }
+}
+
+// What GSL's callbacks get: the run and the Jacobian's scratch (sized once per run).
 struct GslParams {
-  explicit GslParams(Dynamics& d) : dyn(&d), yp(d.size()), f0(d.size()), f1(d.size()) {}
-  Dynamics* dyn;
+  GslParams(Run& r, int n) : run(&r), yp(n), f0(n), f1(n) {}
+  Run* run;
   std::vector<double> yp, f0, f1;
 };
 
 int gslRhs(double t, const double y[], double dydt[], void* params) {
-  return static_cast<GslParams*>(params)->dyn->rhs(t, y, dydt) ? GSL_SUCCESS : GSL_EBADFUNC;
+  return static_cast<GslParams*>(params)->run->evaluate(t, y, dydt) ? GSL_SUCCESS : GSL_EBADFUNC;
 }
 
 // bsimp needs df/dy: a forward finite difference of the right-hand side
 // (the system is autonomous, df/dt = 0).
 int gslJacobian(double t, const double y[], double* dfdy, double dfdt[], void* params) {
   auto& p = *static_cast<GslParams*>(params);
-  Dynamics* dyn = p.dyn;
-  const int n = dyn->size();
+  const int n = static_cast<int>(p.yp.size());
   std::vector<double>&yp = p.yp, &f0 = p.f0, &f1 = p.f1;
   std::copy(y, y + n, yp.begin());
-  if (!dyn->rhs(t, y, f0.data())) return GSL_EBADFUNC;
+  if (!p.run->evaluate(t, y, f0.data())) return GSL_EBADFUNC;
   for (int j = 0; j < n; ++j) {
     const double h = 1.4901161193847656e-08 * std::max(1.0, std::abs(y[j]));
     yp[j] = y[j] + h;
-    if (!dyn->rhs(t, yp.data(), f1.data())) return GSL_EBADFUNC;
+    if (!p.run->evaluate(t, yp.data(), f1.data())) return GSL_EBADFUNC;
     yp[j] = y[j];
     for (int i = 0; i < n; ++i) dfdy[i * n + j] = (f1[i] - f0[i]) / h;
   }
@@ -50,20 +140,13 @@ int gslJacobian(double t, const double y[], double* dfdy, double dfdt[], void* p
   return GSL_SUCCESS;
 }
 
-// Fixed step: exact multiples of dt, output every `per_output` steps.
-void runFixed(Dynamics& dyn, const SimOptions& opt, int n_out, int per_output, Eigen::VectorXd& y, Trajectory& tr) {
-  const int n = dyn.size();
-  Eigen::VectorXd k1(n), k2(n), k3(n), k4(n), tmp(n);
-  auto f = [&dyn](double t, const double* yy, double* dy) { return dyn.rhs(t, yy, dy); };
-  for (int k = 1; k <= n_out; ++k) {
-    for (int s = 0; s < per_output; ++s) {
-      const long step = static_cast<long>(k - 1) * per_output + s;
-      const double t = step * opt.dt;
-      if (!rk4Step(f, t, opt.dt, y.data(), n, k1.data(), k2.data(), k3.data(), k4.data(), tmp.data())) return;
-      ++tr.steps;
-      if (!dyn.postStep(t + opt.dt, y.data())) return;
-    }
-    appendSample(dyn, k * opt.output_dt, y.data(), opt.diagnostics, tr);
+// The GSL stepper of an adaptive in-house integrator.
+const gsl_odeiv2_step_type* gslStepType(Integrator i) {
+  switch (i) {
+    case Integrator::RKF45: return gsl_odeiv2_step_rkf45;
+    case Integrator::RK8PD: return gsl_odeiv2_step_rk8pd;
+    case Integrator::BSIMP: return gsl_odeiv2_step_bsimp;
+    default: throw std::logic_error(std::string("no GSL stepper for ") + integratorName(i));
   }
 }
 
@@ -75,112 +158,55 @@ struct GslDeleter {
 
 // Adaptive: GSL's evolve loop; the method's correction runs after every
 // accepted step, and the stepper is reset so it sees the corrected state.
-void runAdaptive(Dynamics& dyn, const SimOptions& opt, int n_out, Eigen::VectorXd& y, Trajectory& tr) {
-  const int n = dyn.size();
-  const gsl_odeiv2_step_type* type = opt.integrator == Integrator::RKF45   ? gsl_odeiv2_step_rkf45
-                                     : opt.integrator == Integrator::RK8PD ? gsl_odeiv2_step_rk8pd
-                                                                           : gsl_odeiv2_step_bsimp;
-  std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(type, n));
-  std::unique_ptr<gsl_odeiv2_control, GslDeleter> ctl(gsl_odeiv2_control_standard_new(opt.tol, opt.tol, 1.0, 0.0));
+void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
+  const int n = run.dynamics().size();
+  std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(gslStepType(spec.integrator), n));
+  std::unique_ptr<gsl_odeiv2_control, GslDeleter> ctl(gsl_odeiv2_control_standard_new(spec.tol, spec.tol, 1.0, 0.0));
   std::unique_ptr<gsl_odeiv2_evolve, GslDeleter> evo(gsl_odeiv2_evolve_alloc(n));
-  GslParams params(dyn);
+  GslParams params(run, n);
   gsl_odeiv2_system sys{gslRhs, gslJacobian, static_cast<size_t>(n), &params};
-  double t = 0, h = std::min(1e-3, opt.output_dt);
-  const bool corrects = dyn.method() == Method::EigenJacobi || dyn.method() == Method::EigenJacobiOrth;
-  for (int k = 1; k <= n_out; ++k) {
-    const double t_out = k * opt.output_dt;
+  double t = 0, h = std::min(1e-3, spec.output_dt);
+  const bool corrects = run.dynamics().correctsAfterStep();
+  for (long k = 1; k <= n_out; ++k) {
+    const double t_out = k * spec.output_dt;
     while (t < t_out) {
       const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
       if (status != GSL_SUCCESS) {
-        dyn.fail(t, std::string("integrator stopped: ") + gsl_strerror(status));
+        run.fail(Status::failure(t, std::string("integrator stopped: ") + gsl_strerror(status)));
         return;
       }
-      ++tr.steps;
-      if (!dyn.postStep(t, y.data())) return;
+      if (!run.accept(t, y.data())) return;
       if (corrects) gsl_odeiv2_step_reset(step.get());
       if (h < 1e-14 * std::max(1.0, t)) {
-        dyn.fail(t, "step size underflow (h = " + std::to_string(h) + ")");
+        run.fail(Status::failure(t, "step size underflow (h = " + gnum(h) + ")"));
         return;
       }
     }
-    appendSample(dyn, t_out, y.data(), opt.diagnostics, tr);
+    run.sample(t_out, y.data());
   }
 }
 
 }  // namespace
 
-const char* integratorName(Integrator i) {
-  for (auto& [k, name] : kIntegrators)
-    if (k == i) return name;
-  return "?";
-}
-
-bool parseIntegrator(const std::string& s, Integrator& i) {
-  for (auto& [k, name] : kIntegrators)
-    if (s == name) { i = k; return true; }
-  return false;
-}
-
-bool isFixedStep(Integrator i) { return i == Integrator::RK4; }
-
-void appendSample(Dynamics& dyn, double t, const double* y, bool diagnostics, Trajectory& tr) {
-  const double c0 = cpuSeconds();  // sampling is bookkeeping, not integration: timed apart
-  const Model& m = dyn.model();
-  const double energy = dyn.energyAt(y);  // also refreshes the kinematics for the poses
-  const Workspace& ws = dyn.workspace();
-  Eigen::VectorXd qf, uf;
-  m.qToFile(Eigen::Map<const Eigen::VectorXd>(y, m.nq), qf);
-  m.uToFile(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu), uf);
-  std::vector<Pose> poses(m.n());
-  for (int i = 0; i < m.n(); ++i) poses[m.bodies[i].file_index] = {ws.r[i], matrixToQuat(ws.R[i])};
-  tr.t.push_back(t);
-  tr.q.push_back(qf);
-  tr.u.push_back(uf);
-  tr.energy.push_back(energy);
-  tr.kinetic.push_back(ws.kinetic);
-  tr.poses.push_back(std::move(poses));
-  if (diagnostics && dyn.eigenfactor()) {
-    const EigenDiagnostics d = dyn.diagnosticsAt(y);
-    tr.diag.push_back({d.orth_err, d.offdiag_rel, d.min_gap, d.max_Omega, d.inv_err});
-  }
-  tr.sample_time_s += cpuSeconds() - c0;
-}
-
-Trajectory simulate(const Model& m, Method method, const SimOptions& opt, const MethodOptions& mopt) {
-  if (!(opt.t_end > 0) || !(opt.output_dt > 0)) throw std::invalid_argument("t_end and output_dt must be > 0");
-  const double ratio = opt.t_end / opt.output_dt;
-  const int n_out = static_cast<int>(std::llround(ratio));
-  if (std::abs(ratio - n_out) > 1e-9 * ratio) throw std::invalid_argument("t_end must be a whole multiple of output_dt");
-  int per_output = 1;
-  if (isFixedStep(opt.integrator)) {
-    if (!(opt.dt > 0)) throw std::invalid_argument("dt must be > 0");
-    const double r = opt.output_dt / opt.dt;
-    per_output = static_cast<int>(std::llround(r));
-    if (per_output < 1 || std::abs(r - per_output) > 1e-9 * r)
-      throw std::invalid_argument("output_dt must be a whole multiple of dt");
-  } else if (!(opt.tol > 0)) {
-    throw std::invalid_argument("tol must be > 0");
-  }
-  Trajectory tr = makeTrajectory(m, methodName(method), integratorName(opt.integrator));
-  Dynamics dyn(m, method, mopt);
+Trajectory simulate(const Model& m, const RunSpec& spec) {
+  checkRunSpec(spec);
+  const long n_out = outputIntervals(spec.t_end, spec.output_dt);
+  const long per_output = spec.fixedStep() ? stepsPerOutput(spec.output_dt, spec.dt) : 1;
+  Dynamics dyn(m, spec.method, spec.options);  // throws for another engine's method
+  Trajectory tr = makeTrajectory(m, spec);
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0());
-  appendSample(dyn, 0.0, y.data(), opt.diagnostics, tr);
+  Run run(dyn, spec, tr);
+  run.sample(0.0, y.data());
   tr.sample_time_s = 0;
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts
   const double c0 = cpuSeconds();
-  if (isFixedStep(opt.integrator))
-    runFixed(dyn, opt, n_out, per_output, y, tr);
+  if (spec.fixedStep())
+    runFixed(run, spec, n_out, per_output, y);
   else
-    runAdaptive(dyn, opt, n_out, y, tr);
+    runAdaptive(run, spec, n_out, y);
   tr.run_time_s = cpuSeconds() - c0 - tr.sample_time_s;
   gsl_set_error_handler(old);
-  tr.rhs_evals = dyn.rhs_evals;
-  if (dyn.eigenfactor()) tr.eigen = dyn.stats;
-  if (dyn.failure().failed) {
-    tr.status = "failed";
-    tr.failure = dyn.failure().cause;
-    tr.failure_time = dyn.failure().t;
-  }
+  run.finish();
   return tr;
 }
 

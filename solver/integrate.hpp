@@ -1,27 +1,11 @@
 #pragma once
-/// Integration of one method's dynamics on an output grid: the hand-written
-/// classical RK4 step and GSL odeiv2's rkf45, rk8pd and bsimp.
-#include <string>
-
+/// Integration of one in-house method on an output grid (docs/theory.md §9):
+/// the hand-written classical RK4 step and GSL odeiv2's rkf45, rk8pd and
+/// bsimp. The loop owns the run's counters and its first failure.
 #include "solver/dynamics.hpp"
 #include "solver/trajectory.hpp"
 
 namespace em {
-
-enum class Integrator { RK4, RKF45, RK8PD, BSIMP };
-
-const char* integratorName(Integrator i);
-bool parseIntegrator(const std::string& s, Integrator& i);
-bool isFixedStep(Integrator i);
-
-struct SimOptions {
-  Integrator integrator = Integrator::RK4;
-  double dt = 1e-3;        ///< fixed step (rk4)
-  double tol = 1e-10;      ///< absolute and relative tolerance (adaptive integrators)
-  double t_end = 10.0;
-  double output_dt = 0.01;
-  bool diagnostics = true; ///< eigenfactor drift at every output time
-};
 
 /// One classical four-stage Runge–Kutta step of exactly h: four evaluations.
 /// k1..k4, tmp are scratch of the state size. Returns false if f fails.
@@ -39,12 +23,10 @@ bool rk4Step(F&& f, double t, double h, double* y, int n, double* k1, double* k2
   return true;
 }
 
-/// Simulate the model's initial state with one method; never throws on a
-/// numerical failure (the trajectory carries status, time and cause).
-/// Throws std::invalid_argument for inconsistent options.
-Trajectory simulate(const Model& m, Method method, const SimOptions& opt, const MethodOptions& mopt = {});
-
-/// Record the sample at time t of state y (file order) into tr.
-void appendSample(Dynamics& dyn, double t, const double* y, bool diagnostics, Trajectory& tr);
+/// Simulate the model's initial state as `spec` says (an in-house method and
+/// integrator). Never throws on a numerical failure: the trajectory carries
+/// status, time and cause. Throws SettingError or std::invalid_argument for
+/// settings that cannot be run.
+Trajectory simulate(const Model& m, const RunSpec& spec);
 
 }  // namespace em

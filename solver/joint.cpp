@@ -63,15 +63,4 @@ void jointQdot(const Joint& j, const double* q, const double* u, double* qdot) {
   for (int k = 0; k < 4; ++k) qdot[k] = d[k];
 }
 
-void jointUFromQdot(const Joint& j, const double* q, const double* qdot, double* u) {
-  if (j.type != JointType::Ball) {
-    for (int k = 0; k < jointNu(j.type); ++k) u[k] = qdot[k];
-    return;
-  }
-  // (0,u) = 2 q' (x) q^-1 for a unit q.
-  const Vec4 qc(q[0], -q[1], -q[2], -q[3]);
-  const Vec4 w = 2.0 * quatMul(Vec4(qdot[0], qdot[1], qdot[2], qdot[3]), qc) / Vec4(q[0], q[1], q[2], q[3]).squaredNorm();
-  for (int k = 0; k < 3; ++k) u[k] = w[k + 1];
-}
-
 }  // namespace em

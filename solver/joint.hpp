@@ -20,7 +20,4 @@ void axisRates(const Joint& j, const Axes& P, const Vec3& omega_p, const Vec3& o
 /// q' from u: q' = u, except ball: q' = (1/2) (0,u) (x) q (u in the parent frame).
 void jointQdot(const Joint& j, const double* q, const double* u, double* qdot);
 
-/// Inverse of jointQdot for a ball (u from q, q'), identity otherwise.
-void jointUFromQdot(const Joint& j, const double* q, const double* qdot, double* u);
-
 }  // namespace em

@@ -1,94 +1,80 @@
 #include "solver/model.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <map>
+#include <unordered_map>
 
 namespace em {
 
-const char* jointTypeName(JointType t) {
-  switch (t) {
-    case JointType::Revolute: return "revolute";
-    case JointType::Universal: return "universal";
-    case JointType::Gimbal: return "gimbal";
-    case JointType::Ball: return "ball";
-  }
-  return "?";
+const std::vector<JointTypeInfo>& jointTypeTable() {
+  static const std::vector<JointTypeInfo> table = {{JointType::Revolute, "revolute", 1, 1},
+                                                   {JointType::Universal, "universal", 2, 2},
+                                                   {JointType::Gimbal, "gimbal", 3, 3},
+                                                   {JointType::Ball, "ball", 4, 3}};
+  return table;
 }
 
-int jointNu(JointType t) {
-  switch (t) {
-    case JointType::Revolute: return 1;
-    case JointType::Universal: return 2;
-    default: return 3;
-  }
-}
+namespace {
+const JointTypeInfo& jointRow(JointType t) { return jointTypeTable()[static_cast<int>(t)]; }
+}  // namespace
 
-int jointNq(JointType t) { return t == JointType::Ball ? 4 : jointNu(t); }
+const char* jointTypeName(JointType t) { return jointRow(t).name; }
+int jointNq(JointType t) { return jointRow(t).nq; }
+int jointNu(JointType t) { return jointRow(t).nu; }
 
 namespace {
 
-std::string bodyPath(int file_index, const char* key) {
-  return "bodies[" + std::to_string(file_index) + "]." + key;
-}
-
-// Depth-first, children in file order: parents get lower numbers (regular numbering).
-void numberSubtree(int f, const std::vector<std::vector<int>>& kids, std::vector<int>& order) {
-  order.push_back(f);
-  for (int k : kids[f]) numberSubtree(k, kids, order);
-}
-
-}  // namespace
-
-Model buildModel(const SceneSpec& spec) {
-  const int n = static_cast<int>(spec.bodies.size());
-  if (n == 0) throw SceneError("bodies", "empty body list");
-  std::map<std::string, int> by_name;
+// §1: names non-empty and unique, parents in range and not the body itself.
+void validate(const std::vector<BodyDef>& defs) {
+  const int n = static_cast<int>(defs.size());
+  if (n == 0) throw std::invalid_argument("a model needs at least one body");
+  std::unordered_map<std::string, int> by_name;
   for (int f = 0; f < n; ++f) {
-    const auto& name = spec.bodies[f].name;
-    if (name.empty()) throw SceneError(bodyPath(f, "name"), "empty name");
-    if (name == "ground") throw SceneError(bodyPath(f, "name"), "'ground' is reserved");
-    if (!by_name.emplace(name, f).second)
-      throw SceneError(bodyPath(f, "name"), "duplicate name '" + name + "' (first at bodies[" +
-                                                std::to_string(by_name[name]) + "])");
+    const BodyDef& b = defs[f];
+    if (b.name.empty()) throw ModelError(f, "name", "empty name");
+    if (auto [it, fresh] = by_name.emplace(b.name, f); !fresh)
+      throw ModelError(f, "name", "duplicate name '" + b.name + "' (first at body " + std::to_string(it->second) + ")");
+    if (b.parent < -1 || b.parent >= n) throw ModelError(f, "parent", "parent index out of range");
+    if (b.parent == f) throw ModelError(f, "parent", "a body cannot be its own parent");
   }
-  std::vector<int> parent_file(n);
+}
+
+// §1: depth-first from the ground, children in source order, with an explicit
+// stack (no recursion on a depth the input chooses). A body never reached
+// hangs from a cycle.
+std::vector<int> regularOrder(const std::vector<BodyDef>& defs) {
+  const int n = static_cast<int>(defs.size());
   std::vector<std::vector<int>> kids(n);
-  std::vector<int> roots;
-  for (int f = 0; f < n; ++f) {
-    const auto& p = spec.bodies[f].parent;
-    if (p == "ground") { parent_file[f] = -1; roots.push_back(f); continue; }
-    auto it = by_name.find(p);
-    if (it == by_name.end()) throw SceneError(bodyPath(f, "parent"), "unknown parent '" + p + "'");
-    if (it->second == f) throw SceneError(bodyPath(f, "parent"), "a body cannot be its own parent");
-    parent_file[f] = it->second;
-    kids[it->second].push_back(f);
+  std::vector<int> stack, order;
+  for (int f = n - 1; f >= 0; --f) {  // reversed, so that the stack pops in source order
+    if (defs[f].parent < 0) stack.push_back(f);
+    else kids[defs[f].parent].push_back(f);
   }
-  // Every body must reach the ground; walking up more than n steps means a cycle.
-  for (int f = 0; f < n; ++f) {
-    int x = f, steps = 0;
-    while (x >= 0 && steps <= n) { x = parent_file[x]; ++steps; }
-    if (x >= 0)
-      throw SceneError(bodyPath(f, "parent"), "cycle: '" + spec.bodies[f].name +
-                                                  "' does not reach the ground");
+  order.reserve(n);
+  while (!stack.empty()) {
+    const int f = stack.back();
+    stack.pop_back();
+    order.push_back(f);
+    stack.insert(stack.end(), kids[f].begin(), kids[f].end());
   }
-  std::vector<int> order;
-  for (int r : roots) numberSubtree(r, kids, order);
+  if (static_cast<int>(order.size()) < n) {
+    std::vector<bool> reached(n, false);
+    for (int f : order) reached[f] = true;
+    for (int f = 0; f < n; ++f)
+      if (!reached[f]) throw ModelError(f, "parent", "cycle: '" + defs[f].name + "' does not reach the ground");
+  }
+  return order;
+}
 
-  Model m;
-  m.name = spec.name;
-  m.gravity = spec.gravity;
-  m.has_gravity = spec.gravity.squaredNorm() > 0;
-  m.t_end = spec.t_end;
-  m.output_dt = spec.output_dt;
+// Bodies in regular order with their offsets in the internal and the source-order state.
+void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order, Model& m) {
+  const int n = static_cast<int>(defs.size());
   m.file_to_internal.assign(n, -1);
   for (int i = 0; i < n; ++i) m.file_to_internal[order[i]] = i;
   m.bodies.resize(n);
   for (int i = 0; i < n; ++i) {
-    const BodySpec& s = spec.bodies[order[i]];
+    const BodyDef& s = defs[order[i]];
     Body& b = m.bodies[i];
     b.name = s.name;
-    b.parent = parent_file[order[i]] < 0 ? -1 : m.file_to_internal[parent_file[order[i]]];
+    b.parent = s.parent < 0 ? -1 : m.file_to_internal[s.parent];
     b.mass = s.mass;
     b.J = s.inertia;
     b.joint = s.joint;
@@ -108,7 +94,19 @@ Model buildModel(const SceneSpec& spec) {
     fq += b.nq();
     fu += b.nu();
   }
-  // T(j,i) = 1 when joint j lies on the path from the ground to body i (docs/theory.md §2).
+}
+
+}  // namespace
+
+Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& defs) {
+  validate(defs);
+  Model m;
+  m.name = name;
+  m.gravity = gravity;
+  m.has_gravity = gravity.squaredNorm() > 0;
+  placeBodies(defs, regularOrder(defs), m);
+  // §2: T(j,i) = 1 when joint j lies on the path from the ground to body i.
+  const int n = m.n();
   m.T = Eigen::MatrixXi::Zero(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = i; j >= 0; j = m.bodies[j].parent) m.T(j, i) = 1;
@@ -128,30 +126,24 @@ Eigen::VectorXd Model::u0() const {
 }
 
 namespace {
-// Copy each body's block of q (or u) between internal and file order.
-void permute(const Model& m, bool speeds, bool to_file, const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-  out.resize(speeds ? m.nu : m.nq);
+// p[source index] = internal index, over coordinates (or speeds).
+std::vector<int> filePermutation(const Model& m, bool speeds) {
+  std::vector<int> p(speeds ? m.nu : m.nq);
   for (const Body& b : m.bodies) {
-    const int k = speeds ? b.nu() : b.nq();
-    const int internal = speeds ? b.iu : b.iq, file = speeds ? b.file_iu : b.file_iq;
-    out.segment(to_file ? file : internal, k) = in.segment(to_file ? internal : file, k);
+    const int k = speeds ? b.nu() : b.nq(), internal = speeds ? b.iu : b.iq, file = speeds ? b.file_iu : b.file_iq;
+    for (int c = 0; c < k; ++c) p[file + c] = internal + c;
   }
-}
-}  // namespace
-
-void Model::qFromFile(const Eigen::VectorXd& qf, Eigen::VectorXd& q) const { permute(*this, false, false, qf, q); }
-void Model::qToFile(const Eigen::VectorXd& q, Eigen::VectorXd& qf) const { permute(*this, false, true, q, qf); }
-void Model::uFromFile(const Eigen::VectorXd& uf, Eigen::VectorXd& u) const { permute(*this, true, false, uf, u); }
-void Model::uToFile(const Eigen::VectorXd& u, Eigen::VectorXd& uf) const { permute(*this, true, true, u, uf); }
-
-std::vector<int> Model::uFilePermutation() const {
-  std::vector<int> p(nu);
-  for (const Body& b : bodies)
-    for (int k = 0; k < b.nu(); ++k) p[b.file_iu + k] = b.iu + k;
   return p;
 }
 
-namespace {
+void permuteToFile(const Model& m, bool speeds, const Eigen::Ref<const Eigen::VectorXd>& in, Eigen::VectorXd& out) {
+  out.resize(in.size());
+  for (const Body& b : m.bodies) {
+    const int k = speeds ? b.nu() : b.nq(), internal = speeds ? b.iu : b.iq, file = speeds ? b.file_iu : b.file_iq;
+    out.segment(file, k) = in.segment(internal, k);
+  }
+}
+
 std::vector<std::string> coordNames(const Model& m, bool speeds) {
   std::vector<std::string> names(speeds ? m.nu : m.nq);
   for (const Body& b : m.bodies) {
@@ -162,36 +154,15 @@ std::vector<std::string> coordNames(const Model& m, bool speeds) {
 }
 }  // namespace
 
+void Model::qToFile(const Eigen::Ref<const Eigen::VectorXd>& q, Eigen::VectorXd& qf) const {
+  permuteToFile(*this, false, q, qf);
+}
+void Model::uToFile(const Eigen::Ref<const Eigen::VectorXd>& u, Eigen::VectorXd& uf) const {
+  permuteToFile(*this, true, u, uf);
+}
+std::vector<int> Model::qFilePermutation() const { return filePermutation(*this, false); }
+std::vector<int> Model::uFilePermutation() const { return filePermutation(*this, true); }
 std::vector<std::string> Model::qNames() const { return coordNames(*this, false); }
 std::vector<std::string> Model::uNames() const { return coordNames(*this, true); }
-
-SceneSpec makeChainSpec(int n, bool ball_root) {
-  // Slender rods of length 1 m, mass 1 kg (pendulum5's links), hanging from the origin.
-  SceneSpec s;
-  s.name = "chain" + std::to_string(n);
-  const double m = 1.0, L = 1.0, r = 0.05;
-  const double Ixx = m * (3 * r * r + L * L) / 12.0, Izz = m * r * r / 2.0;
-  for (int i = 0; i < n; ++i) {
-    BodySpec b;
-    b.name = "link" + std::to_string(i + 1);
-    b.parent = i == 0 ? "ground" : "link" + std::to_string(i);
-    b.mass = m;
-    b.inertia = Vec3(Ixx, Ixx, Izz).asDiagonal();
-    b.joint.in_parent = i == 0 ? Vec3::Zero() : Vec3(0, 0, -L / 2);
-    b.joint.in_body = Vec3(0, 0, L / 2);
-    if (i == 0) {
-      b.joint.type = ball_root ? JointType::Ball : JointType::Gimbal;
-      b.joint.q0 = ball_root ? Eigen::VectorXd(Vec4(1, 0, 0, 0)) : Eigen::VectorXd(Vec3(0.6, -0.5, 0.3));
-      b.joint.u0 = Vec3(0.2, -0.1, 0.3);
-    } else {
-      b.joint.type = JointType::Revolute;
-      b.joint.axis[0] = i % 2 ? Vec3::UnitX() : Vec3::UnitY();
-      b.joint.q0 = Eigen::VectorXd::Constant(1, 0.5 * std::sin(1.3 * i));
-      b.joint.u0 = Eigen::VectorXd::Constant(1, 0.2 * std::cos(0.7 * i));
-    }
-    s.bodies.push_back(b);
-  }
-  return s;
-}
 
 }  // namespace em

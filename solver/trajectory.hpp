@@ -1,10 +1,12 @@
 #pragma once
 /// The trajectory type shared by the in-house methods and the Simbody
-/// reference: samples on an output grid, in the scene file's order.
+/// reference: samples on an output grid, in the source's order, with the
+/// RunSpec that made it. appendSample is the one sampler of both engines.
 #include <string>
 #include <vector>
 
 #include "solver/model.hpp"
+#include "solver/run.hpp"
 
 namespace em {
 
@@ -28,9 +30,10 @@ struct EigenStats {
   double min_gap = 0, min_gap_time = 0;  ///< smallest eigenvalue gap over accepted steps, and when
 };
 
-/// A sampled run. Coordinates, speeds and bodies in the file's order.
+/// A sampled run. Coordinates, speeds and bodies in the source's order.
 struct Trajectory {
-  std::string scene, method, integrator;
+  std::string scene;
+  RunSpec run;                             ///< what made it
   std::vector<std::string> q_names, u_names, body_names;
   std::vector<double> t;                   ///< sample times
   std::vector<Eigen::VectorXd> q, u;       ///< (nq), (nu) per sample
@@ -49,14 +52,19 @@ struct Trajectory {
 
   size_t size() const { return t.size(); }
   bool failed() const { return status != "ok"; }
+  std::string method() const { return methodName(run.method); }
+  std::string integrator() const { return integratorName(run.integrator); }
 };
 
-/// Empty trajectory with names taken from the model.
-Trajectory makeTrajectory(const Model& m, const std::string& method, const std::string& integrator);
+/// Empty trajectory of `run` on `m`, with names taken from the model.
+Trajectory makeTrajectory(const Model& m, const RunSpec& run);
 
-/// CSV: t, coordinates, speeds, energy, kinetic, per body x,y,z,qw,qx,qy,qz, then diagnostics if any.
-void writeCsv(const Trajectory& tr, const std::string& path);
-/// Read back a CSV written by writeCsv (names, q, u, energy, poses).
-Trajectory readCsv(const std::string& path);
+/// Record the sample at time t: q (nq), u (nu) and poses (n) in the model's
+/// internal order, stored in the source's order.
+void appendSample(Trajectory& tr, const Model& m, double t, const double* q, const double* u,
+                  const std::vector<Pose>& poses, double energy, double kinetic);
+
+/// Mark the run failed at t with its cause (the first failure is kept).
+void markFailed(Trajectory& tr, double t, const std::string& cause);
 
 }  // namespace em

@@ -1,17 +1,42 @@
 #pragma once
-// Shared helpers of the tests: data paths, relative errors, random states.
+// Shared helpers of the tests: data paths, run settings, relative errors, random states.
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "io/json_input.hpp"
+#include "io/scene.hpp"
+#include "io/scene_json.hpp"
 #include "solver/model.hpp"
-#include "solver/scene.hpp"
+#include "solver/run.hpp"
 
 namespace em::test {
 
 inline std::string sourcePath(const std::string& rel) { return std::string(EM_SOURCE_DIR) + "/" + rel; }
-inline Model loadData(const std::string& scene) { return loadScene(sourcePath("data/scenes/" + scene)); }
+inline Scene sceneData(const std::string& scene) { return loadScene(sourcePath("data/scenes/" + scene)); }
+inline Model loadData(const std::string& scene) { return sceneData(scene).model; }
+
+/// The n-link chain as data/scenes/chainNN.json defines it (tools/make_scenes.py),
+/// as written, for tests that alter it before building.
+inline SceneSpec chainSpec(int n) {
+  char name[32];
+  std::snprintf(name, sizeof name, "data/scenes/chain%02d.json", n);
+  return parseSceneSpec(readFile(sourcePath(name), "scene"));
+}
+
+/// A run of `method` with `integrator` at dt (fixed step) or tol (adaptive)
+/// `setting`, sampled every output_dt up to t_end.
+inline RunSpec runSpec(Method method, Integrator integrator, double t_end, double setting, double output_dt = 0.01) {
+  RunSpec s;
+  s.method = method;
+  s.integrator = integrator;
+  (s.fixedStep() ? s.dt : s.tol) = setting;
+  s.t_end = t_end;
+  s.output_dt = output_dt;
+  return s;
+}
 
 /// Every scene of data/scenes/ (kept in step with the folder by a test).
 inline const std::vector<std::string>& dataScenes() {

@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Writes the generated scenes of data/scenes/ (chains, ball-rooted pendulum5).
+"""Writes the generated scenes of data/scenes/ (chains, ball-rooted pendulum5)
+and data/bench/ (the 100-link chain of the benchmark): the one definition of
+the chains that tests, benchmark and docs use.
 
 Run from the project root: python3 tools/make_scenes.py. The hand-written
 scenes (tree_mixed, forest, spring_damper) are not generated.
 """
-import json, math
+import json, math, os
 
 ROD = {"mass": 1.0, "inertia": [0.08395833333333334, 0.08395833333333334, 0.0012500000000000002]}
 
@@ -64,6 +66,9 @@ def write(path, doc):
 if __name__ == "__main__":
     for n in list(range(1, 11)) + [20, 50]:
         write("data/scenes/chain%02d.json" % n, scene("chain%02d" % n, chain(n, GIMBAL)))
+    # Sizes only the benchmark uses (kept out of data/scenes, which every scene test walks).
+    os.makedirs("data/bench", exist_ok=True)
+    write("data/bench/chain100.json", scene("chain100", chain(100, GIMBAL)))
     p5 = json.load(open("data/scenes/pendulum5.json"))
     p5["name"] = "pendulum5_ball"
     p5["bodies"][0]["joint"] = ball_equivalent(p5["bodies"][0]["joint"])

@@ -5,11 +5,13 @@
 
 namespace em::test {
 
-inline Trajectory turning(const std::string& method, double slope, double drift, double t_end = 10.0,
-                          double dt = 0.01) {
+/// `method` runs on its engine's default integrator (in-house rk4 at dt 1e-3).
+inline Trajectory turning(Method method, double slope, double drift, double t_end = 10.0, double dt = 0.01) {
   Trajectory tr;
-  tr.method = method;
-  tr.integrator = "rk4";
+  tr.run.method = method;
+  tr.run.integrator = defaultIntegrator(info(method).engine);
+  tr.run.t_end = t_end;
+  tr.run.output_dt = dt;
   tr.q_names = {"body.q0"};
   tr.u_names = {"body.u0"};
   tr.body_names = {"body"};

@@ -8,38 +8,41 @@
 using namespace em;
 
 TEST_CASE("runComparison runs every method on the reference grid", "[comparison]") {
-  const Model m = test::loadData("chain03.json");
   CompareOptions o;
-  o.t_end = 0.5;
-  const ComparisonResult r = runComparison(m, "chain03.json", o);
+  o.grid.t_end = 0.5;
+  const ComparisonResult r = runComparison(test::sceneData("chain03.json"), o);
   REQUIRE(r.metrics.size() == o.methods.size());
   for (size_t i = 0; i < r.metrics.size(); ++i) {
-    CHECK(r.metrics[i].name == o.methods[i]);
+    CHECK(r.metrics[i].run.method == o.methods[i]);
     CHECK(r.runs[i].t == r.reference.t);
     CHECK(r.metrics[i].status == "ok");
   }
   CHECK(r.reference.t.size() == 51);
-  CHECK(r.tight.integrator == "rkmerson");
+  CHECK(r.tight.integrator() == "rkmerson");
   // 0.5 s of a 3-link chain: every method is within 1e-4 rad of Simbody at 1e-10.
   for (const MethodMetrics& mm : r.metrics) CHECK(mm.pose.value < 1e-4);
   const std::string table = summaryTable(r);
-  for (const auto& name : o.methods) CHECK(table.find(name) != std::string::npos);
+  for (Method method : o.methods) CHECK(table.find(methodName(method)) != std::string::npos);
 }
 
 TEST_CASE("an unknown method or a bad threshold is refused before any run", "[comparison]") {
-  const Model m = test::loadData("chain01.json");
+  const Scene scene = test::sceneData("chain01.json");
+  CHECK_THROWS_WITH(parseMethod("newton"), Catch::Contains("unknown method 'newton'"));
   CompareOptions o;
-  o.methods = {"classical", "newton"};
-  CHECK_THROWS_WITH(runComparison(m, "x", o), Catch::Contains("unknown method 'newton'"));
-  o.methods = {"classical"};
+  o.methods = {Method::Classical, Method::Eigen, Method::Classical};
+  CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("method 'classical' is listed twice"));
+  o.methods = {Method::Classical};
   o.thresholds = {0.1, -1};
-  CHECK_THROWS_WITH(runComparison(m, "x", o), Catch::Contains("thresholds must be > 0"));
+  CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("thresholds must be > 0"));
+  o.thresholds = {0.1};
+  o.simbody.integrator = Integrator::RK4;  // a compared method's settings are checked before any run
+  o.methods = {Method::Simbody};
+  CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("integrator 'rk4' is not one of simbody's"));
 }
 
 TEST_CASE("a failed reference is said in the table", "[comparison]") {
   Trajectory ref;
-  ref.method = "simbody";
-  ref.integrator = "rkmerson";
+  ref.run = referenceRun();
   ref.status = "failed";
   ref.failure = "Simbody: step size underflow";
   ref.failure_time = 0.25;
@@ -50,15 +53,13 @@ TEST_CASE("a failed reference is said in the table", "[comparison]") {
 }
 
 TEST_CASE("the in-house classical method can be the reference", "[comparison]") {
-  const Model m = test::loadData("chain02.json");
   CompareOptions o;
-  o.t_end = 0.2;
-  o.methods = {"classical", "simbody"};
-  o.reference.method = "classical";
-  o.reference.integrator = "rk8pd";
+  o.grid.t_end = 0.2;
+  o.methods = {Method::Classical, Method::Simbody};
+  o.reference = referenceRun(Method::Classical);
   o.reference.tol = 1e-11;
-  const ComparisonResult r = runComparison(m, "chain02.json", o);
-  CHECK(r.reference.method == "classical");
-  CHECK(r.tight.integrator == "rk8pd");
+  const ComparisonResult r = runComparison(test::sceneData("chain02.json"), o);
+  CHECK(r.reference.method() == "classical");
+  CHECK(r.tight.integrator() == "rk8pd");
   CHECK(r.metrics[1].pose.value < 1e-5);  // Simbody at accuracy 1e-6 against the in-house reference
 }

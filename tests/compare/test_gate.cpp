@@ -27,12 +27,12 @@ json tolerances(double pose_bound, const std::string& integrator = "rk4") {
               {"inhouse", {{"integrator", integrator}, {"dt", 1e-3}, {"tolerance", 1e-10}}},
               {"methods",
                {{"classical", {{"max_pose_error_rad", {{"value", pose_bound}, {"reason", "test bound"}}}}},
-                {"not-run", {{"energy_error_max", {{"value", 1.0}, {"reason", "skipped"}}}}}}}}}}}};
+                {"eigen-jacobi-orth", {{"energy_error_max", {{"value", 1.0}, {"reason", "skipped"}}}}}}}}}}}};
 }
 
 ComparisonResult synthetic(Trajectory run) {
   CompareOptions o;
-  ComparisonResult r = compareRuns(test::turning("simbody", 0, 0), test::turning("simbody", 0, 0), {run}, o);
+  ComparisonResult r = compareRuns(test::turning(Method::Simbody, 0, 0), test::turning(Method::Simbody, 0, 0), {run}, o);
   r.scene_name = "synthetic";
   return r;
 }
@@ -50,10 +50,10 @@ TEST_CASE("the project's tolerance file loads with a reason for every bound", "[
 
 TEST_CASE("a bound above the measured error passes and a tightened one breaks", "[gate]") {
   // classical's pose error grows as 1e-3 t: 2e-3 rad at the 2 s horizon, 1e-2 by 10 s.
-  const ComparisonResult r = synthetic(test::turning("classical", 1e-3, 0));
+  const ComparisonResult r = synthetic(test::turning(Method::Classical, 1e-3, 0));
   const GateResult ok = evaluateGate(r, loadTolerances(writeTemp("tol_ok.json", tolerances(2.5e-3))));
   CHECK(ok.passed);
-  REQUIRE(ok.checks.size() == 1);  // "not-run" is skipped
+  REQUIRE(ok.checks.size() == 1);  // eigen-jacobi-orth did not run: skipped
   CHECK(ok.checks[0].value == Approx(2e-3).epsilon(1e-9));
   const GateResult broken = evaluateGate(r, loadTolerances(writeTemp("tol_tight.json", tolerances(1.5e-3))));
   CHECK_FALSE(broken.passed);
@@ -61,17 +61,17 @@ TEST_CASE("a bound above the measured error passes and a tightened one breaks", 
 }
 
 TEST_CASE("other run settings, a failure or a short run break the bounds", "[gate]") {
-  const Trajectory good = test::turning("classical", 1e-4, 0);
+  const Trajectory good = test::turning(Method::Classical, 1e-4, 0);
   const GateResult other = evaluateGate(synthetic(good), loadTolerances(writeTemp("tol_rk8.json", tolerances(1, "rk8pd"))));
   CHECK_FALSE(other.passed);
   CHECK_THAT(other.checks[0].note, Catch::Contains("other in-house integrator settings"));
-  Trajectory failed = test::turning("classical", 1e-4, 0, 1.0);
+  Trajectory failed = test::turning(Method::Classical, 1e-4, 0, 1.0);
   failed.status = "failed";
   failed.failure = "blow-up";
   failed.failure_time = 1.0;
   const Tolerances t = loadTolerances(writeTemp("tol_one.json", tolerances(1)));
   CHECK_THAT(evaluateGate(synthetic(failed), t).checks[0].note, Catch::Contains("failed at t = 1 s: blow-up"));
-  const Trajectory shorter = test::turning("classical", 1e-4, 0, 1.0);
+  const Trajectory shorter = test::turning(Method::Classical, 1e-4, 0, 1.0);
   CHECK_THAT(evaluateGate(synthetic(shorter), t).checks[0].note, Catch::Contains("shorter than the horizon"));
   ComparisonResult unknown = synthetic(good);
   unknown.scene_name = "elsewhere";
@@ -86,4 +86,10 @@ TEST_CASE("a malformed tolerance file names the file and the key", "[gate]") {
   j = tolerances(1);
   j["scenes"]["synthetic"]["methods"]["classical"]["max_angle"] = {{"value", 1}, {"reason", "x"}};
   CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad2.json", j)), Catch::Contains("methods.classical.max_angle: unknown metric"));
+  // Method and integrator names are the registry's.
+  j = tolerances(1);
+  j["scenes"]["synthetic"]["methods"]["newton"] = j["scenes"]["synthetic"]["methods"]["classical"];
+  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad3.json", j)), Catch::Contains("methods.newton: unknown method"));
+  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad4.json", tolerances(1, "rkmerson"))),
+                    Catch::Contains("synthetic.inhouse.integrator: unknown in-house integrator 'rkmerson'"));
 }

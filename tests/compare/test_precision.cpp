@@ -8,16 +8,15 @@
 using namespace em;
 
 TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles", "[precision]") {
-  const Model m = test::loadData("chain03.json");
   PrecisionOptions o;
-  o.methods = {"classical", "eigen-jacobi"};
+  o.methods = {Method::Classical, Method::EigenJacobi};
   o.settings = {1e-2, 5e-3};
-  o.t_end = 1.0;
-  const PrecisionResult r = runPrecision(m, o);
+  o.grid.t_end = 1.0;
+  const PrecisionResult r = runPrecision(test::sceneData("chain03.json"), o);
   REQUIRE(r.points.size() == 4);
   for (int k : {0, 2}) {
     const MethodMetrics &coarse = r.points[k].metrics, &fine = r.points[k + 1].metrics;
-    INFO(r.points[k].method);
+    INFO(coarse.name());
     CHECK(coarse.status == "ok");
     // Fourth order: 16x; allow 8x to 32x (pose error is a max over time, not one final value).
     CHECK(coarse.pose.value / fine.pose.value > 8);
@@ -31,11 +30,11 @@ TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles"
 }
 
 TEST_CASE("simbody needs tolerances: refused under rk4 before any run", "[precision]") {
-  const Model m = test::loadData("chain01.json");
+  const Scene scene = test::sceneData("chain01.json");
   PrecisionOptions o;
-  o.methods = {"classical", "simbody"};
-  CHECK_THROWS_WITH(runPrecision(m, o), Catch::Contains("simbody has no fixed-step integrator"));
-  o.methods = {"classical"};
+  o.methods = {Method::Classical, Method::Simbody};
+  CHECK_THROWS_WITH(runPrecision(scene, o), Catch::Contains("simbody has no fixed-step integrator"));
+  o.methods = {Method::Classical};
   o.settings = {1e-3, 0};
-  CHECK_THROWS_WITH(runPrecision(m, o), Catch::Contains("must be > 0"));
+  CHECK_THROWS_WITH(runPrecision(scene, o), Catch::Contains("must be > 0"));
 }

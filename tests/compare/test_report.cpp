@@ -15,13 +15,13 @@ namespace {
 
 ComparisonResult synthetic() {
   CompareOptions o;
-  o.methods = {"classical", "eigen"};
-  Trajectory failed = test::turning("eigen", 0.021, 0.5, 3.0);
+  o.methods = {Method::Classical, Method::Eigen};
+  Trajectory failed = test::turning(Method::Eigen, 0.021, 0.5, 3.0);
   failed.status = "failed";
   failed.failure = "eigenvalue lambda_0 = -0.1 <= 0";
   failed.failure_time = 3.0;
-  ComparisonResult r = compareRuns(test::turning("simbody", 0, 0), test::turning("simbody", 1e-6, 0),
-                                   {test::turning("classical", 1e-5, 0), failed}, o);
+  ComparisonResult r = compareRuns(test::turning(Method::Simbody, 0, 0), test::turning(Method::Simbody, 1e-6, 0),
+                                   {test::turning(Method::Classical, 1e-5, 0), failed}, o);
   r.scene_name = "synthetic";
   r.t_end = 10;
   r.output_dt = 0.01;

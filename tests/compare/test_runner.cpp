@@ -30,15 +30,28 @@ TEST_CASE("runMethod dispatches to both engines and rejects unknown names", "[ru
   RunSpec s;
   s.t_end = 0.1;
   s.output_dt = 0.05;
-  CHECK(runMethod(m, s).method == "classical");
-  s.method = "simbody";
+  CHECK(runMethod(m, s).method() == "classical");
+  s.method = Method::Simbody;
+  s.integrator = chosenIntegrator(Engine::Simbody, false);
   const Trajectory t = runMethod(m, s);
-  CHECK(t.method == "simbody");
-  CHECK(t.integrator == "rkmerson");
+  CHECK(t.method() == "simbody");
+  CHECK(t.integrator() == "rkmerson");
   CHECK(t.size() == 3);
-  s.method = "lagrange";
-  CHECK_THROWS_WITH(runMethod(m, s), Catch::Contains("unknown method 'lagrange'"));
-  s.method = "classical";
-  s.integrator = "euler";
-  CHECK_THROWS_WITH(runMethod(m, s), Catch::Contains("unknown integrator 'euler'"));
+  CHECK_THROWS_WITH(parseMethod("lagrange"), Catch::Contains("unknown method 'lagrange'"));
+  CHECK_THROWS_WITH(parseIntegrator("euler"), Catch::Contains("unknown integrator 'euler'"));
+  s.method = Method::Classical;  // an integrator of the other engine
+  CHECK_THROWS_WITH(runMethod(m, s), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
+}
+
+TEST_CASE("scene defaults apply where nothing was asked - the reference defaults are one place", "[runner]") {
+  const Scene scene = test::sceneData("chain02.json");
+  Grid grid;
+  CHECK(onGrid(RunSpec(), scene, grid).t_end == scene.t_end);
+  grid.output_dt = 0.05;
+  const RunSpec s = onGrid(RunSpec(), scene, grid);
+  CHECK(s.output_dt == 0.05);
+  CHECK(s.t_end == scene.t_end);
+  CHECK(referenceRun().integrator == Integrator::RKMerson);
+  CHECK(referenceRun(Method::Classical).integrator == Integrator::RK8PD);
+  CHECK(chosenIntegrator(Engine::InHouse, true) == Integrator::RK8PD);
 }

@@ -31,18 +31,16 @@ double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
 // In-house classical rk8pd and Simbody RK-Merson runs of one scene, both required ok.
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end);
 
-SimOptions rk8pd(double tol, double t_end) {
-  SimOptions o;
-  o.integrator = Integrator::RK8PD;
-  o.tol = tol;
-  o.t_end = t_end;
-  o.output_dt = 0.01;
-  return o;
+RunSpec rk8pd(double tol, double t_end) { return test::runSpec(Method::Classical, Integrator::RK8PD, t_end, tol); }
+
+// Simbody at accuracy `tol` with one of its integrators.
+RunSpec simbodyRun(Integrator integrator, double tol, double t_end) {
+  return test::runSpec(Method::Simbody, integrator, t_end, tol);
 }
 
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
-  Trajectory in = simulate(m, Method::Classical, rk8pd(tol_inhouse, t_end));
-  Trajectory sb = SimbodyReference(m).simulate("rkmerson", tol_simbody, t_end, 0.01);
+  Trajectory in = simulate(m, rk8pd(tol_inhouse, t_end));
+  Trajectory sb = SimbodyReference(m).simulate(simbodyRun(Integrator::RKMerson, tol_simbody, t_end));
   REQUIRE(in.status == "ok");
   REQUIRE(sb.status == "ok");
   REQUIRE(in.size() == sb.size());
@@ -115,9 +113,9 @@ TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12
 
 TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
   const Model g = test::loadData("pendulum5.json"), b = test::loadData("pendulum5_ball.json");
-  const Trajectory sg = SimbodyReference(g).simulate("rkmerson", 1e-12, 5.0, 0.01);
-  const Trajectory sball = SimbodyReference(b).simulate("rkmerson", 1e-12, 5.0, 0.01);
-  const Trajectory ib = simulate(b, Method::Classical, rk8pd(1e-13, 5.0));
+  const Trajectory sg = SimbodyReference(g).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
+  const Trajectory sball = SimbodyReference(b).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
+  const Trajectory ib = simulate(b, rk8pd(1e-13, 5.0));
   CHECK(maxPoseDiff(sg, sball) <= 1e-8);
   CHECK(maxPoseDiff(ib, sball) <= 1e-8);
 }
@@ -130,22 +128,24 @@ TEST_CASE("a branched tree with every joint kind tracks Simbody over 2 s", "[cro
 TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5 over 1 s", "[crosscheck]") {
   const Model m = test::loadData("pendulum5.json");
   SimbodyReference ref(m);
-  const Trajectory a = ref.simulate("rkmerson", 1e-10, 1.0, 0.01);
-  for (const char* integ : {"rk3", "cpodes"}) {
-    const Trajectory b = ref.simulate(integ, 1e-10, 1.0, 0.01);
-    INFO(integ);
+  const Trajectory a = ref.simulate(simbodyRun(Integrator::RKMerson, 1e-10, 1.0));
+  for (Integrator integ : {Integrator::RK3, Integrator::CPodes}) {
+    const Trajectory b = ref.simulate(simbodyRun(integ, 1e-10, 1.0));
+    INFO(integratorName(integ));
     REQUIRE(b.status == "ok");
-    CHECK(b.integrator == integ);
+    CHECK(b.run.integrator == integ);
     CHECK(maxPoseDiff(a, b) < 1e-6);  // both at accuracy 1e-10 over 1 s; measured ~1e-8
   }
-  CHECK_THROWS_WITH(ref.simulate("euler", 1e-10, 1.0, 0.01), Catch::Contains("unknown Simbody integrator"));
+  // An in-house integrator is not Simbody's: refused, naming Simbody's.
+  RunSpec other = simbodyRun(Integrator::RK8PD, 1e-10, 1.0);
+  CHECK_THROWS_WITH(ref.simulate(other), Catch::Contains("integrator 'rk8pd'") && Catch::Contains("rkmerson, rk3, cpodes"));
 }
 
 TEST_CASE("a Simbody failure is a one-line cause with its time - not an exception", "[crosscheck][failure]") {
-  SceneSpec s = makeChainSpec(2);
+  SceneSpec s = test::chainSpec(2);
   s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
   const Model m = buildModel(s);
-  const Trajectory t = SimbodyReference(m).simulate("rkmerson", 1e-10, 0.1, 0.01);
+  const Trajectory t = SimbodyReference(m).simulate(simbodyRun(Integrator::RKMerson, 1e-10, 0.1));
   CHECK(t.status == "failed");
   CHECK(t.failure_time == 0.0);
   CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));

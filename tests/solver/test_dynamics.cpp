@@ -23,14 +23,7 @@ void eigenAt(const Model& m, const Eigen::VectorXd& q, const RowMatrix& ref, Row
     if (C.row(i).dot(ref.row(i)) < 0) C.row(i) *= -1;
 }
 
-SimOptions rk4(double t_end) {
-  SimOptions o;
-  o.integrator = Integrator::RK4;
-  o.dt = 1e-3;
-  o.t_end = t_end;
-  o.output_dt = 0.01;
-  return o;
-}
+RunSpec rk4(Method method, double t_end) { return test::runSpec(method, Integrator::RK4, t_end, 1e-3); }
 
 double maxAngleDiff(const Trajectory& a, const Trajectory& b) {
   double d = 0;
@@ -96,8 +89,9 @@ TEST_CASE("all methods give the same udot at the initial state", "[identity][dyn
       Dynamics dyn(m, meth);
       Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
       if (repeated && meth != Method::Classical) {
-        CHECK_FALSE(dyn.rhs(0, y.data(), dy.data()));
-        CHECK_THAT(dyn.failure().cause, Catch::Contains("eigenvalue gap"));
+        const Status st = dyn.rhs(0, y.data(), dy.data());
+        CHECK_FALSE(st);
+        CHECK_THAT(st.cause, Catch::Contains("eigenvalue gap"));
         continue;
       }
       REQUIRE(dyn.rhs(0, y.data(), dy.data()));
@@ -112,9 +106,8 @@ TEST_CASE("all methods give the same udot at the initial state", "[identity][dyn
 
 TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-jacobi", "[identity][dynamics]") {
   const Model m = test::loadData("pendulum5.json");
-  SimOptions o = rk4(0.1);
-  const Trajectory e = simulate(m, Method::Eigen, o);
-  const Trajectory j = simulate(m, Method::EigenJacobi, o);
+  const Trajectory e = simulate(m, rk4(Method::Eigen, 0.1));
+  const Trajectory j = simulate(m, rk4(Method::EigenJacobi, 0.1));
   REQUIRE(e.diag.size() == 11);
   double off_e = 0, off_j = 0;
   for (size_t k = 0; k < e.size(); ++k) {
@@ -130,9 +123,9 @@ TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-
 
 TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[identity][dynamics]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory c = simulate(m, Method::Classical, rk4(1.0));
+  const Trajectory c = simulate(m, rk4(Method::Classical, 1.0));
   for (Method meth : {Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
-    const Trajectory t = simulate(m, meth, rk4(1.0));
+    const Trajectory t = simulate(m, rk4(meth, 1.0));
     INFO(methodName(meth));
     CHECK(t.status == "ok");
     CHECK(maxAngleDiff(t, c) <= 1e-6);
@@ -141,26 +134,26 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
 
 TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classical runs", "[dynamics][failure]") {
   const Model m = sphereOnBall();
-  SimOptions o = rk4(0.5);
-  const Trajectory e = simulate(m, Method::Eigen, o);
+  const Trajectory e = simulate(m, rk4(Method::Eigen, 0.5));
   CHECK(e.status == "failed");
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
-  const Trajectory c = simulate(m, Method::Classical, o);
+  const Trajectory c = simulate(m, rk4(Method::Classical, 0.5));
   CHECK(c.status == "ok");
   CHECK(c.size() == 51);
 }
 
 TEST_CASE("a gimbal locked at 90 deg makes A singular: classical fails with the cause", "[dynamics][failure]") {
-  SceneSpec s = makeChainSpec(1);
+  SceneSpec s = test::chainSpec(1);
   s.bodies[0].joint.in_body = Vec3::Zero();  // no offset: A = P^T J P, rank 2 at lock
   s.bodies[0].joint.q0 = Vec3(0.3, M_PI / 2, 0.2);
   const Model m = buildModel(s);
   Dynamics dyn(m, Method::Classical);
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
-  CHECK_FALSE(dyn.rhs(0.25, y.data(), dy.data()));
-  CHECK(dyn.failure().t == 0.25);
-  CHECK_THAT(dyn.failure().cause, Catch::Contains("numerically singular"));
+  const Status st = dyn.rhs(0.25, y.data(), dy.data());
+  CHECK_FALSE(st);
+  CHECK(st.t == 0.25);
+  CHECK_THAT(st.cause, Catch::Contains("numerically singular"));
   // 0.1 rad away from lock the same body is fine.
   s.bodies[0].joint.q0 = Vec3(0.3, M_PI / 2 - 0.1, 0.2);
   const Model ok = buildModel(s);
@@ -172,9 +165,9 @@ TEST_CASE("a gimbal locked at 90 deg makes A singular: classical fails with the 
 TEST_CASE("the paper: eigen leaves classical by 0.1 rad between 6.5 and 8 s - eigen-jacobi later", "[dynamics][paper]") {
   // pendulum5, rk4 dt 1e-3, 10 s (the paper reports about 7.2 s); measured 7.24 s and 9.85 s.
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory c = simulate(m, Method::Classical, rk4(10.0));
-  const Trajectory e = simulate(m, Method::Eigen, rk4(10.0));
-  const Trajectory j = simulate(m, Method::EigenJacobi, rk4(10.0));
+  const Trajectory c = simulate(m, rk4(Method::Classical, 10.0));
+  const Trajectory e = simulate(m, rk4(Method::Eigen, 10.0));
+  const Trajectory j = simulate(m, rk4(Method::EigenJacobi, 10.0));
   auto firstApart = [&](const Trajectory& t) {
     for (size_t k = 0; k < t.size(); ++k)
       if ((t.q[k] - c.q[k]).cwiseAbs().maxCoeff() > 0.1) return t.t[k];
@@ -199,21 +192,23 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
     Dynamics dyn(m, Method::Classical);
     Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
     y[2] = std::nan("");
-    CHECK_FALSE(dyn.rhs(1.5, y.data(), dy.data()));
-    CHECK(dyn.failure().t == 1.5);
-    CHECK_THAT(dyn.failure().cause, Catch::Contains("non-finite"));
+    const Status st = dyn.rhs(1.5, y.data(), dy.data());
+    CHECK_FALSE(st);
+    CHECK(st.t == 1.5);
+    CHECK_THAT(st.cause, Catch::Contains("non-finite"));
   }
   {
     Dynamics dyn(m, Method::Eigen);
     Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
     y[dyn.offsetLambda()] = -0.1;
-    CHECK_FALSE(dyn.rhs(0, y.data(), dy.data()));
-    CHECK_THAT(dyn.failure().cause, Catch::Contains("lambda_0") && Catch::Contains("<= 0"));
+    const Status st = dyn.rhs(0, y.data(), dy.data());
+    CHECK_FALSE(st);
+    CHECK_THAT(st.cause, Catch::Contains("lambda_0") && Catch::Contains("<= 0"));
   }
   {
-    MethodOptions mo;
-    mo.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
-    const Trajectory t = simulate(m, Method::Classical, rk4(2.0), mo);
+    RunSpec s = rk4(Method::Classical, 2.0);
+    s.options.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
+    const Trajectory t = simulate(m, s);
     CHECK(t.status == "failed");
     CHECK_THAT(t.failure, Catch::Contains("blow-up"));
     CHECK(t.failure_time > 0);
@@ -225,11 +220,10 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
   // Measured: eigen fails near 1.2 s (negative eigenvalue), eigen-jacobi near
   // 2.1 s (C no longer orthogonal, Jacobi cannot converge); classical runs on.
   const Model m = test::loadData("chain20.json");
-  SimOptions o = rk4(2.5);
-  const Trajectory c = simulate(m, Method::Classical, o);
+  const Trajectory c = simulate(m, rk4(Method::Classical, 2.5));
   CHECK(c.status == "ok");
   for (Method meth : {Method::Eigen, Method::EigenJacobi}) {
-    const Trajectory t = simulate(m, meth, o);
+    const Trajectory t = simulate(m, rk4(meth, 2.5));
     INFO(methodName(meth) << ": " << t.failure);
     CHECK(t.status == "failed");
     CHECK_FALSE(t.failure.empty());

@@ -185,7 +185,8 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
       REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
       const long before = g_allocations.load();
       for (int k = 0; k < 10; ++k) dyn.rhs(0, y.data(), dy.data());
-      dyn.postStep(0, y.data());
+      StepInfo step;
+      dyn.afterStep(0, y.data(), step);
       const long allocations = g_allocations.load() - before;  // read before INFO allocates
       INFO(scene << " " << methodName(method));
       CHECK(allocations == 0);

@@ -13,15 +13,6 @@ using namespace em;
 
 namespace {
 
-SimOptions opts(Integrator i, double t_end, double dt_or_tol) {
-  SimOptions o;
-  o.integrator = i;
-  o.t_end = t_end;
-  o.output_dt = 0.01;
-  (isFixedStep(i) ? o.dt : o.tol) = dt_or_tol;
-  return o;
-}
-
 double maxRelEnergyError(const Trajectory& t) {
   double e = 0;
   for (double E : t.energy) e = std::max(e, std::abs(E - t.energy[0]) / std::abs(t.energy[0]));
@@ -67,7 +58,7 @@ TEST_CASE("GSLs rk4 stepper is not one classical step: it does step doubling", "
 
 TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[integrate]") {
   const Model m = test::loadData("chain03.json");
-  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK4, 0.5, 1e-3));
+  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.5, 1e-3));
   CHECK(t.steps == 500);
   CHECK(t.rhs_evals == 4 * 500);
   CHECK(t.size() == 51);
@@ -76,7 +67,7 @@ TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[i
 
 TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10", "[integrate][energy]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK8PD, 10.0, 1e-12));
+  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-12));
   REQUIRE(t.status == "ok");
   REQUIRE(t.size() == 1001);
   CHECK(maxRelEnergyError(t) < 1e-10);
@@ -84,7 +75,7 @@ TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10",
 
 TEST_CASE("with dampers the energy never increases", "[integrate][energy]") {
   const Model m = test::loadData("spring_damper.json");
-  const Trajectory t = simulate(m, Method::Classical, opts(Integrator::RK8PD, 5.0, 1e-12));
+  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 5.0, 1e-12));
   REQUIRE(t.status == "ok");
   // Allowance per sample: the integration error of a tol-1e-12 run, far below
   // the dissipation per sample (~1e-3 J here).
@@ -94,8 +85,8 @@ TEST_CASE("with dampers the energy never increases", "[integrate][energy]") {
 }
 
 TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum", "[integrate][identity]") {
-  const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), Method::Classical, opts(Integrator::RK8PD, 2.0, 1e-12));
-  const Trajectory g = simulate(test::loadData("pendulum5.json"), Method::Classical, opts(Integrator::RK8PD, 2.0, 1e-12));
+  const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
+  const Trajectory g = simulate(test::loadData("pendulum5.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
   REQUIRE(b.status == "ok");
   double pose = 0;
   for (size_t k = 0; k < b.size(); ++k) {
@@ -107,10 +98,10 @@ TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum"
 
 TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-13));
+  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-13));
   for (auto [i, p, bound] : {std::tuple{Integrator::RK4, 1e-3, 1e-8}, std::tuple{Integrator::RKF45, 1e-10, 1e-7},
                              std::tuple{Integrator::BSIMP, 1e-10, 1e-7}}) {
-    const Trajectory t = simulate(m, Method::Classical, opts(i, 1.0, p));
+    const Trajectory t = simulate(m, test::runSpec(Method::Classical, i, 1.0, p));
     INFO(integratorName(i));
     REQUIRE(t.status == "ok");
     CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < bound);
@@ -119,10 +110,10 @@ TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity
 
 TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[integrate][identity]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-12));
+  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12));
   for (Method meth : {Method::Eigen, Method::EigenJacobi})
     for (Integrator i : {Integrator::RKF45, Integrator::RK8PD}) {
-      const Trajectory t = simulate(m, meth, opts(i, 1.0, 1e-10));
+      const Trajectory t = simulate(m, test::runSpec(meth, i, 1.0, 1e-10));
       INFO(methodName(meth) << " " << integratorName(i));
       REQUIRE(t.status == "ok");
       CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < 1e-6);
@@ -131,19 +122,19 @@ TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[in
 
 TEST_CASE("inconsistent options are rejected before any computation", "[integrate]") {
   const Model m = test::loadData("chain01.json");
-  CHECK_THROWS_AS(simulate(m, Method::Classical, opts(Integrator::RK4, 1.0, 0.003)), std::invalid_argument);
-  SimOptions o = opts(Integrator::RK8PD, 1.0, 0.0);
-  CHECK_THROWS_AS(simulate(m, Method::Classical, o), std::invalid_argument);
-  o = opts(Integrator::RK4, 1.0, 1e-3);
+  CHECK_THROWS_AS(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 0.003)), std::invalid_argument);
+  RunSpec o = test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 0.0);
+  CHECK_THROWS_AS(simulate(m, o), std::invalid_argument);
+  o = test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3);
   o.output_dt = 0.3;
-  CHECK_THROWS_AS(simulate(m, Method::Classical, o), std::invalid_argument);
+  CHECK_THROWS_AS(simulate(m, o), std::invalid_argument);
 }
 
 TEST_CASE("the same scene and options give bitwise the same numbers", "[integrate]") {
   const Model m = test::loadData("tree_mixed.json");
   for (Method meth : {Method::Classical, Method::EigenJacobi}) {
-    const Trajectory a = simulate(m, meth, opts(Integrator::RKF45, 0.5, 1e-9));
-    const Trajectory b = simulate(m, meth, opts(Integrator::RKF45, 0.5, 1e-9));
+    const Trajectory a = simulate(m, test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9));
+    const Trajectory b = simulate(m, test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9));
     CHECK(a.q == b.q);
     CHECK(a.u == b.u);
     CHECK(a.energy == b.energy);
@@ -154,12 +145,10 @@ TEST_CASE("the hand-written rk4 converges at fourth order", "[integrate][closedf
   // Halving dt must divide the error by 2^4: the observed order over two
   // halvings lies in [3.7, 4.3] (the leading term dominates at these steps).
   const Model m = test::loadData("chain03.json");
-  const Trajectory ref = simulate(m, Method::Classical, opts(Integrator::RK8PD, 1.0, 1e-14));
+  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-14));
   std::vector<double> err;
   for (double dt : {0.02, 0.01, 0.005}) {
-    SimOptions o = opts(Integrator::RK4, 1.0, dt);
-    o.output_dt = 0.02;
-    const Trajectory t = simulate(m, Method::Classical, o);
+    const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, dt, 0.02));
     err.push_back((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff());
   }
   for (int k = 0; k < 2; ++k) {

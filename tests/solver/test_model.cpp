@@ -55,17 +55,19 @@ TEST_CASE("outputs follow the files order whatever the internal order", "[closed
   CHECK(qn.back() == "foot.q3");
   // The file-order round trip is the identity, and internal order differs.
   Eigen::VectorXd qf = Eigen::VectorXd::LinSpaced(m.nq, 0, m.nq - 1), q, back;
-  m.qFromFile(qf, q);
+  q.resize(m.nq);  // file order -> internal order through the permutation
+  const std::vector<int> p = m.qFilePermutation();
+  for (int k = 0; k < m.nq; ++k) q[p[k]] = qf[k];
   m.qToFile(q, back);
   CHECK(back == qf);
   CHECK(q != qf);
 }
 
 TEST_CASE("buildModel rejects topology errors with the files body index", "[closedform][model]") {
-  SceneSpec s = makeChainSpec(3);
+  SceneSpec s = test::chainSpec(3);
   s.bodies[2].parent = "link3";
   CHECK_THROWS_WITH(buildModel(s), Catch::Contains("bodies[2].parent") && Catch::Contains("own parent"));
-  s = makeChainSpec(3);
+  s = test::chainSpec(3);
   s.bodies[0].parent = "link3";  // link1 -> link3 -> link2 -> link1
   CHECK_THROWS_WITH(buildModel(s), Catch::Contains("bodies[0].parent: cycle"));
 }

@@ -52,9 +52,10 @@ TEST_CASE("a missing file is one line naming it", "[scene]") {
 }
 
 TEST_CASE("defaults - normalization and x- keys of a valid scene", "[scene]") {
-  const Model m = loadSceneText(kMinimal, "mem");
+  const Scene scene = loadSceneText(kMinimal, "mem");
+  const Model& m = scene.model;
   CHECK(m.gravity == Vec3(0, 0, -9.81));
-  CHECK(m.t_end == 10.0);
+  CHECK(scene.t_end == 10.0);
   const Body& b = m.bodies[0];
   CHECK(b.joint.q0 == Eigen::Vector4d(1, 0, 0, 0));  // [2,0,0,0] normalized on read
   CHECK(b.joint.u0 == Eigen::Vector3d::Zero());

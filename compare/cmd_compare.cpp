@@ -1,0 +1,133 @@
+// `eigenmass compare`: several methods side by side against a reference, a
+// JSON report, optionally CSVs and the CI gate.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "compare/cli.hpp"
+#include "compare/comparison.hpp"
+#include "compare/gate.hpp"
+#include "compare/report.hpp"
+#include "io/csv.hpp"
+
+namespace em::cli {
+
+namespace {
+
+struct CompareArgs {
+  std::string scene, out, csv_dir, gate;
+  std::string reference = methodName(Method::Simbody), reference_integrator;
+  std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
+  std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
+  std::vector<std::string> methods = methodNames();
+  double t_end = 0, output_dt = 0;
+  CompareOptions opt;
+};
+
+// The options as given on the command line, resolved against the registry.
+CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
+  CompareOptions o = a.opt;
+  o.methods.clear();
+  for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  const double reference_tol = o.reference.tol;
+  o.reference = referenceRun(parseMethod(a.reference));
+  o.reference.tol = reference_tol;
+  if (!a.reference_integrator.empty()) o.reference.integrator = parseIntegrator(a.reference_integrator);
+  // --tol alone selects an adaptive integrator for the in-house methods.
+  o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
+                                                                          : parseIntegrator(a.integrator);
+  o.simbody.integrator = parseIntegrator(a.simbody_integrator);
+  if (cmd.count("--t-end")) o.grid.t_end = a.t_end;
+  if (cmd.count("--output-dt")) o.grid.output_dt = a.output_dt;
+  return o;
+}
+
+void writeCsvs(const ComparisonResult& r, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  writeCsv(r.reference, dir + "/reference.csv");
+  for (const Trajectory& t : r.runs) writeCsv(t, dir + "/" + t.method() + ".csv");
+}
+
+int gateVerdict(const GateResult& g, const std::string& file) {
+  if (g.passed) {
+    std::printf("gate passed: %zu checks (%s)\n", g.checks.size(), file.c_str());
+    return 0;
+  }
+  std::fputs(brokenChecks(g).c_str(), stdout);
+  return 1;
+}
+
+int runCompare(const CompareArgs& a, const CLI::App& cmd) {
+  // Bad input fails here, before any simulation.
+  const Scene scene = loadScene(a.scene);
+  const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
+  const ComparisonResult r = runComparison(scene, resolve(a, cmd), progress);
+  nlohmann::json gate = nullptr;
+  GateResult g;
+  if (!a.gate.empty()) {
+    g = evaluateGate(r, tol);
+    gate = gateJson(g);
+  }
+  const Model& m = scene.model;
+  const std::string out = a.out.empty() ? "out/" + m.name + ".report.json" : a.out;
+  ensureParentDir(out);
+  if (!a.csv_dir.empty()) writeCsvs(r, a.csv_dir);
+  writeJsonAtomic(makeReport(r, gate), out);
+  std::printf("%s: %d bodies, %d speeds, t_end %g s, output every %g s\n", m.name.c_str(), m.n(), m.nu, r.t_end,
+              r.output_dt);
+  std::fputs(summaryTable(r).c_str(), stdout);
+  std::printf("report: %s\n", out.c_str());
+  return a.gate.empty() ? 0 : gateVerdict(g, a.gate);
+}
+
+void addRunOptions(CLI::App* cmd, CompareArgs& a) {
+  CompareOptions& o = a.opt;
+  cmd->add_option("--integrator", a.integrator, helpWithNames("Integrator of the in-house methods", integratorNames(Engine::InHouse)))
+      ->check(integratorValidator(Engine::InHouse))
+      ->capture_default_str();
+  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")->capture_default_str();
+  auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")
+                  ->capture_default_str();
+  dt->excludes(tol);
+  cmd->add_option("--simbody-integrator", a.simbody_integrator,
+                  helpWithNames("Integrator of the compared simbody method", integratorNames(Engine::Simbody)))
+      ->check(integratorValidator(Engine::Simbody))
+      ->capture_default_str();
+  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")->capture_default_str();
+  cmd->add_option("--t-end", a.t_end, "End time (s); default: the scene's simulate.t_end");
+  cmd->add_option("--output-dt", a.output_dt, "Common output grid (s); default: the scene's simulate.output_dt");
+}
+
+void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
+  cmd->add_option("--reference", a.reference, "Reference engine: simbody or classical (in-house)")
+      ->check(CLI::IsMember({methodName(Method::Simbody), methodName(Method::Classical)}))
+      ->capture_default_str();
+  cmd->add_option("--reference-integrator", a.reference_integrator,
+                  "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)")
+      ->check(integratorValidator());
+  cmd->add_option("--reference-tol", a.opt.reference.tol, "Tolerance (accuracy) of the reference; its horizon run uses 1/100 of it")
+      ->capture_default_str();
+}
+
+}  // namespace
+
+void addCompare(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compare", "Run several methods side by side against a reference and write a JSON report");
+  auto a = std::make_shared<CompareArgs>();
+  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  cmd->add_option("--methods", a->methods, helpWithNames("Methods to compare, comma-separated", methodNames()))
+      ->delimiter(',')
+      ->check(methodValidator())
+      ->capture_default_str();
+  addReferenceOptions(cmd, *a);
+  addRunOptions(cmd, *a);
+  cmd->add_option("--thresholds", a->opt.thresholds, "Pose-error thresholds of the divergence times (rad), comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
+  cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");
+  cmd->add_option("--gate", a->gate, "Tolerance file (data/tolerances.json): exit 1 and list the broken bounds if any");
+  cmd->callback([cmd, a] { guarded([&] { return runCompare(*a, *cmd); }); });
+}
+
+}  // namespace em::cli

@@ -1,0 +1,64 @@
+// `eigenmass precision`: each method at several steps or tolerances, error against CPU time.
+#include <cstdio>
+#include <memory>
+
+#include "compare/cli.hpp"
+#include "compare/precision.hpp"
+#include "compare/report.hpp"
+
+namespace em::cli {
+
+namespace {
+
+struct PrecisionArgs {
+  std::string scene, out, integrator = integratorName(Integrator::RK4);
+  std::vector<std::string> methods;
+  double t_end = 0, output_dt = 0;
+  PrecisionOptions opt;
+};
+
+int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
+  const Scene scene = loadScene(a.scene);
+  PrecisionOptions o = a.opt;
+  o.methods.clear();
+  for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  o.integrator = parseIntegrator(a.integrator);
+  if (cmd.count("--t-end")) o.grid.t_end = a.t_end;
+  if (cmd.count("--output-dt")) o.grid.output_dt = a.output_dt;
+  const PrecisionResult r = runPrecision(scene, o, progress);
+  const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;
+  ensureParentDir(path);
+  writeJsonAtomic(precisionJson(r), path);
+  std::fputs(precisionTable(r).c_str(), stdout);
+  std::printf("report: %s\n", path.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addPrecision(CLI::App& app) {
+  auto* cmd = app.add_subcommand("precision", "Work-precision: each method at several steps or tolerances, error against CPU time");
+  auto a = std::make_shared<PrecisionArgs>();
+  for (Method m : a->opt.methods) a->methods.push_back(methodName(m));
+  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  cmd->add_option("--methods", a->methods, helpWithNames("Methods, comma-separated", methodNames()))
+      ->delimiter(',')
+      ->check(methodValidator())
+      ->capture_default_str();
+  cmd->add_option("--integrator", a->integrator,
+                  "In-house integrator: rk4 (settings are steps dt) or " + joined(integratorNames(Engine::InHouse)) +
+                      " (adaptive ones take tolerances)")
+      ->check(integratorValidator(Engine::InHouse))
+      ->capture_default_str();
+  cmd->add_option("--settings", a->opt.settings, "Steps (fixed-step integrators) or tolerances, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--reference-tol", a->opt.reference.tol, "Accuracy of the Simbody RK-Merson reference")->capture_default_str();
+  cmd->add_option("--t-end", a->t_end, "End time (s); default: the scene's simulate.t_end");
+  cmd->add_option("--output-dt", a->output_dt,
+                  "Sampling interval (s), a multiple of every step; default: the scene's simulate.output_dt");
+  cmd->add_option("--out", a->out, "JSON file to write; default out/<scene>.precision.json");
+  cmd->callback([cmd, a] { guarded([&] { return runPrecisionCommand(*a, *cmd); }); });
+}
+
+}  // namespace em::cli

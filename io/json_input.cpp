@@ -1,0 +1,94 @@
+#include "io/json_input.hpp"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace em {
+
+namespace {
+
+using json = nlohmann::json;
+
+// The JSON path of the value being parsed, from nlohmann's parse events.
+struct PathTracker {
+  struct Frame {
+    explicit Frame(bool is_array) : array(is_array) {}
+    bool array;
+    long count = 0;   // completed elements of an array: the index of the one being read
+    std::string key;  // current key of an object
+    std::set<std::string> keys;
+  };
+  std::vector<Frame> stack;
+  std::string duplicate;
+
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : stack) {
+      if (f.array) p += "[" + std::to_string(f.count) + "]";
+      else if (!f.key.empty()) p += (p.empty() ? "" : ".") + f.key;
+    }
+    return p.empty() ? "(document)" : p;
+  }
+  // nlohmann emits `value` only for primitives; a container completes at its end event.
+  void completed() {
+    if (!stack.empty() && stack.back().array) ++stack.back().count;
+  }
+  bool operator()(int, json::parse_event_t ev, json& parsed) {
+    using E = json::parse_event_t;
+    switch (ev) {
+      case E::object_start: stack.emplace_back(false); break;
+      case E::array_start: stack.emplace_back(true); break;
+      case E::object_end:
+      case E::array_end: stack.pop_back(); completed(); break;
+      case E::key:
+        stack.back().key = parsed.get<std::string>();
+        if (!stack.back().keys.insert(stack.back().key).second && duplicate.empty()) duplicate = path();
+        break;
+      case E::value: completed(); break;
+    }
+    return true;
+  }
+};
+
+std::string lineColumn(const std::string& text, size_t byte) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+}  // namespace
+
+json parseJsonStrict(const std::string& text) {
+  PathTracker tracker;
+  json doc;
+  try {
+    doc = json::parse(text, [&tracker](int depth, json::parse_event_t ev, json& parsed) {
+      return tracker(depth, ev, parsed);
+    });
+  } catch (const json::parse_error& e) {
+    throw InputError("(document)", "invalid JSON at " + lineColumn(text, e.byte));
+  } catch (const json::exception& e) {
+    // out_of_range.406: a number too large for a double (1e999), at the tracked path.
+    const std::string w = e.what();
+    throw InputError(tracker.path(), w.substr(w.find(']') + 2) + " (not a finite number)");
+  }
+  if (!tracker.duplicate.empty()) throw InputError(tracker.duplicate, "duplicate key");
+  return doc;
+}
+
+std::string readFile(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the " + what);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+std::string jsonPath(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+std::string jsonPath(const std::string& path, size_t index) { return path + "[" + std::to_string(index) + "]"; }
+
+}  // namespace em

@@ -1,0 +1,31 @@
+#pragma once
+/// Strict JSON input that knows where it is: a parse callback tracks the JSON
+/// path of the value being read, so that parser-level failures (a number too
+/// large for a double, 1e999) and duplicate keys (which nlohmann would
+/// silently resolve to the last) name their key. Scenes, tolerance files and
+/// plans are read through it.
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace em {
+
+/// A defect of an input file at a JSON path ("bodies[1].mass: must be > 0").
+struct InputError : std::runtime_error {
+  InputError(const std::string& path, const std::string& what) : std::runtime_error(path + ": " + what), path(path) {}
+  std::string path;
+};
+
+/// Parse `text` strictly. Throws InputError: "(document)" with line and column
+/// for a syntax error, the path for a duplicate key or an overflowing number.
+nlohmann::json parseJsonStrict(const std::string& text);
+
+/// The whole content of a file; throws std::runtime_error("path: cannot open ...").
+std::string readFile(const std::string& path, const std::string& what);
+
+/// "path.key" and "path[i]": JSON paths as errors print them.
+std::string jsonPath(const std::string& path, const std::string& key);
+std::string jsonPath(const std::string& path, size_t index);
+
+}  // namespace em

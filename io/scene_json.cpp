@@ -1,0 +1,240 @@
+#include "io/scene_json.hpp"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "io/json_input.hpp"
+
+namespace em {
+
+namespace {
+
+using json = nlohmann::json;
+using Err = InputError;
+
+// Relative tolerance of the inertia checks: equality in the triangle
+// inequalities (a thin plate) must pass despite rounding of written decimals.
+constexpr double kInertiaRelTol = 1e-9;
+// Universal axes count as perpendicular when |cos| is below this (scene-format.md).
+constexpr double kPerpendicularTol = 1e-9;
+
+std::string at(const std::string& path, const std::string& key) { return jsonPath(path, key); }
+std::string at(const std::string& path, size_t i) { return jsonPath(path, i); }
+
+// Every key must be known for its object; "x-" keys are free.
+void checkKeys(const json& obj, const std::string& path, std::initializer_list<const char*> known) {
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    const std::string& k = it.key();
+    if (k.rfind("x-", 0) == 0) continue;
+    bool ok = false;
+    for (const char* kk : known) ok = ok || k == kk;
+    if (!ok) throw Err(at(path, k), "unknown key");
+  }
+}
+
+const json& require(const json& obj, const std::string& path, const char* key) {
+  auto it = obj.find(key);
+  if (it == obj.end()) throw Err(at(path, key), "missing required key");
+  return *it;
+}
+
+double number(const json& v, const std::string& path) {
+  if (!v.is_number()) throw Err(path, "expected a number, got " + std::string(v.type_name()) + " " + v.dump());
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw Err(path, "not a finite number");
+  return x;
+}
+
+std::string string(const json& v, const std::string& path) {
+  if (!v.is_string()) throw Err(path, "expected a string, got " + std::string(v.type_name()));
+  return v.get<std::string>();
+}
+
+Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int max_len = -1) {
+  if (max_len < 0) max_len = min_len;
+  if (!v.is_array()) throw Err(path, "expected a list of numbers");
+  const int len = static_cast<int>(v.size());
+  if (len < min_len || len > max_len)
+    throw Err(path, "expected " + std::to_string(min_len) +
+                        (max_len != min_len ? " or " + std::to_string(max_len) : "") +
+                        (max_len == 1 ? " number" : " numbers") + ", got " + std::to_string(len));
+  Eigen::VectorXd x(len);
+  for (int i = 0; i < len; ++i) x[i] = number(v[i], at(path, i));
+  return x;
+}
+
+Vec3 vec3(const json& v, const std::string& path) { return numbers(v, path, 3); }
+
+Vec3 unitAxis(const json& v, const std::string& path) {
+  const Vec3 a = vec3(v, path);
+  if (!(a.norm() > 0)) throw Err(path, "zero axis");
+  return a.normalized();
+}
+
+Mat3 inertia(const json& v, const std::string& path) {
+  const Eigen::VectorXd x = numbers(v, path, 3, 6);
+  if (x.size() != 3 && x.size() != 6) throw Err(path, "expected 3 or 6 numbers");
+  Mat3 J = x.head<3>().asDiagonal();
+  if (x.size() == 6) {
+    J(0, 1) = J(1, 0) = x[3];
+    J(0, 2) = J(2, 0) = x[4];
+    J(1, 2) = J(2, 1) = x[5];
+  }
+  const Vec3 I = Eigen::SelfAdjointEigenSolver<Mat3>(J).eigenvalues();  // ascending
+  const double scale = I.cwiseAbs().maxCoeff();
+  if (!(I[0] > kInertiaRelTol * scale) || !(scale > 0))
+    throw Err(path, "not positive definite (principal moments " + std::to_string(I[0]) + ", " +
+                        std::to_string(I[1]) + ", " + std::to_string(I[2]) + ")");
+  if (I[0] + I[1] < I[2] * (1 - kInertiaRelTol))
+    throw Err(path, "violates the triangle inequality (principal moments " + std::to_string(I[0]) + " + " +
+                        std::to_string(I[1]) + " < " + std::to_string(I[2]) + ")");
+  return J;
+}
+
+JointType jointType(const json& v, const std::string& path) {
+  const std::string t = string(v, path);
+  std::string known;
+  for (const JointTypeInfo& row : jointTypeTable()) {
+    if (t == row.name) return row.type;
+    known += (known.empty() ? "" : ", ") + std::string(row.name);
+  }
+  throw Err(path, "unknown joint type '" + t + "' (" + known + ")");
+}
+
+// k or c: one number for every coordinate, or one per coordinate; >= 0.
+Eigen::VectorXd perCoordinate(const json& v, const std::string& path, int nu) {
+  Eigen::VectorXd x = v.is_array() ? numbers(v, path, nu) : Eigen::VectorXd::Constant(nu, number(v, path));
+  for (int i = 0; i < nu; ++i)
+    if (x[i] < 0) throw Err(v.is_array() ? at(path, i) : path, "must be >= 0");
+  return x;
+}
+
+Spring spring(const json& v, const std::string& path, int nu) {
+  if (!v.is_object()) throw Err(path, "expected an object {k, c, q_rest}");
+  checkKeys(v, path, {"k", "c", "q_rest"});
+  Spring s;
+  s.k = v.contains("k") ? perCoordinate(v["k"], at(path, "k"), nu) : Eigen::VectorXd::Zero(nu);
+  s.c = v.contains("c") ? perCoordinate(v["c"], at(path, "c"), nu) : Eigen::VectorXd::Zero(nu);
+  s.q_rest = v.contains("q_rest") ? numbers(v["q_rest"], at(path, "q_rest"), nu) : Eigen::VectorXd::Zero(nu);
+  return s;
+}
+
+// The axes of a revolute or universal joint (keys of another kind are errors).
+void jointAxes(const json& v, const std::string& path, Joint& j) {
+  const std::string kind = jointTypeName(j.type);
+  auto forbid = [&](const char* key, bool allowed) {
+    if (!allowed && v.contains(key)) throw Err(at(path, key), "not allowed on a " + kind + " joint");
+  };
+  forbid("axis", j.type == JointType::Revolute);
+  forbid("axes", j.type == JointType::Universal);
+  forbid("spring", j.type != JointType::Ball);
+  if (j.type == JointType::Revolute) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
+  if (j.type == JointType::Universal) {
+    const std::string p = at(path, "axes");
+    const json& a = require(v, path, "axes");
+    if (!a.is_array() || a.size() != 2) throw Err(p, "expected two axes");
+    j.axis[0] = unitAxis(a[0], at(p, 0));
+    j.axis[1] = unitAxis(a[1], at(p, 1));
+    if (std::abs(j.axis[0].dot(j.axis[1])) > kPerpendicularTol) throw Err(p, "axes are not perpendicular");
+  }
+}
+
+Joint joint(const json& v, const std::string& path) {
+  if (!v.is_object()) throw Err(path, "expected an object");
+  Joint j;
+  j.type = jointType(require(v, path, "type"), at(path, "type"));
+  checkKeys(v, path, {"type", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
+  jointAxes(v, path, j);
+  j.in_parent = vec3(require(v, path, "in_parent"), at(path, "in_parent"));
+  j.in_body = vec3(require(v, path, "in_body"), at(path, "in_body"));
+  const int nq = jointNq(j.type), nu = jointNu(j.type);
+  if (v.contains("q0")) {
+    j.q0 = numbers(v["q0"], at(path, "q0"), nq);
+  } else {
+    j.q0 = Eigen::VectorXd::Zero(nq);
+    if (j.type == JointType::Ball) j.q0[0] = 1;
+  }
+  if (j.type == JointType::Ball) {
+    if (!(j.q0.norm() > 0)) throw Err(at(path, "q0"), "zero quaternion");
+    j.q0.normalize();
+  }
+  j.u0 = v.contains("u0") ? numbers(v["u0"], at(path, "u0"), nu) : Eigen::VectorXd::Zero(nu);
+  if (v.contains("spring")) {
+    j.has_spring = true;
+    j.spring = spring(v["spring"], at(path, "spring"), nu);
+  }
+  return j;
+}
+
+BodySpec body(const json& v, const std::string& path) {
+  if (!v.is_object()) throw Err(path, "expected an object");
+  checkKeys(v, path, {"name", "parent", "mass", "inertia", "joint"});
+  BodySpec b;
+  b.name = string(require(v, path, "name"), at(path, "name"));
+  b.parent = string(require(v, path, "parent"), at(path, "parent"));
+  b.mass = number(require(v, path, "mass"), at(path, "mass"));
+  if (!(b.mass > 0)) throw Err(at(path, "mass"), "must be > 0");
+  b.inertia = inertia(require(v, path, "inertia"), at(path, "inertia"));
+  b.joint = joint(require(v, path, "joint"), at(path, "joint"));
+  return b;
+}
+
+void simulateDefaults(const json& sim, SceneSpec& s) {
+  if (!sim.is_object()) throw Err("simulate", "expected an object");
+  checkKeys(sim, "simulate", {"t_end", "output_dt"});
+  if (sim.contains("t_end")) s.t_end = number(sim["t_end"], "simulate.t_end");
+  if (!(s.t_end > 0)) throw Err("simulate.t_end", "must be > 0");
+  if (sim.contains("output_dt")) s.output_dt = number(sim["output_dt"], "simulate.output_dt");
+  if (!(s.output_dt > 0)) throw Err("simulate.output_dt", "must be > 0");
+}
+
+SceneSpec spec(const json& doc) {
+  if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
+  checkKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
+  const std::string fmt = string(require(doc, "", "format"), "format");
+  if (fmt != "eigenmass-scene/1") throw Err("format", "unsupported format '" + fmt + "' (expected eigenmass-scene/1)");
+  SceneSpec s;
+  s.name = string(require(doc, "", "name"), "name");
+  if (s.name.empty()) throw Err("name", "empty name");
+  if (doc.contains("gravity")) s.gravity = vec3(doc["gravity"], "gravity");
+  const json& bodies = require(doc, "", "bodies");
+  if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
+  if (bodies.empty()) throw Err("bodies", "empty body list");
+  for (size_t i = 0; i < bodies.size(); ++i) s.bodies.push_back(body(bodies[i], at("bodies", i)));
+  if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
+  return s;
+}
+
+std::string bodyPath(int file_index, const std::string& key) { return "bodies[" + std::to_string(file_index) + "]." + key; }
+
+}  // namespace
+
+SceneSpec parseSceneSpec(const std::string& text) { return spec(parseJsonStrict(text)); }
+
+Model buildModel(const SceneSpec& spec) {
+  const int n = static_cast<int>(spec.bodies.size());
+  if (n == 0) throw Err("bodies", "empty body list");
+  // Parents are named in the file: "ground" is the format's word for the base.
+  std::unordered_map<std::string, int> by_name;
+  for (int f = 0; f < n; ++f) {
+    const std::string& name = spec.bodies[f].name;
+    if (name == "ground") throw Err(bodyPath(f, "name"), "'ground' is reserved");
+    by_name.emplace(name, f);  // the first of duplicates; buildModel rejects the rest
+  }
+  std::vector<BodyDef> defs(n);
+  for (int f = 0; f < n; ++f) {
+    const BodySpec& b = spec.bodies[f];
+    defs[f] = {b.name, -1, b.mass, b.inertia, b.joint};
+    if (b.parent == "ground") continue;
+    auto it = by_name.find(b.parent);
+    if (it == by_name.end()) throw Err(bodyPath(f, "parent"), "unknown parent '" + b.parent + "'");
+    defs[f].parent = it->second;
+  }
+  try {
+    return em::buildModel(spec.name, spec.gravity, defs);
+  } catch (const ModelError& e) {
+    throw Err(bodyPath(e.index, e.field), e.detail);
+  }
+}
+
+}  // namespace em

@@ -1,0 +1,93 @@
+// The Junkins–Schaub eigenfactor methods (paper methods b and c; docs/theory.md
+// §7–8): C and lambda integrated beside (q, u), u' = C^T Lambda^-1 C B, and
+// the registry row's correction after every accepted step.
+#include "solver/formulation.hpp"
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+class Eigenfactor final : public Formulation {
+ public:
+  Eigenfactor(const Model& m, const MethodInfo& row, const MethodOptions& opt)
+      : N_(m.nu), correction_(row.correction), opt_(opt), corr_(m.nu) {
+    Omega_.setZero(N_, N_);
+    AdotCt_.setZero(N_, N_);
+    z_.setZero(N_);
+  }
+
+  int extraSize() const override { return N_ * N_ + N_; }
+  bool needsAdot() const override { return true; }
+  bool correctsAfterStep() const override { return correction_ != Correction::None; }
+  bool hasDiagnostics() const override { return true; }
+
+  // C(0) = V^T with A = V diag(lambda) V^T (docs/theory.md §7).
+  void initialize(const Workspace& ws, double* x) const override {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(ws.A);
+    Eigen::Map<RowMatrix>(x, N_, N_) = es.eigenvectors().transpose();
+    Eigen::Map<Eigen::VectorXd>(x + N_ * N_, N_) = es.eigenvalues();
+  }
+
+  Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) override {
+    Eigen::Map<const RowMatrix> C(x, N_, N_);
+    Eigen::Map<const Eigen::VectorXd> lambda(x + N_ * N_, N_);
+    Eigen::Map<RowMatrix> Cdot(xdot, N_, N_);
+    Eigen::Map<Eigen::VectorXd> lambda_dot(xdot + N_ * N_, N_);
+    // Hazards the harness must report, not hide (docs/theory.md §7).
+    const double lmax = lambda.maxCoeff();
+    for (int i = 0; i < N_; ++i)
+      if (!(lambda[i] > 0))
+        return Status::failure(t, "eigenvalue lambda_" + std::to_string(i) + " = " + gnum(lambda[i]) + " <= 0");
+    const double floor = opt_.gap_floor_rel * lmax;
+    const RateStatus st = eigenRates(C, lambda, ws.Adot, floor, Omega_, AdotCt_, lambda_dot, Cdot);
+    if (!st.ok)
+      return Status::failure(t, "eigenvalue gap |lambda_" + std::to_string(st.i) + " - lambda_" + std::to_string(st.j) +
+                                    "| = " + gnum(st.gap) + " below the floor " + gnum(floor));
+    info.max_Omega = st.max_Omega;
+    // u' = C^T Lambda^-1 C B (paper eq. (17)).
+    z_.noalias() = C * ws.B;
+    z_.array() /= lambda.array();
+    Eigen::Map<Eigen::VectorXd>(udot, N_).noalias() = C.transpose() * z_;
+    return {};
+  }
+
+  Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info) override {
+    Eigen::Map<RowMatrix> C(x, N_, N_);
+    Eigen::Map<Eigen::VectorXd> lambda(x + N_ * N_, N_);
+    if (correction_ != Correction::None) {
+      if (correction_ == Correction::OrthonormalizeJacobi) symmetricOrthonormalize(C, corr_);
+      info.corrected = true;
+      info.jacobi = jacobiCorrect(ws.A, C, lambda, corr_, opt_.jacobi_tol, opt_.jacobi_max_sweeps);
+      if (!info.jacobi.converged) {
+        const double orth = (C * C.transpose() - Eigen::MatrixXd::Identity(N_, N_)).norm();
+        return Status::failure(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) +
+                                      " sweeps (off(C A C^T)/||A|| = " + gnum(offDiagonalNorm(corr_.D) / ws.A.norm()) +
+                                      ", ||C C^T - I|| = " + gnum(orth) + ")");
+      }
+    }
+    info.min_gap = minEigenGap(lambda);
+    return {};
+  }
+
+  EigenDiagnostics diagnostics(const Workspace& ws, const double* x, double max_Omega) const override {
+    return eigenDiagnostics(ws.A, Eigen::Map<const RowMatrix>(x, N_, N_),
+                            Eigen::Map<const Eigen::VectorXd>(x + N_ * N_, N_), max_Omega);
+  }
+
+ private:
+  int N_;
+  Correction correction_;
+  MethodOptions opt_;
+  Eigen::MatrixXd Omega_, AdotCt_;  // (N x N) scratch: Omega (G formed in place) and A' C^T
+  Eigen::VectorXd z_;               // (N) scratch: Lambda^-1 C B
+  CorrectionScratch corr_;
+};
+
+}  // namespace
+
+std::unique_ptr<Formulation> makeEigenfactor(const Model& m, const MethodInfo& row, const MethodOptions& opt) {
+  return std::make_unique<Eigenfactor>(m, row, opt);
+}
+
+}  // namespace em

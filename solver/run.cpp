@@ -1,0 +1,54 @@
+#include "solver/run.hpp"
+
+#include <cmath>
+
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+// Quotients of settings count as whole within this relative round-off.
+constexpr double kWholeRel = 1e-9;
+
+void requirePositive(const char* field, double x) {
+  if (!std::isfinite(x)) throw SettingError(field, "must be a finite number, got " + gnum(x));
+  if (!(x > 0)) throw SettingError(field, "must be > 0, got " + gnum(x));
+}
+
+// round(a / b) when a / b is whole within round-off, else -1.
+long wholeQuotient(double a, double b) {
+  const double r = a / b;
+  const double n = std::nearbyint(r);
+  if (!(n >= 1) || !(std::abs(r - n) <= kWholeRel * r) || n > 9.0e18) return -1;
+  return static_cast<long>(n);
+}
+
+}  // namespace
+
+long outputIntervals(double t_end, double output_dt) {
+  requirePositive("t_end", t_end);
+  requirePositive("output_dt", output_dt);
+  const long n = wholeQuotient(t_end, output_dt);
+  if (n < 1) throw SettingError("t_end", gnum(t_end) + " must be a whole multiple of output_dt " + gnum(output_dt));
+  return n;
+}
+
+long stepsPerOutput(double output_dt, double dt) {
+  requirePositive("dt", dt);
+  const long n = wholeQuotient(output_dt, dt);
+  if (n < 1) throw SettingError("dt", "does not fit: output_dt must be a whole multiple of dt (" + gnum(output_dt) +
+                                          " / " + gnum(dt) + ")");
+  return n;
+}
+
+void checkRunSpec(const RunSpec& s) {
+  requireCompatible(s.method, s.integrator);
+  outputIntervals(s.t_end, s.output_dt);
+  if (s.fixedStep())
+    stepsPerOutput(s.output_dt, s.dt);
+  else
+    requirePositive("tol", s.tol);
+}
+
+}  // namespace em
