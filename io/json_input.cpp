@@ -1,5 +1,6 @@
 #include "io/json_input.hpp"
 
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -27,7 +28,7 @@ struct PathTracker {
     std::string p;
     for (const Frame& f : stack) {
       if (f.array) p += "[" + std::to_string(f.count) + "]";
-      else if (!f.key.empty()) p += (p.empty() ? "" : ".") + f.key;
+      else if (!f.key.empty()) p += (p.empty() ? "" : ".") + printable(f.key);
     }
     return p.empty() ? "(document)" : p;
   }
@@ -38,8 +39,12 @@ struct PathTracker {
   bool operator()(int, json::parse_event_t ev, json& parsed) {
     using E = json::parse_event_t;
     switch (ev) {
-      case E::object_start: stack.emplace_back(false); break;
-      case E::array_start: stack.emplace_back(true); break;
+      case E::object_start:
+      case E::array_start:
+        if (stack.size() >= static_cast<size_t>(kMaxJsonDepth))
+          throw InputError(path(), "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        stack.emplace_back(ev == E::array_start);
+        break;
       case E::object_end:
       case E::array_end: stack.pop_back(); completed(); break;
       case E::key:
@@ -88,7 +93,27 @@ std::string readFile(const std::string& path, const std::string& what) {
   return buf.str();
 }
 
-std::string jsonPath(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+std::string printable(const std::string& text, size_t max_chars) {
+  std::string out;
+  size_t shown = 0;
+  for (; shown < text.size() && out.size() < max_chars; ++shown) {
+    const unsigned char c = static_cast<unsigned char>(text[shown]);
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\\') out += "\\\\";
+    else if (c < 0x20 || c >= 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else out += static_cast<char>(c);
+  }
+  if (shown < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
+std::string jsonPath(const std::string& path, const std::string& key) {
+  return path.empty() ? printable(key) : path + "." + printable(key);
+}
 std::string jsonPath(const std::string& path, size_t index) { return path + "[" + std::to_string(index) + "]"; }
 
 }  // namespace em

@@ -24,7 +24,15 @@ nlohmann::json parseJsonStrict(const std::string& text);
 /// The whole content of a file; throws std::runtime_error("path: cannot open ...").
 std::string readFile(const std::string& path, const std::string& what);
 
-/// "path.key" and "path[i]": JSON paths as errors print them.
+/// `text` safe for a one-line message: control and non-ASCII bytes escaped
+/// (\n, \x1b), and cut to `max_chars` with the full length said.
+std::string printable(const std::string& text, size_t max_chars = 80);
+
+/// Deepest nesting of arrays and objects a file may have (no input is read
+/// recursively beyond it).
+constexpr int kMaxJsonDepth = 64;
+
+/// "path.key" and "path[i]": JSON paths as errors print them (keys printable()).
 std::string jsonPath(const std::string& path, const std::string& key);
 std::string jsonPath(const std::string& path, size_t index);
 

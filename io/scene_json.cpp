@@ -1,9 +1,12 @@
 #include "io/scene_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
 #include "io/json_input.hpp"
+#include "solver/run.hpp"
+#include "solver/text.hpp"
 
 namespace em {
 
@@ -17,6 +20,9 @@ using Err = InputError;
 constexpr double kInertiaRelTol = 1e-9;
 // Universal axes count as perpendicular when |cos| is below this (scene-format.md).
 constexpr double kPerpendicularTol = 1e-9;
+// Largest |q0| of an angle: at 1e4 rad a double's spacing is 1.8e-12 rad.
+constexpr double kMaxAngle = 1e4;
+constexpr size_t kMaxNameLength = 64;
 
 std::string at(const std::string& path, const std::string& key) { return jsonPath(path, key); }
 std::string at(const std::string& path, size_t i) { return jsonPath(path, i); }
@@ -38,16 +44,39 @@ const json& require(const json& obj, const std::string& path, const char* key) {
   return *it;
 }
 
+// What a value is, for a message: its type, and a short string's text (never
+// a recursive dump: the value may be nested arbitrarily or be megabytes long).
+std::string describe(const json& v) {
+  if (v.is_string()) return "string \"" + printable(v.get<std::string>(), 40) + "\"";
+  if (v.is_array()) return "a list of " + std::to_string(v.size());
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  return v.type_name();
+}
+
 double number(const json& v, const std::string& path) {
-  if (!v.is_number()) throw Err(path, "expected a number, got " + std::string(v.type_name()) + " " + v.dump());
+  if (!v.is_number()) throw Err(path, "expected a number, got " + describe(v));
   const double x = v.get<double>();
   if (!std::isfinite(x)) throw Err(path, "not a finite number");
   return x;
 }
 
 std::string string(const json& v, const std::string& path) {
-  if (!v.is_string()) throw Err(path, "expected a string, got " + std::string(v.type_name()));
+  if (!v.is_string()) throw Err(path, "expected a string, got " + describe(v));
   return v.get<std::string>();
+}
+
+// Scene and body names end up in file names and CSV headers: letters, digits,
+// '_' and '-', 1 to 64 of them (docs/scene-format.md).
+std::string name(const json& v, const std::string& path) {
+  const std::string n = string(v, path);
+  if (n.empty()) throw Err(path, "empty name");
+  const bool safe = n.size() <= kMaxNameLength && std::all_of(n.begin(), n.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+  if (!safe)
+    throw Err(path, "name \"" + printable(n, 40) + "\" has characters outside letters, digits, '_' and '-' (or is over " +
+                        std::to_string(kMaxNameLength) + " long)");
+  return n;
 }
 
 Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int max_len = -1) {
@@ -65,10 +94,12 @@ Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int
 
 Vec3 vec3(const json& v, const std::string& path) { return numbers(v, path, 3); }
 
+// Normalized without underflow or overflow (Eigen's stableNorm): [1e-160, 0, 0]
+// is the x axis; only an exactly zero vector is refused. Every engine gets this axis.
 Vec3 unitAxis(const json& v, const std::string& path) {
   const Vec3 a = vec3(v, path);
-  if (!(a.norm() > 0)) throw Err(path, "zero axis");
-  return a.normalized();
+  if (!(a.stableNorm() > 0)) throw Err(path, "zero axis");
+  return a.stableNormalized();
 }
 
 Mat3 inertia(const json& v, const std::string& path) {
@@ -83,11 +114,11 @@ Mat3 inertia(const json& v, const std::string& path) {
   const Vec3 I = Eigen::SelfAdjointEigenSolver<Mat3>(J).eigenvalues();  // ascending
   const double scale = I.cwiseAbs().maxCoeff();
   if (!(I[0] > kInertiaRelTol * scale) || !(scale > 0))
-    throw Err(path, "not positive definite (principal moments " + std::to_string(I[0]) + ", " +
-                        std::to_string(I[1]) + ", " + std::to_string(I[2]) + ")");
+    throw Err(path, "not positive definite (principal moments " + gnum(I[0]) + ", " + gnum(I[1]) + ", " +
+                        gnum(I[2]) + ")");
   if (I[0] + I[1] < I[2] * (1 - kInertiaRelTol))
-    throw Err(path, "violates the triangle inequality (principal moments " + std::to_string(I[0]) + " + " +
-                        std::to_string(I[1]) + " < " + std::to_string(I[2]) + ")");
+    throw Err(path, "violates the triangle inequality (principal moments " + gnum(I[0]) + " + " + gnum(I[1]) +
+                        " < " + gnum(I[2]) + ")");
   return J;
 }
 
@@ -98,7 +129,7 @@ JointType jointType(const json& v, const std::string& path) {
     if (t == row.name) return row.type;
     known += (known.empty() ? "" : ", ") + std::string(row.name);
   }
-  throw Err(path, "unknown joint type '" + t + "' (" + known + ")");
+  throw Err(path, "unknown joint type '" + printable(t, 40) + "' (" + known + ")");
 }
 
 // k or c: one number for every coordinate, or one per coordinate; >= 0.
@@ -150,6 +181,10 @@ Joint joint(const json& v, const std::string& path) {
   const int nq = jointNq(j.type), nu = jointNu(j.type);
   if (v.contains("q0")) {
     j.q0 = numbers(v["q0"], at(path, "q0"), nq);
+    for (int k = 0; k < nq && j.type != JointType::Ball; ++k)
+      if (std::abs(j.q0[k]) > kMaxAngle)
+        throw Err(at(at(path, "q0"), k), "angle " + gnum(j.q0[k]) + " rad beyond +-" + gnum(kMaxAngle) +
+                                             " rad, where a double no longer resolves 1e-12 rad");
   } else {
     j.q0 = Eigen::VectorXd::Zero(nq);
     if (j.type == JointType::Ball) j.q0[0] = 1;
@@ -170,7 +205,7 @@ BodySpec body(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   checkKeys(v, path, {"name", "parent", "mass", "inertia", "joint"});
   BodySpec b;
-  b.name = string(require(v, path, "name"), at(path, "name"));
+  b.name = name(require(v, path, "name"), at(path, "name"));
   b.parent = string(require(v, path, "parent"), at(path, "parent"));
   b.mass = number(require(v, path, "mass"), at(path, "mass"));
   if (!(b.mass > 0)) throw Err(at(path, "mass"), "must be > 0");
@@ -186,16 +221,21 @@ void simulateDefaults(const json& sim, SceneSpec& s) {
   if (!(s.t_end > 0)) throw Err("simulate.t_end", "must be > 0");
   if (sim.contains("output_dt")) s.output_dt = number(sim["output_dt"], "simulate.output_dt");
   if (!(s.output_dt > 0)) throw Err("simulate.output_dt", "must be > 0");
+  try {
+    outputIntervals(s.t_end, s.output_dt);  // the grid rule every run checks, here at load
+  } catch (const SettingError& e) {
+    throw Err("simulate." + e.field, std::string(e.what()).substr(e.field.size() + 1));
+  }
 }
 
 SceneSpec spec(const json& doc) {
   if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
   checkKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
   const std::string fmt = string(require(doc, "", "format"), "format");
-  if (fmt != "eigenmass-scene/1") throw Err("format", "unsupported format '" + fmt + "' (expected eigenmass-scene/1)");
+  if (fmt != "eigenmass-scene/1")
+    throw Err("format", "unsupported format '" + printable(fmt, 40) + "' (expected eigenmass-scene/1)");
   SceneSpec s;
-  s.name = string(require(doc, "", "name"), "name");
-  if (s.name.empty()) throw Err("name", "empty name");
+  s.name = name(require(doc, "", "name"), "name");
   if (doc.contains("gravity")) s.gravity = vec3(doc["gravity"], "gravity");
   const json& bodies = require(doc, "", "bodies");
   if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
@@ -227,7 +267,7 @@ Model buildModel(const SceneSpec& spec) {
     defs[f] = {b.name, -1, b.mass, b.inertia, b.joint};
     if (b.parent == "ground") continue;
     auto it = by_name.find(b.parent);
-    if (it == by_name.end()) throw Err(bodyPath(f, "parent"), "unknown parent '" + b.parent + "'");
+    if (it == by_name.end()) throw Err(bodyPath(f, "parent"), "unknown parent '" + printable(b.parent, 40) + "'");
     defs[f].parent = it->second;
   }
   try {

@@ -91,6 +91,20 @@ case("negative_damping", "bodies[1].joint.spring.c", "must be >= 0", setk(J1, "s
 case("spring_wrong_length", "bodies[0].joint.spring.k", "expected 3 numbers, got 2", setk(J0, "spring", {"k": [1, 2]}))
 case("output_dt_zero", "simulate.output_dt", "must be > 0", setk(lambda d: d, "simulate", {"t_end": 1, "output_dt": 0}))
 case("name_not_string", "name", "expected a string", setk(lambda d: d, "name", 5))
+# Hostile input: names and keys that would corrupt a header, a path or the terminal;
+# values that would make an error message huge or its construction recurse.
+case("newline_key", "a\\nb", "unknown key", text='{"a\\nb": 1}')
+case("fuzz_newline_overflow", "\\n", "not a finite number", text='{"\\n":4e626')
+case("escape_in_name", "name", "outside letters", setk(lambda d: d, "name", "\u001b[31mred"))
+case("comma_in_body_name", "bodies[1].name", "outside letters", setk(b(1), "name", "a,b"))
+case("dotdot_scene_name", "name", "outside letters", setk(lambda d: d, "name", "../../x"))
+case("long_name", "name", "over 64 long", setk(lambda d: d, "name", "n" * 65))
+case("deep_nesting", "gravity" + "[0]" * 63, "nested deeper than 64",
+     text='{"format": "eigenmass-scene/1", "gravity": ' + "[" * 100000 + "]" * 100000 + "}")
+case("huge_list_as_mass", "bodies[0].mass", "got a list of 20000", setk(b(0), "mass", [0.5] * 20000))
+case("huge_angle", "bodies[1].joint.q0[0]", "beyond", setk(J1, "q0", [1e20]))
+case("grid_not_whole", "simulate.t_end", "whole multiple of output_dt",
+     setk(lambda d: d, "simulate", {"t_end": 1, "output_dt": 0.3}))
 with open(os.path.join(OUT, "expected.json"), "w") as f:
     json.dump(cases, f, indent=1, sort_keys=True)
     f.write("\n")

@@ -44,7 +44,22 @@ TEST_CASE("every malformed scene fails with one line naming the file and the JSO
     CHECK(msg.rfind(file + ": " + it.value()["path"].get<std::string>() + ": ", 0) == 0);
     CHECK(msg.find(it.value()["phrase"].get<std::string>()) != std::string::npos);
     CHECK(msg.find('\n') == std::string::npos);
+    CHECK(msg.find('\x1b') == std::string::npos);  // no escape code reaches the terminal
+    CHECK(msg.size() < 400);                        // a quoted value is bounded (a 20000-number mass)
   }
+}
+
+TEST_CASE("tiny axes normalize stably - only an exactly zero axis is refused", "[scene]") {
+  auto withAxis = [](const std::string& axis) {
+    std::string s = kMinimal;
+    s.replace(s.find(R"("type": "ball")"), 14, R"("type": "revolute", "axis": )" + axis);
+    s.replace(s.find(R"("q0": [2, 0, 0, 0])"), 18, R"("q0": [0.3])");
+    return s;
+  };
+  CHECK(loadSceneText(withAxis("[1e-160, 0, 0]"), "tiny").model.bodies[0].joint.axis[0] == Vec3::UnitX());
+  CHECK(loadSceneText(withAxis("[0, 0, 1e-300]"), "tinier").model.bodies[0].joint.axis[0] == Vec3::UnitZ());
+  CHECK(loadSceneText(withAxis("[1e300, 1e300, 0]"), "huge").model.bodies[0].joint.axis[0].norm() == Approx(1.0).epsilon(1e-15));
+  CHECK_THROWS_WITH(loadSceneText(withAxis("[0, 0, 0]"), "zero"), Catch::Contains("zero axis"));
 }
 
 TEST_CASE("a missing file is one line naming it", "[scene]") {
