@@ -1,7 +1,18 @@
 #include "compare/cli.hpp"
 
+#include <unistd.h>
+
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "compare/provenance.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv.hpp"
 
 namespace em::cli {
 
@@ -20,9 +31,78 @@ void guarded(const std::function<int()>& body) {
   }
 }
 
-void ensureParentDir(const std::string& path) {
-  const auto dir = std::filesystem::path(path).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
+namespace {
+
+namespace fs = std::filesystem;
+
+// A file can be created in `dir` (checked by creating and removing one).
+bool writableFolder(const fs::path& dir) {
+  std::string probe = (dir.empty() ? fs::path(".") : dir) / ".eigenmass-probe-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) return false;
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return true;
+}
+
+}  // namespace
+
+void prepareFolder(const std::string& option, const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !writableFolder(dir)) throw std::runtime_error(option + " " + dir + ": cannot write into this folder");
+}
+
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  for (const std::string& in : inputs)
+    if (fs::equivalent(path, in, ec))
+      throw std::runtime_error(option + " " + path + ": is an input file; refusing to overwrite it");
+  if (fs::is_directory(path, ec)) throw std::runtime_error(option + " " + path + ": is a folder, not a file");
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty()) prepareFolder(option, dir.string());
+  else if (!writableFolder(dir)) throw std::runtime_error(option + " " + path + ": cannot write into the current folder");
+}
+
+void writeTrajectory(const Trajectory& tr, const std::string& path) {
+  writeCsv(tr, path);
+  const RunSpec& r = tr.run;
+  nlohmann::json meta = {{"format", "eigenmass-trajectory-meta/1"},
+                         {"csv", fs::path(path).filename().string()},
+                         {"scene", tr.scene},
+                         {"method", tr.method()},
+                         {"integrator", tr.integrator()},
+                         {r.fixedStep() ? "dt" : "tolerance", r.setting()},
+                         {"t_end", r.t_end},
+                         {"output_dt", r.output_dt},
+                         {"status", tr.status},
+                         {"failure", tr.failed() ? nlohmann::json({{"t", tr.failure_time}, {"cause", tr.failure}})
+                                                 : nlohmann::json(nullptr)},
+                         {"steps", tr.steps},
+                         {"rhs_evals", tr.rhs_evals},
+                         {"run_time_s", tr.run_time_s},
+                         {"provenance", provenance()}};
+  writeAtomic(path + ".json", "trajectory metadata", [&](std::ostream& out) { out << meta.dump(2) << "\n"; });
+}
+
+CLI::Validator positiveFinite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "expected a number, got '" + text + "'";
+        if (!std::isfinite(x) || !(x > 0)) return "must be a finite number > 0, got " + text;
+        return "";
+      },
+      "> 0");
+}
+
+void addAllowLongRun(CLI::App* cmd, bool& flag) {
+  cmd->add_flag("--allow-long-run", flag, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+}
+
+void applyAllowLongRun(bool flag, RunSpec& spec) {
+  if (flag) spec.options.max_steps = HUGE_VAL;
 }
 
 void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }

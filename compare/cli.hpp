@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "solver/registry.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em::cli {
 
@@ -23,11 +23,26 @@ int exitCode();
 /// status 2, never a crash; otherwise the body's status is the exit status.
 void guarded(const std::function<int()>& body);
 
-/// Create the folder a file is to be written into.
-void ensureParentDir(const std::string& path);
+/// Make ready to write `path` before any computation: its folder exists and
+/// takes a file, and it is none of `inputs` (never overwrite an input).
+/// Throws one line naming `option` and the path otherwise.
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs);
+/// The same for a folder that will receive files.
+void prepareFolder(const std::string& option, const std::string& dir);
 
 /// Progress on stderr: "running <what> ...".
 void progress(const std::string& what);
+
+/// Write a trajectory as CSV and, beside it, `<path>.json`: the run that made
+/// it (RunSpec), its status and failure, and the provenance.
+void writeTrajectory(const Trajectory& tr, const std::string& path);
+
+/// A finite number > 0 (every step, tolerance, time and threshold option).
+CLI::Validator positiveFinite();
+
+/// --allow-long-run: lift the step budget of every run (MethodOptions::max_steps).
+void addAllowLongRun(CLI::App* cmd, bool& flag);
+void applyAllowLongRun(bool flag, RunSpec& spec);
 
 /// Validators fed from the registry: a method name; an integrator name (of one engine).
 CLI::Validator methodValidator();

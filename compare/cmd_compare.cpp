@@ -1,14 +1,12 @@
 // `eigenmass compare`: several methods side by side against a reference, a
 // JSON report, optionally CSVs and the CI gate.
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 
 #include "compare/cli.hpp"
 #include "compare/comparison.hpp"
 #include "compare/gate.hpp"
 #include "compare/report.hpp"
-#include "io/csv.hpp"
 
 namespace em::cli {
 
@@ -21,6 +19,7 @@ struct CompareArgs {
   std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
   std::vector<std::string> methods = methodNames();
   double t_end = 0, output_dt = 0;
+  bool allow_long_run = false;
   CompareOptions opt;
 };
 
@@ -39,13 +38,21 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   o.simbody.integrator = parseIntegrator(a.simbody_integrator);
   if (cmd.count("--t-end")) o.grid.t_end = a.t_end;
   if (cmd.count("--output-dt")) o.grid.output_dt = a.output_dt;
+  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.reference}) applyAllowLongRun(a.allow_long_run, *s);
   return o;
 }
 
 void writeCsvs(const ComparisonResult& r, const std::string& dir) {
-  std::filesystem::create_directories(dir);
-  writeCsv(r.reference, dir + "/reference.csv");
-  for (const Trajectory& t : r.runs) writeCsv(t, dir + "/" + t.method() + ".csv");
+  writeTrajectory(r.reference, dir + "/reference.csv");
+  for (const Trajectory& t : r.runs) writeTrajectory(t, dir + "/" + t.method() + ".csv");
+}
+
+// Every run failed, the reference included: nothing was compared.
+bool nothingRan(const ComparisonResult& r) {
+  if (!r.reference.failed()) return false;
+  for (const Trajectory& t : r.runs)
+    if (!t.failed()) return false;
+  return true;
 }
 
 int gateVerdict(const GateResult& g, const std::string& file) {
@@ -58,9 +65,14 @@ int gateVerdict(const GateResult& g, const std::string& file) {
 }
 
 int runCompare(const CompareArgs& a, const CLI::App& cmd) {
-  // Bad input fails here, before any simulation.
+  // Bad input and unwritable outputs fail here, before any simulation.
   const Scene scene = loadScene(a.scene);
+  checkInitialState(scene);
   const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
+  const std::vector<std::string> inputs = {a.scene, a.gate};
+  const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
+  prepareOutput("--out", out, inputs);
+  if (!a.csv_dir.empty()) prepareFolder("--csv-dir", a.csv_dir);
   const ComparisonResult r = runComparison(scene, resolve(a, cmd), progress);
   nlohmann::json gate = nullptr;
   GateResult g;
@@ -69,14 +81,16 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
     gate = gateJson(g);
   }
   const Model& m = scene.model;
-  const std::string out = a.out.empty() ? "out/" + m.name + ".report.json" : a.out;
-  ensureParentDir(out);
   if (!a.csv_dir.empty()) writeCsvs(r, a.csv_dir);
   writeJsonAtomic(makeReport(r, gate), out);
   std::printf("%s: %d bodies, %d speeds, t_end %g s, output every %g s\n", m.name.c_str(), m.n(), m.nu, r.t_end,
               r.output_dt);
   std::fputs(summaryTable(r).c_str(), stdout);
   std::printf("report: %s\n", out.c_str());
+  if (nothingRan(r)) {
+    std::printf("every run failed, the reference included: nothing was compared\n");
+    return 1;
+  }
   return a.gate.empty() ? 0 : gateVerdict(g, a.gate);
 }
 
@@ -85,17 +99,24 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
   cmd->add_option("--integrator", a.integrator, helpWithNames("Integrator of the in-house methods", integratorNames(Engine::InHouse)))
       ->check(integratorValidator(Engine::InHouse))
       ->capture_default_str();
-  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")->capture_default_str();
+  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")
+                 ->check(positiveFinite())
+                 ->capture_default_str();
   auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")
+                  ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);
   cmd->add_option("--simbody-integrator", a.simbody_integrator,
                   helpWithNames("Integrator of the compared simbody method", integratorNames(Engine::Simbody)))
       ->check(integratorValidator(Engine::Simbody))
       ->capture_default_str();
-  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")->capture_default_str();
-  cmd->add_option("--t-end", a.t_end, "End time (s); default: the scene's simulate.t_end");
-  cmd->add_option("--output-dt", a.output_dt, "Common output grid (s); default: the scene's simulate.output_dt");
+  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")
+      ->check(positiveFinite())
+      ->capture_default_str();
+  cmd->add_option("--t-end", a.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
+  cmd->add_option("--output-dt", a.output_dt, "Common output grid (s); default: the scene's simulate.output_dt")
+      ->check(positiveFinite());
+  addAllowLongRun(cmd, a.allow_long_run);
 }
 
 void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
@@ -106,6 +127,7 @@ void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
                   "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)")
       ->check(integratorValidator());
   cmd->add_option("--reference-tol", a.opt.reference.tol, "Tolerance (accuracy) of the reference; its horizon run uses 1/100 of it")
+      ->check(positiveFinite())
       ->capture_default_str();
 }
 
@@ -123,6 +145,7 @@ void addCompare(CLI::App& app) {
   addRunOptions(cmd, *a);
   cmd->add_option("--thresholds", a->opt.thresholds, "Pose-error thresholds of the divergence times (rad), comma-separated")
       ->delimiter(',')
+      ->check(positiveFinite())
       ->capture_default_str();
   cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
   cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");

@@ -20,7 +20,9 @@ nlohmann::json toJson(const Eigen::MatrixXd& A) {
 }
 
 int printEquations(const std::string& file, Engine engine) {
-  const Model m = loadScene(file).model;
+  const Scene scene = loadScene(file);
+  checkInitialState(scene);
+  const Model& m = scene.model;
   const Equations e = engine == Engine::Simbody ? simbodyEquations(m) : inhouseEquations(m);
   nlohmann::json j;
   j["scene"] = m.name;

@@ -5,7 +5,7 @@
 
 #include "compare/cli.hpp"
 #include "compare/runner.hpp"
-#include "io/csv.hpp"
+#include "solver/text.hpp"
 
 namespace em::cli {
 
@@ -15,22 +15,28 @@ struct SimulateArgs {
   std::string scene, out, method = methodName(Method::Classical), integrator;
   RunSpec spec;  ///< dt and tol as given (or their defaults)
   double t_end = 0, output_dt = 0;
+  bool allow_long_run = false;
 };
 
 void printSummary(const Trajectory& tr, const std::string& path) {
   double drift = 0;
   for (double E : tr.energy) drift = std::max(drift, std::abs(E - tr.energy[0]));
-  std::printf("%s %s/%s: status %s%s, t = %.6g s, %ld steps, %ld rhs evaluations, %.3f s CPU\n", tr.scene.c_str(),
-              tr.method().c_str(), tr.integrator().c_str(), tr.status.c_str(),
-              tr.failed() ? (" (" + tr.failure + ")").c_str() : "", tr.t.back(), tr.steps, tr.rhs_evals, tr.run_time_s);
-  std::printf("energy: E(0) = %.12f J, max |E(t) - E(0)| = %.3e J (relative %.3e)\n", tr.energy[0], drift,
-              drift / std::abs(tr.energy[0]));
-  std::printf("trajectory: %s\n", path.c_str());
+  const std::string ended = tr.failed() ? "failed at t = " + gnum(tr.failure_time) + " s (" + tr.failure + "), last sample" : "t";
+  std::printf("%s %s/%s: status %s, %s = %.6g s, %ld steps, %ld rhs evaluations, %.3f s CPU\n", tr.scene.c_str(),
+              tr.method().c_str(), tr.integrator().c_str(), tr.status.c_str(), ended.c_str(), tr.t.back(), tr.steps,
+              tr.rhs_evals, tr.run_time_s);
+  std::printf("energy: E(0) = %.12f J, max |E(t) - E(0)| = %.3e J", tr.energy[0], drift);
+  if (tr.energy[0] != 0) std::printf(" (relative to |E(0)|: %.3e)", drift / std::abs(tr.energy[0]));
+  std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
 }
 
 int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const Scene scene = loadScene(a.scene);
+  checkInitialState(scene);
+  const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
+  prepareOutput("--out", path, {a.scene});
   RunSpec s = a.spec;
+  applyAllowLongRun(a.allow_long_run, s);
   s.method = parseMethod(a.method);
   // --tol alone selects an adaptive integrator for the in-house methods.
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
@@ -38,9 +44,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   if (cmd.count("--t-end")) grid.t_end = a.t_end;
   if (cmd.count("--output-dt")) grid.output_dt = a.output_dt;
   const Trajectory tr = runMethod(scene.model, onGrid(s, scene, grid));
-  const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
-  ensureParentDir(path);
-  writeCsv(tr, path);
+  writeTrajectory(tr, path);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;
 }
@@ -60,12 +64,17 @@ void addSimulate(CLI::App& app) {
                       joined(integratorNames(Engine::Simbody)) + " (default " +
                       integratorName(defaultIntegrator(Engine::Simbody)) + ")")
       ->check(integratorValidator());
-  auto* dt = cmd->add_option("--dt", a->spec.dt, "Fixed step of fixed-step integrators (s)")->capture_default_str();
+  auto* dt = cmd->add_option("--dt", a->spec.dt, "Fixed step of fixed-step integrators (s)")
+                 ->check(positiveFinite())
+                 ->capture_default_str();
   auto* tol = cmd->add_option("--tol", a->spec.tol, "Absolute and relative tolerance of adaptive integrators (Simbody: accuracy)")
+                  ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);
-  cmd->add_option("--t-end", a->t_end, "End time (s); default: the scene's simulate.t_end, else 10");
-  cmd->add_option("--output-dt", a->output_dt, "Sampling interval (s); default: the scene's simulate.output_dt, else 0.01");
+  cmd->add_option("--t-end", a->t_end, "End time (s); default: the scene's simulate.t_end, else 10")->check(positiveFinite());
+  cmd->add_option("--output-dt", a->output_dt, "Sampling interval (s); default: the scene's simulate.output_dt, else 0.01")
+      ->check(positiveFinite());
+  addAllowLongRun(cmd, a->allow_long_run);
   cmd->add_option("--out", a->out, "CSV file to write; default out/<scene>.<method>.csv");
   cmd->callback([cmd, a] { guarded([&] { return runSimulate(*a, *cmd); }); });
 }

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "compare/provenance.hpp"
+
 namespace em {
 
 RunSpec PrecisionOptions::specFor(Method method, double setting) const {
@@ -13,6 +15,7 @@ RunSpec PrecisionOptions::specFor(Method method, double setting) const {
   s.integrator = info(method).engine == Engine::InHouse ? integrator : defaultIntegrator(info(method).engine);
   (s.fixedStep() ? s.dt : s.tol) = setting;
   s.diagnostics = false;  // only errors and cost are wanted here
+  s.options.max_steps = max_steps;
   return s;
 }
 
@@ -60,13 +63,14 @@ std::string precisionTable(const PrecisionResult& r) {
   std::ostringstream o;
   char line[256];
   const bool fixed = info(r.options.integrator).fixed_step;
-  std::snprintf(line, sizeof line, "%-18s %-10s %-7s %14s %14s %10s %10s\n", "method", fixed ? "dt" : "tol", "status",
+  std::snprintf(line, sizeof line, "%-18s %-10s %-18s %14s %14s %10s %10s\n", "method", fixed ? "dt" : "tol", "status",
                 "max pose rad", "max dE/Escl", "CPU s", "rhs evals");
   o << line;
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
-    std::snprintf(line, sizeof line, "%-18s %-10s %-7s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
-                  gnum(m.run.setting()).c_str(), m.status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
+    const std::string status = m.status == "ok" ? m.status : m.status + " at " + gnum(m.failure_time.value_or(0), 3) + " s";
+    std::snprintf(line, sizeof line, "%-18s %-10s %-18s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
+                  gnum(m.run.setting()).c_str(), status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
     o << line;
   }
   o << "errors over 0.." << gnum(r.t_end) << " s against " << r.reference.method() << "/" << r.reference.integrator()
@@ -99,7 +103,8 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
           {"t_end", r.t_end},
           {"reference",
            {{"method", r.reference.method()}, {"integrator", r.reference.integrator()}, {"tolerance", r.reference.run.tol}}},
-          {"points", points}};
+          {"points", points},
+          {"provenance", provenance()}};
 }
 
 }  // namespace em

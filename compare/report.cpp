@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
 
 namespace em {
@@ -127,7 +128,8 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"energy_error_max", num(r.reference_metrics.energy.value)}}},
           {"methods", methods},
           {"series", series},
-          {"gate", gate}};
+          {"gate", gate},
+          {"provenance", provenance()}};
 }
 
 void writeJsonAtomic(const json& j, const std::string& path) {

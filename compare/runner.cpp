@@ -1,8 +1,10 @@
 #include "compare/runner.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "reference/simbody_reference.hpp"
+#include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
 
@@ -60,12 +62,27 @@ Equations toFileOrder(const Model& m, const Eigen::MatrixXd& A, const Eigen::Vec
 
 }  // namespace
 
+void checkInitialState(const Scene& scene) {
+  const Model& m = scene.model;
+  Workspace ws(m);
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  formEquations(m, q.data(), u.data(), ws);
+  if (!ws.A.allFinite() || !ws.B.allFinite() || !std::isfinite(ws.energy()))
+    throw std::runtime_error(scene.file + ": the equations at t = 0 are not finite (A, B or the energy): a mass, "
+                             "inertia or offset too large for double precision");
+  const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
+  if (llt.info() != Eigen::Success)
+    throw std::runtime_error(scene.file + ": mass matrix A is not positive definite at t = 0" +
+                             gimbalLockHint(m, q.data()));
+}
+
 Equations inhouseEquations(const Model& m) {
   Workspace ws(m);
   const Eigen::VectorXd q = m.q0(), u = m.u0();
   formEquations(m, q.data(), u.data(), ws);
   const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
-  if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite at the initial state");
+  if (llt.info() != Eigen::Success)
+    throw std::runtime_error("mass matrix A is not positive definite at the initial state" + gimbalLockHint(m, q.data()));
   return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
 }
 

@@ -26,6 +26,11 @@ RunSpec referenceRun(Method method = Method::Simbody);
 /// alone selects an adaptive one (in-house rk8pd).
 Integrator chosenIntegrator(Engine engine, bool tolerance_given);
 
+/// Refuse a scene whose equations at t = 0 are not finite (a mass, inertia or
+/// offset too large for double precision) or whose A is singular there,
+/// naming the file (and a locked gimbal). Commands call it before any run.
+void checkInitialState(const Scene& scene);
+
 /// Run `spec` on its engine. Throws for settings that cannot be run.
 Trajectory runMethod(const Model& m, const RunSpec& spec);
 

@@ -1,13 +1,48 @@
 #include "io/atomic_file.hpp"
 
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
 namespace em {
 
+namespace {
+
+// The temporary being written, for the signal handler (async-signal-safe: a
+// fixed buffer, a flag, unlink, signal, raise).
+char g_tmp[4096];
+volatile std::sig_atomic_t g_tmp_active = 0;
+
+extern "C" void removeTemporaryAndDie(int sig) {
+  if (g_tmp_active) ::unlink(g_tmp);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+// Marks `tmp` as the file to remove on a signal while it exists.
+struct TemporaryGuard {
+  explicit TemporaryGuard(const std::string& tmp) {
+    if (tmp.size() >= sizeof g_tmp) throw std::runtime_error(tmp + ": path too long");
+    std::memcpy(g_tmp, tmp.c_str(), tmp.size() + 1);
+    g_tmp_active = 1;
+  }
+  ~TemporaryGuard() { g_tmp_active = 0; }
+};
+
+}  // namespace
+
+void installInterruptCleanup() {
+  std::signal(SIGINT, removeTemporaryAndDie);
+  std::signal(SIGTERM, removeTemporaryAndDie);
+}
+
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = path + ".tmp";
+  TemporaryGuard guard(tmp);
   {
     std::ofstream out(tmp);
     if (!out) throw std::runtime_error(path + ": cannot write the " + what);

@@ -12,4 +12,8 @@ namespace em {
 /// `path` ("path: cannot write the <what>") and leaves no temporary.
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write);
 
+/// On SIGINT or SIGTERM, remove the temporary being written (if any), then die
+/// of the signal as before (exit status 130 or 143 in a shell). Programs call it once.
+void installInterruptCleanup();
+
 }  // namespace em

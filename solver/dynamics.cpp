@@ -37,6 +37,22 @@ Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::Ve
   return y;
 }
 
+namespace {
+
+// Gimbals whose middle angle is within this of +-90 deg are named as the cause
+// of a singular A (there A loses rank: docs/theory.md §1).
+constexpr double kLockCos = 1e-3;
+
+}  // namespace
+
+std::string gimbalLockHint(const Model& m, const double* q) {
+  std::string hint;
+  for (const Body& b : m.bodies)
+    if (b.joint.type == JointType::Gimbal && std::abs(std::cos(q[b.iq + 1])) < kLockCos)
+      hint += std::string(hint.empty() ? " (gimbal lock:" : ",") + " body '" + b.name + "' q1 = " + gnum(q[b.iq + 1]) + " rad";
+  return hint.empty() ? hint : hint + ")";
+}
+
 Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
   if (!allFinite(y, size_)) return Status::failure(t, "non-finite state (NaN or Inf)");
@@ -44,7 +60,8 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   formEquations(model_, y, y + nq, ws_, f_->needsAdot());
   EvalInfo local;
   Status s = f_->rates(t, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
-  if (s && !allFinite(dydt, size_)) return Status::failure(t, "non-finite derivative (NaN or Inf)");
+  if (!s) s.cause += gimbalLockHint(model_, y);
+  else if (!allFinite(dydt, size_)) return Status::failure(t, "non-finite derivative (NaN or Inf)");
   return s;
 }
 

@@ -51,4 +51,8 @@ class Dynamics {
   Eigen::VectorXd scratch_;  // (size) derivative scratch of diagnosticsAt
 };
 
+/// " (gimbal lock: body 'arm' q1 = 1.5708 rad)" for every gimbal whose middle
+/// angle is within 1e-3 (in cos) of +-90 deg at q (internal order), else "".
+std::string gimbalLockHint(const Model& m, const double* q);
+
 }  // namespace em

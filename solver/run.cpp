@@ -44,11 +44,13 @@ long stepsPerOutput(double output_dt, double dt) {
 
 void checkRunSpec(const RunSpec& s) {
   requireCompatible(s.method, s.integrator);
-  outputIntervals(s.t_end, s.output_dt);
-  if (s.fixedStep())
-    stepsPerOutput(s.output_dt, s.dt);
-  else
-    requirePositive("tol", s.tol);
+  const long intervals = outputIntervals(s.t_end, s.output_dt);
+  if (!s.fixedStep()) return requirePositive("tol", s.tol);
+  const double steps = double(intervals) * double(stepsPerOutput(s.output_dt, s.dt));
+  if (steps > s.options.max_steps)
+    throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + gnum(steps, 3) +
+                                 " steps, more than the budget of " + gnum(s.options.max_steps, 3) +
+                                 " (--allow-long-run goes ahead)");
 }
 
 }  // namespace em

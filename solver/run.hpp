@@ -18,6 +18,9 @@ struct MethodOptions {
   /// Fail when max/min squared Cholesky pivot, a lower bound on cond(A), exceeds
   /// 1/eps: u' then has no reliable digit (gimbal lock, extreme mass ratios).
   double max_pivot_ratio = 4.5e15;
+  /// Refuse a fixed-step run of more steps than this before it starts (a
+  /// mistyped dt); the CLI's --allow-long-run lifts it.
+  double max_steps = 1e8;
 };
 
 /// One run, fully resolved (no "0 means the scene's"): what made a trajectory.

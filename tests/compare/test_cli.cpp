@@ -1,7 +1,9 @@
 // The CLI as a user runs it: exit codes, one-line errors, JSON and CSV outputs.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -130,4 +132,76 @@ TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {
   CHECK(r.status == 2);
   CHECK(r.out.find("bodies[0].parent: cycle") != std::string::npos);
   CHECK(r.out.find("running") == std::string::npos);
+}
+
+TEST_CASE("hostile command lines end in one line on stderr and exit status 2 before any run", "[cli][hostile]") {
+  const std::string s = scene("chain02.json");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"simulate " + s + " --t-end -1", "--t-end: must be a finite number > 0, got -1"},
+      {"simulate " + s + " --t-end 0", "--t-end: must be a finite number > 0, got 0"},
+      {"simulate " + s + " --t-end nan", "--t-end: must be a finite number > 0, got nan"},
+      {"simulate " + s + " --t-end inf", "--t-end: must be a finite number > 0, got inf"},
+      {"compare " + s + " --output-dt -1", "--output-dt: must be a finite number > 0"},
+      {"precision " + s + " --settings 1e-3,0", "--settings: must be a finite number > 0, got 0"},
+      {"simulate " + s + " --dt abc", "--dt: expected a number, got 'abc'"},
+      {"simulate " + s + " --dt 1e-12 --t-end 10", "is 1e+13 steps, more than the budget of 1e+08 (--allow-long-run"},
+      {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
+      {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
+      {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},
+      {"simulate " + s + " --method newton", "--method: newton not in {classical,eigen,"},
+      {"compare " + s + " --simbody-integrator rk4", "--simbody-integrator: rk4 not in {rkmerson,rk3,cpodes}"},
+      {"", "Usage: eigenmass"},
+  };
+  for (const auto& [args, phrase] : cases) {
+    const Run r = eigenmass(args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK(r.out.find(phrase) != std::string::npos);
+    CHECK(r.out.find("running") == std::string::npos);  // refused before any run
+    if (!args.empty()) CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  }
+}
+
+TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming the file", "[cli][hostile]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_hostile";
+  std::filesystem::create_directories(dir);
+  auto base = nlohmann::json::parse(std::ifstream(scene("chain02.json")));
+  auto write = [&](const std::string& name, const nlohmann::json& j) {
+    std::ofstream(dir + "/" + name) << j.dump();
+    return dir + "/" + name;
+  };
+  nlohmann::json heavy = base;
+  heavy["bodies"][0]["mass"] = 1e308;
+  const std::string h = write("heavy.json", heavy);
+  for (const char* cmd : {"equations ", "simulate ", "compare "}) {
+    const Run e = eigenmass(std::string(cmd) + h, true);
+    INFO(cmd << e.out);
+    CHECK(e.status == 2);
+    CHECK(e.out.find(h + ": the equations at t = 0 are not finite") != std::string::npos);
+  }
+  nlohmann::json locked = base;
+  locked["bodies"][0]["joint"]["q0"] = {0.1, M_PI / 2, 0.3};
+  locked["bodies"][0]["joint"]["in_body"] = {0, 0, 0};
+  locked["bodies"][1]["mass"] = 1e-9;
+  const Run l = eigenmass("equations " + write("locked.json", locked), true);
+  CHECK(l.status == 2);
+  CHECK(l.out.find("(gimbal lock: body 'link1' q1 = 1.5708 rad)") != std::string::npos);
+}
+
+TEST_CASE("--version and a trajectory's sidecar say how it was produced", "[cli][provenance]") {
+  const Run v = eigenmass("--version");
+  CHECK(v.status == 0);
+  CHECK(v.out.rfind("eigenmass ", 0) == 0);
+  CHECK(v.out.find("Simbody") != std::string::npos);
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_sidecar/chain02.csv";
+  const Run r = eigenmass("simulate " + scene("chain02.json") + " --t-end 0.1 --out " + out);
+  REQUIRE(r.status == 0);
+  const auto meta = nlohmann::json::parse(std::ifstream(out + ".json"));
+  CHECK(meta["status"] == "ok");
+  CHECK(meta["method"] == "classical");
+  CHECK(meta["dt"] == 1e-3);
+  for (const char* k : {"command_line", "eigenmass_version", "git_commit", "libraries", "compiler", "flags", "cpu", "cores",
+                        "date_utc"})
+    CHECK(meta["provenance"].contains(k));
+  CHECK(meta["provenance"]["command_line"].get<std::string>().find("simulate") != std::string::npos);
 }

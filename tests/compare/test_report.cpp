@@ -33,7 +33,8 @@ ComparisonResult synthetic() {
 TEST_CASE("the report has the documented top level and method fields", "[report]") {
   const json j = makeReport(synthetic());
   CHECK(j["format"] == "eigenmass-report/1");
-  for (const char* k : {"scene", "options", "reference", "methods", "series", "gate"}) CHECK(j.contains(k));
+  for (const char* k : {"scene", "options", "reference", "methods", "series", "gate", "provenance"}) CHECK(j.contains(k));
+  CHECK(j["provenance"]["eigenmass_version"].is_string());
   CHECK(j["gate"].is_null());
   for (const char* k : {"engine", "integrator", "tolerance", "horizon_s"}) CHECK(j["reference"].contains(k));
   REQUIRE(j["methods"].size() == 2);

@@ -1,0 +1,84 @@
+#include "compare/provenance.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <thread>
+
+#include <Eigen/Core>
+#include <gsl/gsl_version.h>
+
+// Set by CMake for this file only (CMakeLists.txt): a new commit rebuilds one file.
+#ifndef EM_VERSION
+#define EM_VERSION "unknown"
+#endif
+#ifndef EM_GIT_COMMIT
+#define EM_GIT_COMMIT "unknown"
+#endif
+#ifndef EM_SIMBODY_VERSION
+#define EM_SIMBODY_VERSION "unknown"
+#endif
+#ifndef EM_CXX_FLAGS
+#define EM_CXX_FLAGS "unknown"
+#endif
+
+namespace em {
+
+namespace {
+
+std::string g_command_line;
+
+std::string cpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+std::string utcNow() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+// An argument as a shell would need it: quoted when it holds anything but safe characters.
+std::string shellWord(const std::string& a) {
+  if (!a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=,:+") ==
+                        std::string::npos)
+    return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string eigenVersion() {
+  return std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+         std::to_string(EIGEN_MINOR_VERSION);
+}
+
+}  // namespace
+
+void setCommandLine(int argc, char** argv) {
+  g_command_line.clear();
+  for (int i = 0; i < argc; ++i) g_command_line += (i ? " " : "") + shellWord(argv[i]);
+}
+
+nlohmann::json provenance() {
+  return {{"command_line", g_command_line},
+          {"eigenmass_version", EM_VERSION},
+          {"git_commit", EM_GIT_COMMIT},
+          {"libraries", {{"simbody", EM_SIMBODY_VERSION}, {"eigen", eigenVersion()}, {"gsl", GSL_VERSION}}},
+          {"compiler", __VERSION__},
+          {"flags", EM_CXX_FLAGS},
+          {"cpu", cpuModel()},
+          {"cores", std::thread::hardware_concurrency()},
+          {"date_utc", utcNow()}};
+}
+
+std::string versionText() {
+  return std::string("eigenmass ") + EM_VERSION + " (commit " + EM_GIT_COMMIT + "); Simbody " + EM_SIMBODY_VERSION +
+         ", Eigen " + eigenVersion() + ", GSL " + GSL_VERSION + "; " + __VERSION__;
+}
+
+}  // namespace em
