@@ -188,7 +188,7 @@ TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming 
   CHECK(l.out.find("(gimbal lock: body 'link1' q1 = 1.5708 rad)") != std::string::npos);
 }
 
-TEST_CASE("--version and a trajectory's sidecar say how it was produced", "[cli][provenance]") {
+TEST_CASE("the version flag and a trajectory's sidecar say how it was produced", "[cli][provenance]") {
   const Run v = eigenmass("--version");
   CHECK(v.status == 0);
   CHECK(v.out.rfind("eigenmass ", 0) == 0);
