@@ -3,6 +3,8 @@
 // Times are the minimum over batches (robust to a shared, noisy machine);
 // compare them only as ratios within one run. Output: docs/performance.md.
 #include <chrono>
+
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
@@ -53,14 +55,34 @@ Model chain(int n) {
   throw std::runtime_error(std::string(name) + ": no such chain in data/scenes or data/bench (tools/make_scenes.py)");
 }
 
+int run(const std::vector<int>& sizes);
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<int> sizes = {5, 10, 20, 50, 100};
-  if (argc > 1) {
-    sizes.clear();
-    for (int i = 1; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
+  CLI::App app{"Times one right-hand-side evaluation per method against Simbody's realize(Acceleration)",
+               "eigenmass_bench"};
+  app.add_option("sizes", sizes, "Chain lengths n (data/scenes/chainNN.json or data/bench/)")
+      ->check(CLI::Range(1, 999))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "eigenmass_bench: error: %s (see --help)\n", e.what());
+    return 2;
   }
+  try {
+    return run(sizes);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "eigenmass_bench: error: %s\n", e.what());
+    return 2;
+  }
+}
+
+namespace {
+int run(const std::vector<int>& sizes) {
   std::printf("| n links | N = nu | classical rhs (us) | eigen rhs (us) | jacobi step (us) | Simbody realize (us) | classical / Simbody | eigen / classical |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int n : sizes) {
@@ -84,3 +106,4 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+}  // namespace

@@ -1,5 +1,7 @@
 #include "io/scene_json.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -245,6 +247,18 @@ SceneSpec spec(const json& doc) {
   return s;
 }
 
+// One workspace holds four (3n x 3n) matrices (K, K_T, K', K_T'): 288 n^2 bytes.
+// A scene that cannot fit in half the machine's memory is refused up front
+// instead of ending in std::bad_alloc.
+void requireMemoryFor(size_t n) {
+  const double need = 288.0 * double(n) * double(n);
+  const double have = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  if (have > 0 && need > 0.5 * have)
+    throw Err("bodies", std::to_string(n) + " bodies need about " + gnum(need / 1e9, 3) +
+                            " GB for one workspace (288 n^2 bytes), more than half of this machine's " +
+                            gnum(have / 1e9, 3) + " GB");
+}
+
 std::string bodyPath(int file_index, const std::string& key) { return "bodies[" + std::to_string(file_index) + "]." + key; }
 
 }  // namespace
@@ -254,6 +268,7 @@ SceneSpec parseSceneSpec(const std::string& text) { return spec(parseJsonStrict(
 Model buildModel(const SceneSpec& spec) {
   const int n = static_cast<int>(spec.bodies.size());
   if (n == 0) throw Err("bodies", "empty body list");
+  requireMemoryFor(spec.bodies.size());
   // Parents are named in the file: "ground" is the format's word for the base.
   std::unordered_map<std::string, int> by_name;
   for (int f = 0; f < n; ++f) {

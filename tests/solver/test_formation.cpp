@@ -12,14 +12,31 @@
 #include "support.hpp"
 
 // Counting allocator: every heap allocation in this test binary is counted.
+// Every replaceable form is replaced (plain, array, nothrow, sized), so that
+// no pair mixes ours with the library's (ASan reports such mismatches).
+// Over-aligned forms are left to the library: Eigen's fixed-size types here
+// need no more than the default alignment.
 static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
+static void* countedAlloc(std::size_t n) noexcept {
   ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
+  return std::malloc(n ? n : 1);
+}
+void* operator new(std::size_t n) {
+  if (void* p = countedAlloc(n)) return p;
   throw std::bad_alloc();
 }
+void* operator new[](std::size_t n) {
+  if (void* p = countedAlloc(n)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return countedAlloc(n); }
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return countedAlloc(n); }
 void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 using namespace em;
 
