@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "compare/cli.hpp"
+#include "compare/comparator.hpp"
 #include "compare/runner.hpp"
 #include "solver/text.hpp"
 
@@ -19,14 +20,15 @@ struct SimulateArgs {
 };
 
 void printSummary(const Trajectory& tr, const std::string& path) {
-  double drift = 0;
-  for (double E : tr.energy) drift = std::max(drift, std::abs(E - tr.energy[0]));
+  double drift = 0;  // the energy balance: what the dampers took is not drift
+  for (size_t k = 0; k < tr.size(); ++k) drift = std::max(drift, std::abs(tr.energy[k] + tr.dissipated[k] - tr.energy[0]));
   const std::string ended = tr.failed() ? "failed at t = " + gnum(tr.failure_time) + " s (" + tr.failure + "), last sample" : "t";
   std::printf("%s %s/%s: status %s, %s = %.6g s, %ld steps, %ld rhs evaluations, %.3f s CPU\n", tr.scene.c_str(),
               tr.method().c_str(), tr.integrator().c_str(), tr.status.c_str(), ended.c_str(), tr.t.back(), tr.steps,
               tr.rhs_evals, tr.run_time_s);
-  std::printf("energy: E(0) = %.12f J, max |E(t) - E(0)| = %.3e J", tr.energy[0], drift);
-  if (tr.energy[0] != 0) std::printf(" (relative to |E(0)|: %.3e)", drift / std::abs(tr.energy[0]));
+  std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
+              drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));
+  if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
   std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
 }
 

@@ -18,7 +18,7 @@ struct ErrorSeries {
   std::vector<double> pose_rad;    ///< max over bodies of the angle of R_ref^T R
   std::vector<double> position_m;  ///< max over bodies of |r - r_ref| (CM)
   std::vector<double> coord_rad;   ///< max |q - q_ref| over angle coordinates (empty if not shared)
-  std::vector<double> energy_rel;  ///< |E(t) - E(0)| / E_scale
+  std::vector<double> energy_rel;  ///< energy balance |E(t) + W_diss(t) - E(0)| / E_scale
 };
 
 /// A maximum and when it happened.
@@ -36,6 +36,7 @@ struct MethodMetrics {
   Peak pose, position, coord, energy;
   bool coords_shared = false;
   double energy_error_final = 0;
+  double dissipated_final = 0;  ///< W_diss at the run's last sample (J)
   std::vector<std::optional<double>> divergence_time_s;        ///< per threshold (pose)
   std::vector<std::optional<double>> coord_divergence_time_s;  ///< per threshold (joint coordinates)
   std::vector<bool> divergence_meaningful;                     ///< below the reference horizon

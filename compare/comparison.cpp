@@ -141,8 +141,8 @@ std::string summaryTable(const ComparisonResult& r) {
       o << m.name() << " failed at t = " << gnum(m.failure_time.value_or(0)) << " s: " << m.failure << "\n";
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"
        "exceeds x rad (- never; * at or beyond the reference horizon, not meaningful).\n"
-       "dE/Escl = |E(t) - E(0)| / "
-    << gnum(r.energy_scale) << " J (the reference's largest kinetic energy).\n";
+       "dE/Escl = |E(t) + W_diss(t) - E(0)| / "
+    << gnum(r.energy_scale) << " J (the reference's largest kinetic energy; W_diss: work the dampers dissipated).\n";
   return o.str();
 }
 

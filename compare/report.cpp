@@ -48,7 +48,8 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"coordinate_divergence_time_s", perThreshold(th, m.coord_divergence_time_s)},
             {"energy_error_max", num(m.energy.value)},
             {"energy_error_max_t", m.energy.t},
-            {"energy_error_final", num(m.energy_error_final)}};
+            {"energy_error_final", num(m.energy_error_final)},
+            {"dissipated_final_J", num(m.dissipated_final)}};
   if (m.run.fixedStep()) j["step"] = m.run.dt;
   else j["tolerance"] = m.run.tol;
   json meaningful = json::object();

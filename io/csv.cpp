@@ -12,7 +12,7 @@ void writeRow(std::ostream& out, const Trajectory& tr, size_t k) {
   out << tr.t[k];
   for (int i = 0; i < tr.q[k].size(); ++i) out << ',' << tr.q[k][i];
   for (int i = 0; i < tr.u[k].size(); ++i) out << ',' << tr.u[k][i];
-  out << ',' << tr.energy[k] << ',' << tr.kinetic[k];
+  out << ',' << tr.energy[k] << ',' << tr.kinetic[k] << ',' << tr.dissipated[k];
   for (const Pose& p : tr.poses[k])
     out << ',' << p.p.x() << ',' << p.p.y() << ',' << p.p.z() << ',' << p.quat[0] << ',' << p.quat[1] << ','
         << p.quat[2] << ',' << p.quat[3];
@@ -30,6 +30,7 @@ std::vector<std::string> csvColumns(const Trajectory& tr) {
   c.insert(c.end(), tr.u_names.begin(), tr.u_names.end());
   c.push_back("energy");
   c.push_back("kinetic");
+  c.push_back("dissipated");
   for (const auto& b : tr.body_names)
     for (const char* col : kPoseCols) c.push_back(b + "." + col);
   if (!tr.diag.empty())

@@ -64,6 +64,36 @@ Rotation jointFrame(const Joint& j) {
   }
 }
 
+// One damped mobility: its body, which of its speeds, and c.
+struct Damper {
+  MobilizedBody mb;
+  int which;
+  double c;
+};
+
+// W_diss' = sum of c u^2 over the dampers (docs/theory.md §5), a Simbody
+// measure of Velocity stage that Measure::Integrate turns into a z variable.
+class DissipationRate : public SimTK::Measure::Implementation {
+ public:
+  explicit DissipationRate(std::vector<Damper> dampers) : SimTK::Measure::Implementation(1), dampers_(std::move(dampers)) {}
+  Implementation* cloneVirtual() const override { return new DissipationRate(*this); }
+  int getNumTimeDerivativesVirtual() const override { return 0; }
+  SimTK::Stage getDependsOnStageVirtual(int) const override { return SimTK::Stage::Velocity; }
+  void calcCachedValueVirtual(const State& s, int, double& value) const override {
+    value = 0;
+    for (const Damper& d : dampers_) value += d.c * SimTK::square(d.mb.getOneU(s, d.which));
+  }
+
+ private:
+  std::vector<Damper> dampers_;
+};
+
+// Its handle (SetHandle, the tag that adopts an implementation, is protected).
+struct DissipationMeasure : SimTK::Measure {
+  DissipationMeasure(SimTK::Subsystem& sub, std::vector<Damper> dampers)
+      : SimTK::Measure(sub, new DissipationRate(std::move(dampers)), SetHandle()) {}
+};
+
 }  // namespace
 
 struct SimbodyReference::Impl {
@@ -83,6 +113,10 @@ struct SimbodyReference::Impl {
     }
     // Only what the scene declares (docs/theory.md §5).
     if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
+    if (!dampers.empty()) {
+      const DissipationMeasure rate(forces, dampers);
+      dissipated = SimTK::Measure::Integrate(forces, rate, SimTK::Measure::Zero(forces));
+    }
     system.realizeTopology();
     state = system.getDefaultState();
     // Simbody's q and u index of each in-house coordinate and speed, fixed from here on.
@@ -99,7 +133,9 @@ struct SimbodyReference::Impl {
     const Spring& s = b.joint.spring;
     for (int k = 0; k < b.nu(); ++k) {
       if (s.k[k] != 0) SimTK::Force::MobilityLinearSpring(forces, mb, k, s.k[k], s.q_rest[k]);
-      if (s.c[k] != 0) SimTK::Force::MobilityLinearDamper(forces, mb, k, s.c[k]);
+      if (s.c[k] == 0) continue;
+      SimTK::Force::MobilityLinearDamper(forces, mb, k, s.c[k]);
+      dampers.push_back({mb, k, s.c[k]});
     }
   }
 
@@ -152,6 +188,8 @@ struct SimbodyReference::Impl {
   SimTK::SimbodyMatterSubsystem matter;
   SimTK::GeneralForceSubsystem forces;
   std::vector<MobilizedBody> mobods;  // internal order
+  std::vector<Damper> dampers;
+  SimTK::Measure::Integrate dissipated;  // W_diss; empty handle without dampers
   State state;
   std::vector<int> q_index, u_index;  // Simbody index of in-house q[i], u[i]
 };
@@ -212,7 +250,8 @@ void SimbodyReference::Impl::sample(Trajectory& tr, double t, const State& s) {
   Eigen::VectorXd q, u;
   getState(q, u);
   const double T = kineticEnergy();
-  appendSample(tr, model, t, q.data(), u.data(), poses(), T + potentialEnergy(), T);
+  const double W = dampers.empty() ? 0.0 : dissipated.getValue(state);
+  appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
 }
 
 Trajectory SimbodyReference::simulate(const RunSpec& spec) {

@@ -24,7 +24,7 @@ std::unique_ptr<Formulation> make(const Model& m, Method method, const MethodOpt
 
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
-      size_(m.nq + m.nu + f_->extraSize()), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)) {}
+      size_(m.nq + m.nu + f_->extraSize() + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(size_);
@@ -60,6 +60,7 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   formEquations(model_, y, y + nq, ws_, f_->needsAdot());
   EvalInfo local;
   Status s = f_->rates(t, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
+  if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);
   if (!s) s.cause += gimbalLockHint(model_, y);
   else if (!allFinite(dydt, size_)) return Status::failure(t, "non-finite derivative (NaN or Inf)");
   return s;

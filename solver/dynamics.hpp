@@ -4,7 +4,8 @@
 /// run state: an evaluation returns its status, and the integration loop owns
 /// the counters and the failure (solver/integrate.cpp).
 /// State y = [q (nq), u (nu), the method's extra state]; eigenfactor methods:
-/// C (N*N, row-major, rows = eigenvectors), lambda (N), N = nu.
+/// C (N*N, row-major, rows = eigenvectors), lambda (N), N = nu; last, when the
+/// model has dampers, the dissipated work W_diss (1), with W_diss' = sum c u^2.
 #include <memory>
 
 #include "solver/formulation.hpp"
@@ -25,6 +26,10 @@ class Dynamics {
   int offsetExtra() const { return model_.nq + model_.nu; }
   int offsetC() const { return offsetExtra(); }
   int offsetLambda() const { return offsetC() + model_.nu * model_.nu; }
+  /// Index of W_diss in y, or -1 without dampers.
+  int offsetDissipated() const { return model_.has_dampers ? size_ - 1 : -1; }
+  /// W_diss at y (0 without dampers).
+  double dissipated(const double* y) const { return model_.has_dampers ? y[size_ - 1] : 0.0; }
 
   /// y0 from (q, u) (internal order) and the method's extra state at A(q).
   Eigen::VectorXd initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u);

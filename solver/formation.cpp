@@ -216,6 +216,15 @@ void addSpringForces(const Model& m, const double* q, const double* u, Eigen::Ve
   }
 }
 
+double dissipationRate(const Model& m, const double* u) {
+  double P = 0;
+  for (const Body& Bi : m.bodies) {
+    if (!Bi.joint.has_spring) continue;
+    for (int k = 0; k < Bi.nu(); ++k) P += Bi.joint.spring.c[k] * u[Bi.iu + k] * u[Bi.iu + k];
+  }
+  return P;
+}
+
 void formAdot(const Model& m, Workspace& ws) {
   // K': every block is built of vectors fixed in one body, so each vector x
   // fixed in body j has x' = w_j x x (docs/theory.md §6).

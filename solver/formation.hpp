@@ -53,6 +53,8 @@ void formA(const Model& m, Workspace& ws);
 void formB(const Model& m, const double* q, const double* u, Workspace& ws);
 /// Q += generalized spring-damper forces -k (q - q_rest) - c u.  // Q: (nu)
 void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q);
+/// Power dissipated by the dampers, sum over coordinates of c u^2 >= 0 (dW_diss/dt).  // u: (nu)
+double dissipationRate(const Model& m, const double* u);
 /// A' (docs/theory.md §6; needs formA).  // -> ws.Adot (nu x nu)
 void formAdot(const Model& m, Workspace& ws);
 /// All of the above in order; A' only when asked.

@@ -68,7 +68,7 @@ class Run {
     dyn_.kinematicsAt(y);
     const Workspace& ws = dyn_.workspace();
     for (int i = 0; i < m.n(); ++i) poses_[i] = {ws.r[i], matrixToQuat(ws.R[i])};
-    appendSample(tr_, m, t, y, y + m.nq, poses_, ws.energy(), ws.kinetic);
+    appendSample(tr_, m, t, y, y + m.nq, poses_, {ws.energy(), ws.kinetic, dyn_.dissipated(y)});
     if (spec_.diagnostics && dyn_.eigenfactor()) {
       const EigenDiagnostics d = dyn_.diagnosticsAt(y);
       tr_.diag.push_back({d.orth_err, d.offdiag_rel, d.min_gap, d.max_Omega, d.inv_err});

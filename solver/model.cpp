@@ -84,6 +84,7 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.nq += b.nq();
     m.nu += b.nu();
     m.has_springs = m.has_springs || b.joint.has_spring;
+    m.has_dampers = m.has_dampers || (b.joint.has_spring && (b.joint.spring.c.array() != 0).any());
     if (b.parent >= 0) m.bodies[b.parent].children.push_back(i);
   }
   int fq = 0, fu = 0;

@@ -80,6 +80,7 @@ struct Model {
   std::vector<Body> bodies;    ///< regular numbering: parent(i) < i
   int nq = 0, nu = 0;
   bool has_springs = false;    ///< build the joint-force term Q only when declared
+  bool has_dampers = false;    ///< some c != 0: runs track the dissipated work W_diss (docs/theory.md §5)
   bool has_gravity = false;
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map

@@ -14,7 +14,7 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run) {
 }
 
 void appendSample(Trajectory& tr, const Model& m, double t, const double* q, const double* u,
-                  const std::vector<Pose>& poses, double energy, double kinetic) {
+                  const std::vector<Pose>& poses, const EnergySample& energy) {
   Eigen::VectorXd qf, uf;
   m.qToFile(Eigen::Map<const Eigen::VectorXd>(q, m.nq), qf);
   m.uToFile(Eigen::Map<const Eigen::VectorXd>(u, m.nu), uf);
@@ -23,8 +23,9 @@ void appendSample(Trajectory& tr, const Model& m, double t, const double* q, con
   tr.t.push_back(t);
   tr.q.push_back(std::move(qf));
   tr.u.push_back(std::move(uf));
-  tr.energy.push_back(energy);
-  tr.kinetic.push_back(kinetic);
+  tr.energy.push_back(energy.total);
+  tr.kinetic.push_back(energy.kinetic);
+  tr.dissipated.push_back(energy.dissipated);
   tr.poses.push_back(std::move(pf));
 }
 

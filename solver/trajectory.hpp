@@ -16,6 +16,12 @@ struct Pose {
   Vec4 quat = Vec4(1, 0, 0, 0);
 };
 
+/// Energies at one sample: E = T + V, T, and the work W_diss the dampers have
+/// dissipated since t = 0 (0 without dampers); E + W_diss is conserved.
+struct EnergySample {
+  double total = 0, kinetic = 0, dissipated = 0;
+};
+
 /// Eigenfactor drift at one sample (NaN when the method has none).
 struct SampleDiagnostics {
   double orth_err, offdiag_rel, min_gap, max_Omega, inv_err;
@@ -39,6 +45,7 @@ struct Trajectory {
   std::vector<Eigen::VectorXd> q, u;       ///< (nq), (nu) per sample
   std::vector<double> energy;              ///< total energy per sample
   std::vector<double> kinetic;             ///< kinetic energy per sample
+  std::vector<double> dissipated;          ///< W_diss per sample (0 without dampers)
   std::vector<std::vector<Pose>> poses;    ///< per sample, per body
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
   // Run summary.
@@ -62,7 +69,7 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run);
 /// Record the sample at time t: q (nq), u (nu) and poses (n) in the model's
 /// internal order, stored in the source's order.
 void appendSample(Trajectory& tr, const Model& m, double t, const double* q, const double* u,
-                  const std::vector<Pose>& poses, double energy, double kinetic);
+                  const std::vector<Pose>& poses, const EnergySample& energy);
 
 /// Mark the run failed at t with its cause (the first failure is kept).
 void markFailed(Trajectory& tr, double t, const std::string& cause);

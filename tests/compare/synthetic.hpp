@@ -23,6 +23,7 @@ inline Trajectory turning(Method method, double slope, double drift, double t_en
     tr.u.push_back(Eigen::VectorXd::Constant(1, 0.3 + slope));
     tr.energy.push_back(-5.0 + drift * t);
     tr.kinetic.push_back(2.0);
+    tr.dissipated.push_back(0.0);
     tr.poses.push_back({Pose{Vec3(std::cos(th), std::sin(th), 0), Vec4(std::cos(th / 2), 0, 0, std::sin(th / 2))}});
   }
   return tr;

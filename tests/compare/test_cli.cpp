@@ -69,7 +69,7 @@ TEST_CASE("simulate writes the CSV it names and reports the energy drift", "[cli
   const Run r = eigenmass("simulate " + scene("chain02.json") + " --method eigen-jacobi --t-end 0.2 --out " + out);
   CHECK(r.status == 0);
   CHECK(r.out.find("status ok") != std::string::npos);
-  CHECK(r.out.find("max |E(t) - E(0)|") != std::string::npos);
+  CHECK(r.out.find("max |E(t) + W_diss(t) - E(0)|") != std::string::npos);
   std::ifstream in(out);
   std::string header;
   std::getline(in, header);

@@ -37,7 +37,7 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
   std::string header;
   std::getline(in, header);
   CHECK(header.rfind("t,hand.q0,hand.q1,torso.q0,", 0) == 0);
-  CHECK(header.find(",energy,kinetic,hand.x,hand.y,hand.z,hand.qw,hand.qx,hand.qy,hand.qz,torso.x") != std::string::npos);
+  CHECK(header.find(",energy,kinetic,dissipated,hand.x,hand.y,hand.z,hand.qw,hand.qx,hand.qy,hand.qz,torso.x") != std::string::npos);
   CHECK(header.find(",orth_err,offdiag_rel,min_gap,max_Omega,inv_err") != std::string::npos);
   const std::vector<std::string> cols = csvColumns(t);
   std::string expected;
@@ -52,8 +52,9 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
     CHECK(Eigen::Map<const Eigen::VectorXd>(rows[k].data() + 1 + nq, nu) == t.u[k]);
     CHECK(rows[k][e] == t.energy[k]);
     CHECK(rows[k][e + 1] == t.kinetic[k]);
+    CHECK(rows[k][e + 2] == t.dissipated[k]);
   }
-  const double* pose3 = rows.back().data() + e + 2 + 7 * 3;
+  const double* pose3 = rows.back().data() + e + 3 + 7 * 3;
   CHECK(Vec4(pose3[3], pose3[4], pose3[5], pose3[6]) == t.poses.back()[3].quat);
 }
 
