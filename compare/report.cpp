@@ -1,6 +1,8 @@
 #include "compare/report.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "compare/provenance.hpp"
@@ -85,7 +87,22 @@ json decimated(const std::vector<double>& v, size_t stride) {
 
 }  // namespace
 
-std::string thresholdKey(double th) { return gnum(th); }
+std::string thresholdKey(double th) {
+  // Shortest scientific form that reads back exactly: 0.001 -> "1e-03".
+  char buf[40];
+  for (int digits = 0; digits < 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*e", digits, th);
+    if (std::strtod(buf, nullptr) == th) break;
+  }
+  // Then "1e-3": no '+' or leading zeros in the exponent; '.' becomes 'p'
+  // ("2p5e-3") so that no key holds pandas.json_normalize's separator.
+  std::string key;
+  const std::string s = buf;
+  const size_t e = s.find('e');
+  for (char c : s.substr(0, e)) key += c == '.' ? 'p' : c;
+  const int exponent = std::atoi(s.c_str() + e + 1);
+  return key + "e" + std::to_string(exponent);
+}
 
 json makeReport(const ComparisonResult& r, const json& gate, int max_series_points) {
   const CompareOptions& o = r.options;

@@ -8,7 +8,8 @@
 
 namespace em {
 
-/// Key of a threshold in the report's maps ("0.001", "0.1").
+/// A threshold as a report key: shortest exact scientific form, '.' written
+/// as 'p' so the key has no dot ("1e-3", "2p5e-3"; docs/report-format.md).
 std::string thresholdKey(double th);
 
 /// The report of a comparison; `gate` is null when no gate was asked for.

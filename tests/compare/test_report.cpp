@@ -2,6 +2,8 @@
 // decimated series, atomic writing.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -44,8 +46,24 @@ TEST_CASE("the report has the documented top level and method fields", "[report]
                         "energy_error_final", "diagnostics"})
     CHECK(c.contains(k));
   CHECK(c["step"] == 1e-3);
-  CHECK(c["divergence_time_s"]["0.001"].is_null());
+  CHECK(c["divergence_time_s"]["1e-3"].is_null());
   CHECK(c["max_pose_error_rad"].get<double>() == Approx(1e-4).epsilon(1e-9));
+}
+
+TEST_CASE("threshold keys hold no dot and read back exactly", "[report]") {
+  // pandas.json_normalize joins nested keys with '.': a key "0.001" would be
+  // split by whoever reads the column name back.
+  CHECK(thresholdKey(1e-3) == "1e-3");
+  CHECK(thresholdKey(0.1) == "1e-1");
+  CHECK(thresholdKey(1.0) == "1e0");
+  CHECK(thresholdKey(2.5e-3) == "2p5e-3");
+  CHECK(thresholdKey(12.0) == "1p2e1");
+  for (double th : {1e-3, 0.1, 2.5e-3, 1.0 / 3.0, 7e-300, 0.3}) {
+    std::string k = thresholdKey(th);
+    CHECK(k.find('.') == std::string::npos);
+    std::replace(k.begin(), k.end(), 'p', '.');
+    CHECK(std::strtod(k.c_str(), nullptr) == th);
+  }
 }
 
 TEST_CASE("a failed method appears with its time and cause", "[report]") {
@@ -54,8 +72,8 @@ TEST_CASE("a failed method appears with its time and cause", "[report]") {
   CHECK(e["status"] == "failed");
   CHECK(e["failure"]["t"] == 3.0);
   CHECK(e["failure"]["cause"] == "eigenvalue lambda_0 = -0.1 <= 0");
-  CHECK(e["divergence_time_s"]["0.1"] == 3.0);
-  CHECK(e["divergence_time_s"]["0.001"].get<double>() == Approx(0.05));
+  CHECK(e["divergence_time_s"]["1e-1"] == 3.0);
+  CHECK(e["divergence_time_s"]["1e-3"].get<double>() == Approx(0.05));
 }
 
 TEST_CASE("series are decimated to at most the asked number of points", "[report]") {
