@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compare/progress.hpp"
 #include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
@@ -97,12 +98,27 @@ CLI::Validator positiveFinite() {
       "> 0");
 }
 
-void addAllowLongRun(CLI::App* cmd, bool& flag) {
-  cmd->add_flag("--allow-long-run", flag, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+Grid GridArgs::asked(const CLI::App& cmd) const {
+  Grid g;
+  if (cmd.count("--t-end")) g.t_end = t_end;
+  if (cmd.count("--output-dt")) g.output_dt = output_dt;
+  return g;
 }
 
-void applyAllowLongRun(bool flag, RunSpec& spec) {
-  if (flag) spec.options.max_steps = HUGE_VAL;
+void GridArgs::applyTo(RunSpec& spec) const {
+  if (allow_long_run) spec.options.max_steps = HUGE_VAL;
+}
+
+void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help) {
+  cmd->add_option("--t-end", g.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
+  cmd->add_option("--output-dt", g.output_dt, output_dt_help + "; default: the scene's simulate.output_dt")
+      ->check(positiveFinite());
+  cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+  auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
+                                    "Show the progress of runs longer than 2 s even when stderr is not a terminal");
+  auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },
+                                     "Never show the progress of long runs (default: on a terminal only)");
+  on->excludes(off);
 }
 
 void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }

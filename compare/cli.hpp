@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "compare/runner.hpp"
 #include "solver/trajectory.hpp"
 
 namespace em::cli {
@@ -40,9 +41,17 @@ void writeTrajectory(const Trajectory& tr, const std::string& path);
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();
 
-/// --allow-long-run: lift the step budget of every run (MethodOptions::max_steps).
-void addAllowLongRun(CLI::App* cmd, bool& flag);
-void applyAllowLongRun(bool flag, RunSpec& spec);
+/// What every running subcommand takes: the grid and the step budget.
+struct GridArgs {
+  double t_end = 0, output_dt = 0;
+  bool allow_long_run = false;
+  /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
+  Grid asked(const CLI::App& cmd) const;
+  /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps).
+  void applyTo(RunSpec& spec) const;
+};
+/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --progress, --no-progress.
+void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help);
 
 /// Validators fed from the registry: a method name; an integrator name (of one engine).
 CLI::Validator methodValidator();

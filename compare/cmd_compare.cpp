@@ -18,8 +18,7 @@ struct CompareArgs {
   std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
   std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
   std::vector<std::string> methods = methodNames();
-  double t_end = 0, output_dt = 0;
-  bool allow_long_run = false;
+  GridArgs grid;
   CompareOptions opt;
 };
 
@@ -36,9 +35,8 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
                                                                           : parseIntegrator(a.integrator);
   o.simbody.integrator = parseIntegrator(a.simbody_integrator);
-  if (cmd.count("--t-end")) o.grid.t_end = a.t_end;
-  if (cmd.count("--output-dt")) o.grid.output_dt = a.output_dt;
-  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.reference}) applyAllowLongRun(a.allow_long_run, *s);
+  o.grid = a.grid.asked(cmd);
+  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.reference}) a.grid.applyTo(*s);
   return o;
 }
 
@@ -113,10 +111,7 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
   cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")
       ->check(positiveFinite())
       ->capture_default_str();
-  cmd->add_option("--t-end", a.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
-  cmd->add_option("--output-dt", a.output_dt, "Common output grid (s); default: the scene's simulate.output_dt")
-      ->check(positiveFinite());
-  addAllowLongRun(cmd, a.allow_long_run);
+  addGridOptions(cmd, a.grid, "Common output grid (s)");
 }
 
 void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {

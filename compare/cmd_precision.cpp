@@ -14,8 +14,7 @@ namespace {
 struct PrecisionArgs {
   std::string scene, out, integrator = integratorName(Integrator::RK4);
   std::vector<std::string> methods;
-  double t_end = 0, output_dt = 0;
-  bool allow_long_run = false;
+  GridArgs grid;
   PrecisionOptions opt;
 };
 
@@ -25,13 +24,12 @@ int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
   const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;
   prepareOutput("--out", path, {a.scene});
   PrecisionOptions o = a.opt;
-  applyAllowLongRun(a.allow_long_run, o.reference);
-  if (a.allow_long_run) o.max_steps = HUGE_VAL;
+  a.grid.applyTo(o.reference);
+  if (a.grid.allow_long_run) o.max_steps = HUGE_VAL;
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
   o.integrator = parseIntegrator(a.integrator);
-  if (cmd.count("--t-end")) o.grid.t_end = a.t_end;
-  if (cmd.count("--output-dt")) o.grid.output_dt = a.output_dt;
+  o.grid = a.grid.asked(cmd);
   const PrecisionResult r = runPrecision(scene, o, progress);
   writeJsonAtomic(precisionJson(r), path);
   std::fputs(precisionTable(r).c_str(), stdout);
@@ -62,11 +60,7 @@ void addPrecision(CLI::App& app) {
   cmd->add_option("--reference-tol", a->opt.reference.tol, "Accuracy of the Simbody RK-Merson reference")
       ->check(positiveFinite())
       ->capture_default_str();
-  cmd->add_option("--t-end", a->t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
-  cmd->add_option("--output-dt", a->output_dt,
-                  "Sampling interval (s), a multiple of every step; default: the scene's simulate.output_dt")
-      ->check(positiveFinite());
-  addAllowLongRun(cmd, a->allow_long_run);
+  addGridOptions(cmd, a->grid, "Sampling interval (s), a multiple of every step");
   cmd->add_option("--out", a->out, "JSON file to write; default out/<scene>.precision.json");
   cmd->callback([cmd, a] { guarded([&] { return runPrecisionCommand(*a, *cmd); }); });
 }

@@ -15,8 +15,7 @@ namespace {
 struct SimulateArgs {
   std::string scene, out, method = methodName(Method::Classical), integrator;
   RunSpec spec;  ///< dt and tol as given (or their defaults)
-  double t_end = 0, output_dt = 0;
-  bool allow_long_run = false;
+  GridArgs grid;
 };
 
 void printSummary(const Trajectory& tr, const std::string& path) {
@@ -38,14 +37,11 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
   prepareOutput("--out", path, {a.scene});
   RunSpec s = a.spec;
-  applyAllowLongRun(a.allow_long_run, s);
+  a.grid.applyTo(s);
   s.method = parseMethod(a.method);
   // --tol alone selects an adaptive integrator for the in-house methods.
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
-  Grid grid;
-  if (cmd.count("--t-end")) grid.t_end = a.t_end;
-  if (cmd.count("--output-dt")) grid.output_dt = a.output_dt;
-  const Trajectory tr = runMethod(scene.model, onGrid(s, scene, grid));
+  const Trajectory tr = runMethod(scene.model, onGrid(s, scene, a.grid.asked(cmd)));
   writeTrajectory(tr, path);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;
@@ -73,10 +69,7 @@ void addSimulate(CLI::App& app) {
                   ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);
-  cmd->add_option("--t-end", a->t_end, "End time (s); default: the scene's simulate.t_end, else 10")->check(positiveFinite());
-  cmd->add_option("--output-dt", a->output_dt, "Sampling interval (s); default: the scene's simulate.output_dt, else 0.01")
-      ->check(positiveFinite());
-  addAllowLongRun(cmd, a->allow_long_run);
+  addGridOptions(cmd, a->grid, "Sampling interval (s)");
   cmd->add_option("--out", a->out, "CSV file to write; default out/<scene>.<method>.csv");
   cmd->callback([cmd, a] { guarded([&] { return runSimulate(*a, *cmd); }); });
 }

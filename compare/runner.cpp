@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "compare/progress.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
@@ -30,9 +31,11 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
 }
 
 Trajectory runMethod(const Model& m, const RunSpec& spec) {
+  ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
+  const SampleObserver observe = [&meter](double t) { meter(t); };
   switch (spec.engine()) {
-    case Engine::InHouse: return simulate(m, spec);
-    case Engine::Simbody: return SimbodyReference(m).simulate(spec);
+    case Engine::InHouse: return simulate(m, spec, observe);
+    case Engine::Simbody: return SimbodyReference(m).simulate(spec, observe);
   }
   throw std::logic_error("runMethod: an engine without a runner");
 }

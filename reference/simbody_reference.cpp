@@ -254,7 +254,7 @@ void SimbodyReference::Impl::sample(Trajectory& tr, double t, const State& s) {
   appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
 }
 
-Trajectory SimbodyReference::simulate(const RunSpec& spec) {
+Trajectory SimbodyReference::simulate(const RunSpec& spec, const SampleObserver& observe) {
   checkRunSpec(spec);
   if (spec.engine() != Engine::Simbody) throw std::invalid_argument(std::string(methodName(spec.method)) + " is not Simbody");
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
@@ -280,6 +280,7 @@ Trajectory SimbodyReference::simulate(const RunSpec& spec) {
       }
       cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
       I.sample(tr, t_out, integ->getState());
+      if (observe) observe(t_out);
     }
   } catch (const std::exception& e) {
     markFailed(tr, integ->getTime(), "Simbody: " + oneLine(e.what()));

@@ -22,8 +22,8 @@ double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
 // failure; the trajectory receives them as they happen (steps) or at the end.
 class Run {
  public:
-  Run(Dynamics& dyn, const RunSpec& spec, Trajectory& tr)
-      : dyn_(dyn), spec_(spec), tr_(tr), poses_(dyn.model().n()) {
+  Run(Dynamics& dyn, const RunSpec& spec, Trajectory& tr, const SampleObserver& observe)
+      : dyn_(dyn), spec_(spec), tr_(tr), observe_(observe), poses_(dyn.model().n()) {
     stats_.min_gap = std::numeric_limits<double>::infinity();
   }
 
@@ -73,6 +73,7 @@ class Run {
       const EigenDiagnostics d = dyn_.diagnosticsAt(y);
       tr_.diag.push_back({d.orth_err, d.offdiag_rel, d.min_gap, d.max_Omega, d.inv_err});
     }
+    if (observe_) observe_(t);
     tr_.sample_time_s += cpuSeconds() - c0;
   }
 
@@ -88,6 +89,7 @@ class Run {
   Dynamics& dyn_;
   const RunSpec& spec_;
   Trajectory& tr_;
+  const SampleObserver& observe_;
   std::vector<Pose> poses_;  // (n) internal order
   long rhs_evals_ = 0;
   EigenStats stats_;
@@ -188,14 +190,14 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
 
 }  // namespace
 
-Trajectory simulate(const Model& m, const RunSpec& spec) {
+Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
   checkRunSpec(spec);
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   const long per_output = spec.fixedStep() ? stepsPerOutput(spec.output_dt, spec.dt) : 1;
   Dynamics dyn(m, spec.method, spec.options);  // throws for another engine's method
   Trajectory tr = makeTrajectory(m, spec);
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0());
-  Run run(dyn, spec, tr);
+  Run run(dyn, spec, tr, observe);
   run.sample(0.0, y.data());
   tr.sample_time_s = 0;
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts

@@ -27,6 +27,6 @@ bool rk4Step(F&& f, double t, double h, double* y, int n, double* k1, double* k2
 /// integrator). Never throws on a numerical failure: the trajectory carries
 /// status, time and cause. Throws SettingError or std::invalid_argument for
 /// settings that cannot be run.
-Trajectory simulate(const Model& m, const RunSpec& spec);
+Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& observe = {});
 
 }  // namespace em

@@ -2,6 +2,7 @@
 /// What one run is (RunSpec: engine and method, integrator and its step or
 /// tolerance, output grid, thresholds), carried by the trajectory it makes,
 /// and the checks every engine shares (settings, the output grid).
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -54,6 +55,10 @@ void checkRunSpec(const RunSpec& s);
 /// Number of output intervals: t_end / output_dt, a whole number within
 /// round-off. Throws SettingError otherwise.
 long outputIntervals(double t_end, double output_dt);
+
+/// Told the time of every output sample as a run records it (progress
+/// display); may be empty. Its cost counts as sampling, not integration.
+using SampleObserver = std::function<void(double t)>;
 
 /// Fixed steps per output interval: output_dt / dt, whole within round-off.
 long stepsPerOutput(double output_dt, double dt);

@@ -63,6 +63,22 @@ TEST_CASE("a malformed scene is one line on stderr and exit status 2", "[cli][sc
   CHECK(r.out == "eigenmass: error: " + bad + ": bodies[1].joint.axis: zero axis\n");
 }
 
+TEST_CASE("a run over 2 s shows its progress on stderr when asked and only then", "[cli][progress]") {
+  // 400 s of pendulum5 at rk4 dt 1e-3 take ~3 s of CPU here: past the 2 s
+  // after which progress shows. stderr is a pipe here, not a terminal.
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_progress.csv";
+  const std::string run = "simulate " + scene("pendulum5.json") + " --t-end 400 --out " + out;
+  const Run asked = eigenmass(run + " --progress", true);
+  CHECK(asked.status == 0);
+  CHECK(asked.out.find("pendulum5 classical/rk4: t = ") != std::string::npos);
+  CHECK(asked.out.find(" / 400 s, elapsed ") != std::string::npos);
+  CHECK(asked.out.find(", ETA ") != std::string::npos);
+  const Run quiet = eigenmass(run, true);
+  CHECK(quiet.status == 0);
+  CHECK(quiet.out.find("ETA") == std::string::npos);
+  CHECK(eigenmass(run + " --progress --no-progress", true).status == 2);
+}
+
 TEST_CASE("simulate writes the CSV it names and reports the energy drift", "[cli]") {
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_sim/chain02.csv";
   std::filesystem::remove_all(std::string(EM_BINARY_DIR) + "/cli_sim");
