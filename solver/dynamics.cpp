@@ -80,7 +80,7 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
     return Status::failure(t, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
   if (f_->correctsAfterStep()) {  // the correction needs A at the accepted state
     formKinematics(model_, y, y + nq, ws_);
-    formK(model_, ws_);
+    formSubtrees(model_, ws_);
     formA(model_, ws_);
   }
   return f_->afterStep(t, ws_, y + offsetExtra(), info);

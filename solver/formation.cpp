@@ -23,7 +23,9 @@ void applyTXTt(const Model& m, Eigen::MatrixXd& X) {
 
 Workspace::Workspace(const Model& m) {
   const int n = m.n(), nu = m.nu;
-  for (auto* v : {&omega, &b, &d, &o, &r, &v, &s, &e, &h, &F}) v->assign(n, Vec3::Zero());
+  for (auto* v : {&omega, &b, &d, &o, &r, &v, &s, &e, &h, &F, &S, &z, &y}) v->assign(n, Vec3::Zero());
+  Kd.assign(n, Mat3::Zero());
+  IC.assign(n, Mat3::Zero());
   R.assign(n, Mat3::Identity());
   J_w.assign(n, Mat3::Zero());
   mu.assign(n, 0.0);
@@ -88,24 +90,34 @@ double potentialEnergy(const Model& m, const double* q, const Workspace& ws) {
   return V;
 }
 
-void formK(const Model& m, Workspace& ws) {
-  // Subtree masses and s_k bottom-up (regular numbering: children after parents).
+void formSubtrees(const Model& m, Workspace& ws) {
+  // Bottom-up (regular numbering: children after parents), docs/theory.md §4.
   for (int k = m.n() - 1; k >= 0; --k) {
     const Body& B = m.bodies[k];
     ws.mu[k] = B.mass;
     ws.s[k] = B.mass * ws.b[k];
+    // K_kk: the augmented body k's inertia about joint k.
+    ws.Kd[k] = ws.J_w[k] + B.mass * kernel(ws.b[k], ws.b[k]);
+    ws.S[k] = ws.s[k];
+    ws.IC[k] = ws.Kd[k];
     for (int c : B.children) {
+      const Vec3& d = ws.d[c];
       ws.mu[k] += ws.mu[c];
-      ws.s[k] += ws.mu[c] * ws.d[c];
+      ws.s[k] += ws.mu[c] * d;
+      const Mat3 dd = ws.mu[c] * kernel(d, d);
+      ws.Kd[k] += dd;
+      // S_c and I_c moved from joint c to joint k (parallel axes, d = o_c - o_k).
+      ws.IC[k] += ws.IC[c] + dd + kernel(d, ws.S[c]) + kernel(ws.S[c], d);
+      ws.S[k] += ws.S[c] + ws.mu[c] * d;
     }
   }
+}
+
+void formK(const Model& m, Workspace& ws) {
   ws.K.setZero();
   for (int k = 0; k < m.n(); ++k) {
     const Body& B = m.bodies[k];
-    // Diagonal: the augmented body k's inertia about joint k (docs/theory.md §4).
-    Mat3 Kkk = ws.J_w[k] + B.mass * kernel(ws.b[k], ws.b[k]);
-    for (int c : B.children) Kkk += ws.mu[c] * kernel(ws.d[c], ws.d[c]);
-    ws.K.block<3, 3>(3 * k, 3 * k) = Kkk;
+    ws.K.block<3, 3>(3 * k, 3 * k) = ws.Kd[k];
     // Off-diagonal with every strict ancestor j: l_ji = d_c for all i in subtree(k).
     for (int c = k, j = B.parent; j >= 0; c = j, j = m.bodies[j].parent) {
       const Mat3 Kjk = kernel(ws.d[c], ws.s[k]);
@@ -159,9 +171,49 @@ void projectBlocks(const Model& m, const Eigen::MatrixXd& X, const Eigen::Matrix
 }  // namespace
 
 void formA(const Model& m, Workspace& ws) {
+  // Column b (of body k) against every row a of k and of its ancestors j:
+  // A_ab = p_a . (I_k p_b + r_jk x (p_b x S_k)), r_jk = o_k - o_j (docs/theory.md §4).
+  // The lever r_jk is formed from the joint points, so j = k is free of cancellation.
+  for (const Body& Bk : m.bodies) {
+    const int k = &Bk - m.bodies.data();
+    for (int b = Bk.iu; b < Bk.iu + Bk.nu(); ++b) {
+      const Vec3 p_b = ws.P.col(b);
+      const Vec3 f = ws.IC[k] * p_b, c = p_b.cross(ws.S[k]);
+      for (int j = k; j >= 0; j = m.bodies[j].parent) {
+        const Vec3 w = f + (ws.o[k] - ws.o[j]).cross(c);
+        const Body& Bj = m.bodies[j];
+        for (int a = Bj.iu; a < Bj.iu + Bj.nu(); ++a) ws.A(a, b) = ws.A(b, a) = ws.P.col(a).dot(w);
+      }
+    }
+  }
+}
+
+void formKT(const Model& m, Workspace& ws) {
   ws.KT = ws.K;
   applyTXTt(m, ws.KT);
-  projectBlocks(m, ws.KT, ws.P, ws.P, ws.A);
+}
+
+Eigen::MatrixXd denseA(const Model& m, const Workspace& ws) {
+  Eigen::MatrixXd A(m.nu, m.nu);
+  projectBlocks(m, ws.KT, ws.P, ws.P, A);
+  return A;
+}
+
+void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::VectorXd& Kx) {
+  // (K x)_j = K_jj x_j + sum_children d_c x z_c + s_j x y_j, with
+  // z_k = sum over subtree(k) of x_i x s_i and y_j = y_p + x_p x d_j (docs/theory.md §5).
+  const int n = m.n();
+  for (int k = n - 1; k >= 0; --k) {
+    ws.z[k] = x.segment<3>(3 * k).cross(ws.s[k]);
+    for (int c : m.bodies[k].children) ws.z[k] += ws.z[c];
+  }
+  for (int j = 0; j < n; ++j) {
+    const int p = m.bodies[j].parent;
+    ws.y[j] = p < 0 ? Vec3::Zero() : Vec3(ws.y[p] + x.segment<3>(3 * p).cross(ws.d[j]));
+    Vec3 out = ws.Kd[j] * x.segment<3>(3 * j) + ws.s[j].cross(ws.y[j]);
+    for (int c : m.bodies[j].children) out += ws.d[c].cross(ws.z[c]);
+    Kx.segment<3>(3 * j) = out;
+  }
 }
 
 void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
@@ -189,7 +241,7 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
   }
   // psi = K phi + M', M'_j = w_j x J_j w_j + sum_i T_ji m_i l_ji x (h_i - g)
   // (barycentric: l_ji is d_c for every i below child c).
-  ws.psi.noalias() = ws.K * ws.phi;
+  multiplyK(m, ws.phi, ws, ws.psi);
   for (int j = 0; j < n; ++j) {
     const Body& Bj = m.bodies[j];
     const Vec3& w = ws.omega[j];
@@ -254,10 +306,13 @@ void formAdot(const Model& m, Workspace& ws) {
 
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot) {
   formKinematics(m, q, u, ws);
-  formK(m, ws);
+  formSubtrees(m, ws);
   formA(m, ws);
   formB(m, q, u, ws);
-  if (with_Adot) formAdot(m, ws);
+  if (!with_Adot) return;
+  formK(m, ws);  // A' is formed from the dense K' and K_T (docs/theory.md §6)
+  formKT(m, ws);
+  formAdot(m, ws);
 }
 
 void formQdot(const Model& m, const double* q, const double* u, double* qdot) {

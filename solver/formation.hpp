@@ -24,6 +24,10 @@ struct Workspace {
   std::vector<Vec3> v;      ///< velocity of CM i
   std::vector<Vec3> s;      ///< s_k = sum over subtree(k) of m_i l_ki
   std::vector<double> mu;   ///< mu_k: mass of subtree(k)
+  std::vector<Mat3> Kd;     ///< K_kk: the diagonal blocks of K
+  std::vector<Vec3> S;      ///< S_k = sum over subtree(k) of m_i (r_i - o_k): first moment about joint k
+  std::vector<Mat3> IC;     ///< I_k: inertia of subtree(k) about joint point k (composite)
+  std::vector<Vec3> z, y;   ///< O(n) K phi: z_k = sum over subtree(k) of phi_i x s_i; y_k over ancestors
   std::vector<Vec3> e;      ///< e_i: velocity-product part of joint point i's acceleration
   std::vector<Vec3> h;      ///< h_i: velocity-product part of CM i's acceleration
   std::vector<Vec3> F;      ///< F_k = sum over subtree(k) of m_i (h_i - g)
@@ -43,19 +47,34 @@ struct Workspace {
 
 /// Orientations, axes, positions, velocities, energies at (q, u).  // q: (nq), u: (nu)
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws);
-/// K by the barycentric O(n^2) form (needs formKinematics).  // -> ws.K (3n x 3n)
+/// Subtree masses mu, barycentric s, K's diagonal blocks Kd, first moments S
+/// and composite inertias I_k, all O(n) bottom-up (needs formKinematics).
+void formSubtrees(const Model& m, Workspace& ws);
+/// K by the barycentric O(n^2) form (needs formSubtrees).  // -> ws.K (3n x 3n)
 void formK(const Model& m, Workspace& ws);
 /// K by the naive triple sum over i, j, k: the test oracle.  // (3n x 3n)
 Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws);
-/// A = (P^T T) K (P^T T)^T (paper eq. (2); needs formK).  // -> ws.KT, ws.A
+/// A = (P^T T) K (P^T T)^T (paper eq. (2)) in O(n * depth) from the subtree
+/// sums: A_ab = (p_a, o_j x p_a) . (I_k p_b + o_k x c_b, c_b), c_b = p_b x S_k,
+/// for a of body j, b of body k, j = k or an ancestor (docs/theory.md §4;
+/// needs formSubtrees).  // -> ws.A (nu x nu)
 void formA(const Model& m, Workspace& ws);
-/// B = -(P^T T)[K T^T f + M'] + Q (paper eq. (18); needs formK).  // -> ws.B (nu)
+/// K_T = T K T^T by subtree sweeps (needs formK).  // -> ws.KT (3n x 3n)
+void formKT(const Model& m, Workspace& ws);
+/// A = P^T K_T P block by block, the dense form of eq. (2): the test oracle of
+/// formA (needs formKT).  // (nu x nu)
+Eigen::MatrixXd denseA(const Model& m, const Workspace& ws);
+/// B = -(P^T T)[K T^T f + M'] + Q (paper eq. (18)), K phi by multiplyK
+/// (needs formSubtrees).  // -> ws.B (nu)
 void formB(const Model& m, const double* q, const double* u, Workspace& ws);
+/// Kx = K x in O(n) from K's barycentric blocks, without K (needs
+/// formSubtrees; uses ws.z, ws.y as scratch).  // x, Kx: (3n)
+void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::VectorXd& Kx);
 /// Q += generalized spring-damper forces -k (q - q_rest) - c u.  // Q: (nu)
 void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q);
 /// Power dissipated by the dampers, sum over coordinates of c u^2 >= 0 (dW_diss/dt).  // u: (nu)
 double dissipationRate(const Model& m, const double* u);
-/// A' (docs/theory.md §6; needs formA).  // -> ws.Adot (nu x nu)
+/// A' (docs/theory.md §6; needs formKT).  // -> ws.Adot (nu x nu)
 void formAdot(const Model& m, Workspace& ws);
 /// All of the above in order; A' only when asked.
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws,

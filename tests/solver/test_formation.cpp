@@ -128,9 +128,34 @@ TEST_CASE("planar double pendulum of point masses matches the textbook equations
 
 TEST_CASE("barycentric K equals the naive triple sum", "[identity][formation]") {
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    const Workspace ws = formAt(m, q, u);
+    const Workspace ws = formAt(m, q, u, true);  // K is formed for A' only
     const Eigen::MatrixXd Kn = naiveK(m, ws);
     CHECK((ws.K - Kn).cwiseAbs().maxCoeff() <= kRoundoff * Kn.cwiseAbs().maxCoeff());
+  });
+}
+
+TEST_CASE("A from subtree sums equals the dense PT T K TT P of eq. 2", "[identity][formation]") {
+  // Two evaluations of eq. (2): O(n depth) 3-vector products against the
+  // dense T K T^T sweeps and 3x3 block projections; both sum O(n) terms.
+  forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    const Workspace ws = formAt(m, q, u, true);
+    const Eigen::MatrixXd dense = denseA(m, ws);
+    CHECK((ws.A - dense).cwiseAbs().maxCoeff() <= kRoundoff * dense.cwiseAbs().maxCoeff());
+    CHECK(ws.A == ws.A.transpose());  // filled symmetrically, exactly
+  });
+}
+
+TEST_CASE("the O(n) product K x equals the dense one", "[identity][formation]") {
+  // B's K phi without K (docs/theory.md §5), for any x: here a random one.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss;
+  forEachState([&](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    Workspace ws = formAt(m, q, u, true);
+    const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(3 * m.n(), [&] { return gauss(rng); });
+    Eigen::VectorXd Kx(3 * m.n());
+    multiplyK(m, x, ws, Kx);
+    const Eigen::VectorXd dense = ws.K * x;
+    CHECK((Kx - dense).cwiseAbs().maxCoeff() <= kRoundoff * ws.K.cwiseAbs().maxCoeff() * x.cwiseAbs().maxCoeff());
   });
 }
 
