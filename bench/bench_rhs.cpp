@@ -1,26 +1,40 @@
 // Timing of one right-hand-side evaluation per method against Simbody's
-// realize(Acceleration), for chains of n links, measured in the same run.
-// Times are the minimum over batches (robust to a shared, noisy machine);
-// compare them only as ratios within one run. Output: docs/performance.md.
+// realize(Acceleration) and MuJoCo's mj_forward, for chains of n links,
+// measured in the same run; and the machine's matrix-multiply rate, against
+// which the eigen method's N^3 part is judged. Each time is the median (with
+// min and max) over batches; compare them only as ratios within one run.
+// Output: the table of docs/performance.md, and with --out a JSON file.
+#include <algorithm>
 #include <chrono>
-
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "compare/provenance.hpp"
+#include "compare/report.hpp"
 #include "io/scene.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
+#include "solver/eigenfactor.hpp"
+#ifdef EM_HAVE_MUJOCO
+#include "bench/mujoco_peer.hpp"
+#endif
 
 using namespace em;
 
 namespace {
 
-// Seconds per call: the fastest of `batches` batches of about 50 ms each.
-double secondsPerCall(const std::function<void()>& f, int batches = 7) {
+// Seconds per call over `batches` batches of about 50 ms each.
+struct Timing {
+  double median = 0, min = 0, max = 0;
+};
+
+Timing secondsPerCall(const std::function<void()>& f, int batches = 7) {
   using clock = std::chrono::steady_clock;
   f();
   long reps = 1;
@@ -30,13 +44,14 @@ double secondsPerCall(const std::function<void()>& f, int batches = 7) {
     if (std::chrono::duration<double>(clock::now() - t0).count() > 0.05) break;
     reps *= 2;
   }
-  double best = 1e300;
-  for (int b = 0; b < batches; ++b) {
+  std::vector<double> t(batches);
+  for (double& tb : t) {
     const auto t0 = clock::now();
     for (long i = 0; i < reps; ++i) f();
-    best = std::min(best, std::chrono::duration<double>(clock::now() - t0).count() / reps);
+    tb = std::chrono::duration<double>(clock::now() - t0).count() / reps;
   }
-  return best;
+  std::sort(t.begin(), t.end());
+  return {t[batches / 2], t.front(), t.back()};
 }
 
 // The chain of n links as the data files define it (tools/make_scenes.py):
@@ -55,17 +70,30 @@ Model chain(int n) {
   throw std::runtime_error(std::string(name) + ": no such chain in data/scenes or data/bench (tools/make_scenes.py)");
 }
 
-int run(const std::vector<int>& sizes);
+// One chain's timings (seconds per call) and the MuJoCo agreement check.
+struct Row {
+  int n = 0, N = 0;
+  Timing classical, eigen, eigen_n3, jacobi, simbody, mujoco, gemm;
+  bool has_mujoco = false;
+  double mujoco_A_err = 0, mujoco_B_err = 0;  ///< max |diff| / max |in-house| at the initial state
+};
+
+Row measure(int n);
+void printTable(const std::vector<Row>& rows);
+nlohmann::json toJson(const std::vector<Row>& rows);
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  setCommandLine(argc, argv);
   std::vector<int> sizes = {5, 10, 20, 50, 100};
-  CLI::App app{"Times one right-hand-side evaluation per method against Simbody's realize(Acceleration)",
+  std::string out;
+  CLI::App app{"Times one right-hand-side evaluation per method against Simbody's realize(Acceleration) and MuJoCo's mj_forward",
                "eigenmass_bench"};
   app.add_option("sizes", sizes, "Chain lengths n (data/scenes/chainNN.json or data/bench/)")
       ->check(CLI::Range(1, 999))
       ->capture_default_str();
+  app.add_option("--out", out, "Also write the timings as JSON (machine, median/min/max per method and n)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -74,7 +102,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return run(sizes);
+    std::vector<Row> rows;
+    for (int n : sizes) {
+      rows.push_back(measure(n));
+      if (rows.back().has_mujoco && std::max(rows.back().mujoco_A_err, rows.back().mujoco_B_err) > 1e-12) {
+        std::fprintf(stderr, "eigenmass_bench: MuJoCo's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)\n",
+                     n, rows.back().mujoco_A_err, rows.back().mujoco_B_err);
+        return 1;
+      }
+    }
+    printTable(rows);
+    if (!out.empty()) writeJsonAtomic(toJson(rows), out);
+    return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "eigenmass_bench: error: %s\n", e.what());
     return 2;
@@ -82,28 +121,110 @@ int main(int argc, char** argv) {
 }
 
 namespace {
-int run(const std::vector<int>& sizes) {
-  std::printf("| n links | N = nu | classical rhs (us) | eigen rhs (us) | jacobi step (us) | Simbody realize (us) | classical / Simbody | eigen / classical |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  for (int n : sizes) {
-    const Model m = chain(n);
-    Dynamics classical(m, Method::Classical), eigen(m, Method::Eigen), jacobi(m, Method::EigenJacobi);
-    Eigen::VectorXd yc = classical.initialState(m.q0(), m.u0()), dc(yc.size());
-    Eigen::VectorXd ye = eigen.initialState(m.q0(), m.u0()), de(ye.size());
-    Eigen::VectorXd yj = ye;
-    const double t_classical = secondsPerCall([&] { classical.rhs(0, yc.data(), dc.data()); });
-    const double t_eigen = secondsPerCall([&] { eigen.rhs(0, ye.data(), de.data()); });
-    // The correction after a step: forming A and the Jacobi sweeps from an exact basis.
-    StepInfo step;
-    const double t_jacobi = secondsPerCall([&] { yj = ye; jacobi.afterStep(0, yj.data(), step); });
-    SimbodyReference ref(m);
-    const Eigen::VectorXd q = m.q0(), u = m.u0();
-    // setState invalidates the Position stage, so each call realizes from scratch.
-    const double t_simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
-    std::printf("| %d | %d | %.2f | %.2f | %.2f | %.2f | %.1f | %.2f |\n", n, m.nu, 1e6 * t_classical, 1e6 * t_eigen,
-                1e6 * t_jacobi, 1e6 * t_simbody, t_classical / t_simbody, t_eigen / t_classical);
-    std::fflush(stdout);
-  }
-  return 0;
+
+double relDiff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }
+
+void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
+#ifdef EM_HAVE_MUJOCO
+  MujocoPeer mj(m);
+  mj.setState(m.q0(), m.u0());
+  mj.forward();
+  r.has_mujoco = true;
+  r.mujoco_A_err = relDiff(mj.massMatrix(), ws.A);
+  r.mujoco_B_err = relDiff(mj.rhs(), ws.B);
+  r.mujoco = secondsPerCall([&] { mj.forward(); });
+#else
+  (void)m, (void)ws, (void)r;
+#endif
+}
+
+// The eigen method's N^3 part alone (eigenRates: A'C^T, G = C A'C^T, C' = -Omega C).
+Timing eigenN3(const Model& m, Dynamics& eigen, const Eigen::VectorXd& y) {
+  const int N = m.nu;
+  Workspace ws(m);
+  formEquations(m, y.data(), y.data() + m.nq, ws, true);
+  Eigen::Map<const RowMatrix> C(y.data() + eigen.offsetC(), N, N);
+  Eigen::Map<const Eigen::VectorXd> lambda(y.data() + eigen.offsetLambda(), N);
+  Eigen::MatrixXd Omega(N, N), AdotCt(N, N);
+  Eigen::VectorXd lambda_dot(N);
+  RowMatrix Cdot(N, N);
+  return secondsPerCall([&] { eigenRates(C, lambda, ws.Adot, 0.0, Omega, AdotCt, lambda_dot, Cdot); });
+}
+
+Row measure(int n) {
+  const Model m = chain(n);
+  Row r;
+  r.n = n;
+  r.N = m.nu;
+  Dynamics classical(m, Method::Classical), eigen(m, Method::Eigen), jacobi(m, Method::EigenJacobi);
+  Eigen::VectorXd yc = classical.initialState(m.q0(), m.u0()), dc(yc.size());
+  Eigen::VectorXd ye = eigen.initialState(m.q0(), m.u0()), de(ye.size());
+  Eigen::VectorXd yj = ye;
+  r.classical = secondsPerCall([&] { classical.rhs(0, yc.data(), dc.data()); });
+  r.eigen = secondsPerCall([&] { eigen.rhs(0, ye.data(), de.data()); });
+  r.eigen_n3 = eigenN3(m, eigen, ye);
+  // The correction after a step: forming A and the Jacobi sweeps from an exact basis.
+  StepInfo step;
+  r.jacobi = secondsPerCall([&] { yj = ye; jacobi.afterStep(0, yj.data(), step); });
+  SimbodyReference ref(m);
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  // setState invalidates the Position stage, so each call realizes from scratch.
+  r.simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
+  classical.rhs(0, yc.data(), dc.data());
+  measureMujoco(m, classical.workspace(), r);
+  const Eigen::MatrixXd X = Eigen::MatrixXd::Random(r.N, r.N), Y = Eigen::MatrixXd::Random(r.N, r.N);
+  Eigen::MatrixXd Z(r.N, r.N);
+  r.gemm = secondsPerCall([&] { Z.noalias() = X * Y; });
+  return r;
+}
+
+// Flops of the eigen N^3 part as written (docs/performance.md): A'C^T 2N^3,
+// the upper half of G N^3, Omega C 2N^3.
+double eigenN3Flops(int N) { return 5.0 * N * N * N; }
+double gemmFlops(int N) { return 2.0 * N * N * N; }
+
+void printTable(const std::vector<Row>& rows) {
+  std::printf("Median of 7 batches, microseconds per call. mj = MuJoCo mj_forward; SB = Simbody realize(Acceleration);\n"
+              "N3 / GEMM = the eigen N^3 part's flop rate over the machine's N x N matrix multiply.\n\n");
+  std::printf("| n | N | classical | eigen | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
+              " | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const Row& r : rows) {
+    const double us = 1e6;
+    const double rate_n3 = eigenN3Flops(r.N) / r.eigen_n3.median, rate_gemm = gemmFlops(r.N) / r.gemm.median;
+    char mj[32] = "-", ratio_mj[32] = "-";
+    if (r.has_mujoco) {
+      std::snprintf(mj, sizeof mj, "%.2f", us * r.mujoco.median);
+      std::snprintf(ratio_mj, sizeof ratio_mj, "%.2f", r.classical.median / r.mujoco.median);
+    }
+    std::printf("| %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
+                us * r.classical.median, us * r.eigen.median, us * r.eigen_n3.median, us * r.jacobi.median,
+                us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm,
+                1e-9 * rate_gemm);
+  }
+  for (const Row& r : rows)
+    if (r.has_mujoco)
+      std::printf("%schain %d: MuJoCo vs in-house at the initial state, A %.1e, B %.1e (max |diff| / max |in-house|)",
+                  &r == &rows.front() ? "\n" : "; ", r.n, r.mujoco_A_err, r.mujoco_B_err);
+  std::printf("%s", rows.front().has_mujoco ? "\n" : "\nMuJoCo: not built in (CMake did not find libmujoco-dev)\n");
+}
+
+nlohmann::json timingJson(const char* name, int n, const Timing& t) {
+  return {{"name", name}, {"n", n}, {"median_us", 1e6 * t.median}, {"min_us", 1e6 * t.min}, {"max_us", 1e6 * t.max}};
+}
+
+nlohmann::json toJson(const std::vector<Row>& rows) {
+  nlohmann::json results = nlohmann::json::array();
+  for (const Row& r : rows) {
+    for (auto [name, t] : {std::pair<const char*, const Timing*>{"classical", &r.classical}, {"eigen", &r.eigen},
+                           {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"simbody", &r.simbody},
+                           {"gemm", &r.gemm}})
+      results.push_back(timingJson(name, r.n, *t));
+    if (r.has_mujoco) results.push_back(timingJson("mujoco", r.n, r.mujoco));
+  }
+  return {{"machine", provenance()}, {"results", results}};
+}
+
 }  // namespace

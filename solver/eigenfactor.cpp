@@ -78,7 +78,9 @@ RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<con
   RateStatus st;
   const int N = static_cast<int>(lambda.size());
   AdotCt.noalias() = Adot * C.transpose();
-  Omega.noalias() = C * AdotCt;  // G = C A' C^T, overwritten by Omega below
+  // G = C A' C^T is symmetric: only its upper half (and diagonal) is formed
+  // and read, half of the product's flops. Overwritten by Omega below.
+  Omega.triangularView<Eigen::Upper>() = C * AdotCt;
   lambda_dot = Omega.diagonal();
   for (int i = 0; i < N; ++i) {
     Omega(i, i) = 0;

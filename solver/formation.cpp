@@ -174,18 +174,20 @@ void formA(const Model& m, Workspace& ws) {
   // Column b (of body k) against every row a of k and of its ancestors j:
   // A_ab = p_a . (I_k p_b + r_jk x (p_b x S_k)), r_jk = o_k - o_j (docs/theory.md §4).
   // The lever r_jk is formed from the joint points, so j = k is free of cancellation.
-  for (const Body& Bk : m.bodies) {
-    const int k = &Bk - m.bodies.data();
-    for (int b = Bk.iu; b < Bk.iu + Bk.nu(); ++b) {
+  // Rows a <= b only, written down column b (contiguous); then mirrored.
+  const int N = m.nu;
+  for (int k = 0; k < m.n(); ++k) {
+    for (int b = m.body_iu[k]; b < m.body_iu[k] + m.body_nu[k]; ++b) {
       const Vec3 p_b = ws.P.col(b);
       const Vec3 f = ws.IC[k] * p_b, c = p_b.cross(ws.S[k]);
-      for (int j = k; j >= 0; j = m.bodies[j].parent) {
+      double* A_b = ws.A.data() + static_cast<size_t>(b) * N;  // column b
+      for (int j = k; j >= 0; j = m.body_parent[j]) {
         const Vec3 w = f + (ws.o[k] - ws.o[j]).cross(c);
-        const Body& Bj = m.bodies[j];
-        for (int a = Bj.iu; a < Bj.iu + Bj.nu(); ++a) ws.A(a, b) = ws.A(b, a) = ws.P.col(a).dot(w);
+        for (int a = m.body_iu[j]; a < m.body_iu[j] + m.body_nu[j]; ++a) A_b[a] = ws.P.col(a).dot(w);
       }
     }
   }
+  ws.A.triangularView<Eigen::StrictlyLower>() = ws.A.transpose();
 }
 
 void formKT(const Model& m, Workspace& ws) {

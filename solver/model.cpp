@@ -86,6 +86,9 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.has_springs = m.has_springs || b.joint.has_spring;
     m.has_dampers = m.has_dampers || (b.joint.has_spring && (b.joint.spring.c.array() != 0).any());
     if (b.parent >= 0) m.bodies[b.parent].children.push_back(i);
+    m.body_parent.push_back(b.parent);
+    m.body_iu.push_back(b.iu);
+    m.body_nu.push_back(b.nu());
   }
   int fq = 0, fu = 0;
   for (int f = 0; f < n; ++f) {

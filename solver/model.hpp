@@ -84,6 +84,9 @@ struct Model {
   bool has_gravity = false;
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map
+  /// Compact copies of bodies[i].parent, .iu and .nu() for the O(n depth)
+  /// loops of the formation (MuJoCo's body_parentid, body_dofadr, body_dofnum).  // (n) each
+  std::vector<int> body_parent, body_iu, body_nu;
 
   int n() const { return static_cast<int>(bodies.size()); }
   /// Initial state in internal order: q (nq), u (nu).
