@@ -23,9 +23,8 @@ void applyTXTt(const Model& m, Eigen::MatrixXd& X) {
 
 Workspace::Workspace(const Model& m) {
   const int n = m.n(), nu = m.nu;
-  for (auto* v : {&omega, &b, &d, &o, &r, &v, &s, &e, &h, &F, &S, &z, &y}) v->assign(n, Vec3::Zero());
-  Kd.assign(n, Mat3::Zero());
-  IC.assign(n, Mat3::Zero());
+  for (auto* v : {&omega, &b, &d, &o, &vo, &r, &v, &s, &e, &h, &F, &S, &z, &y, &L, &S_dot}) v->assign(n, Vec3::Zero());
+  for (auto* M : {&Kd, &IC, &JW, &D, &IC_dot}) M->assign(n, Mat3::Zero());
   R.assign(n, Mat3::Identity());
   J_w.assign(n, Mat3::Zero());
   mu.assign(n, 0.0);
@@ -68,6 +67,7 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
       ws.o[i] = ws.o[p] + ws.d[i];
       v_o = ws.v[p] - w_p.cross(ws.b[p]) + w_p.cross(ws.d[i]);  // v of joint point p, then to i
     }
+    ws.vo[i] = v_o;
     ws.r[i] = ws.o[i] + ws.b[i];
     ws.v[i] = v_o + ws.omega[i].cross(ws.b[i]);
     ws.kinetic += 0.5 * (B.mass * ws.v[i].squaredNorm() + ws.omega[i].dot(ws.J_w[i] * ws.omega[i]));
@@ -279,7 +279,7 @@ double dissipationRate(const Model& m, const double* u) {
   return P;
 }
 
-void formAdot(const Model& m, Workspace& ws) {
+Eigen::MatrixXd denseAdot(const Model& m, Workspace& ws) {
   // K': every block is built of vectors fixed in one body, so each vector x
   // fixed in body j has x' = w_j x x (docs/theory.md §6).
   ws.Kdot.setZero();
@@ -300,10 +300,58 @@ void formAdot(const Model& m, Workspace& ws) {
   ws.KTdot = ws.Kdot;
   applyTXTt(m, ws.KTdot);
   // A' = P'^T K_T P + P^T K_T' P + P^T K_T P'; the first is the transpose of the last.
-  projectBlocks(m, ws.KT, ws.P, ws.Pdot, ws.Adot);
+  Eigen::MatrixXd Adot(m.nu, m.nu);
+  projectBlocks(m, ws.KT, ws.P, ws.Pdot, Adot);
   for (int a = 0; a < m.nu; ++a)
-    for (int c = a; c < m.nu; ++c) ws.Adot(a, c) = ws.Adot(c, a) = ws.Adot(a, c) + ws.Adot(c, a);
-  projectBlocks(m, ws.KTdot, ws.P, ws.P, ws.Adot, true);
+    for (int c = a; c < m.nu; ++c) Adot(a, c) = Adot(c, a) = Adot(a, c) + Adot(c, a);
+  projectBlocks(m, ws.KTdot, ws.P, ws.P, Adot, true);
+  return Adot;
+}
+
+void formSubtreeRates(const Model& m, Workspace& ws) {
+  // Bottom-up like formSubtrees; docs/theory.md §6.
+  for (int k = m.n() - 1; k >= 0; --k) {
+    const Body& B = m.bodies[k];
+    const Vec3 mv = B.mass * ws.v[k];
+    const Mat3 W = skew(ws.omega[k]);
+    ws.L[k] = mv;
+    ws.JW[k] = W * ws.J_w[k] - ws.J_w[k] * W;  // J_k'
+    ws.D[k] = kernel(mv, ws.b[k]) + kernel(ws.b[k], mv);
+    for (int c : B.children) {
+      const Vec3& d = ws.d[c];
+      ws.L[k] += ws.L[c];
+      ws.JW[k] += ws.JW[c];
+      ws.D[k] += ws.D[c] + kernel(ws.L[c], d) + kernel(d, ws.L[c]);
+    }
+  }
+  for (int k = 0; k < m.n(); ++k) {
+    const Vec3& vo = ws.vo[k];
+    ws.S_dot[k] = ws.L[k] - ws.mu[k] * vo;
+    ws.IC_dot[k] = ws.JW[k] + ws.D[k] - kernel(vo, ws.S[k]) - kernel(ws.S[k], vo);
+  }
+}
+
+void formAdot(const Model& m, Workspace& ws) {
+  // The time derivative of formA's A_ab = p_a . w, w = I_k p_b + r_jk x c,
+  // c = p_b x S_k: A'_ab = p_a' . w + p_a . w', column by column as in formA.
+  const int N = m.nu;
+  for (int k = 0; k < m.n(); ++k) {
+    for (int b = m.body_iu[k]; b < m.body_iu[k] + m.body_nu[k]; ++b) {
+      const Vec3 p_b = ws.P.col(b), pd_b = ws.Pdot.col(b);
+      const Vec3 f = ws.IC[k] * p_b, c = p_b.cross(ws.S[k]);
+      const Vec3 f_dot = ws.IC_dot[k] * p_b + ws.IC[k] * pd_b;
+      const Vec3 c_dot = pd_b.cross(ws.S[k]) + p_b.cross(ws.S_dot[k]);
+      double* Ad_b = ws.Adot.data() + static_cast<size_t>(b) * N;  // column b
+      for (int j = k; j >= 0; j = m.body_parent[j]) {
+        const Vec3 r = ws.o[k] - ws.o[j], r_dot = ws.vo[k] - ws.vo[j];
+        const Vec3 w = f + r.cross(c);
+        const Vec3 w_dot = f_dot + r_dot.cross(c) + r.cross(c_dot);
+        for (int a = m.body_iu[j]; a < m.body_iu[j] + m.body_nu[j]; ++a)
+          Ad_b[a] = ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot);
+      }
+    }
+  }
+  ws.Adot.triangularView<Eigen::StrictlyLower>() = ws.Adot.transpose();
 }
 
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot) {
@@ -312,8 +360,7 @@ void formEquations(const Model& m, const double* q, const double* u, Workspace& 
   formA(m, ws);
   formB(m, q, u, ws);
   if (!with_Adot) return;
-  formK(m, ws);  // A' is formed from the dense K' and K_T (docs/theory.md §6)
-  formKT(m, ws);
+  formSubtreeRates(m, ws);
   formAdot(m, ws);
 }
 

@@ -20,6 +20,7 @@ struct Workspace {
   std::vector<Vec3> b;      ///< l_ii = -R_i c_i: joint point i -> CM i
   std::vector<Vec3> d;      ///< d_i = R_p (a_i - c_p): parent's joint point -> joint point i (0 for roots)
   std::vector<Vec3> o;      ///< position of joint point i
+  std::vector<Vec3> vo;     ///< velocity of joint point i
   std::vector<Vec3> r;      ///< position of CM i
   std::vector<Vec3> v;      ///< velocity of CM i
   std::vector<Vec3> s;      ///< s_k = sum over subtree(k) of m_i l_ki
@@ -28,6 +29,10 @@ struct Workspace {
   std::vector<Vec3> S;      ///< S_k = sum over subtree(k) of m_i (r_i - o_k): first moment about joint k
   std::vector<Mat3> IC;     ///< I_k: inertia of subtree(k) about joint point k (composite)
   std::vector<Vec3> z, y;   ///< O(n) K phi: z_k = sum over subtree(k) of phi_i x s_i; y_k over ancestors
+  std::vector<Vec3> L;      ///< L_k = sum over subtree(k) of m_i v_i (for A')
+  std::vector<Mat3> JW, D;  ///< sums over subtree(k) of J_i' and of m_i [k(v_i, rho_i) + k(rho_i, v_i)]
+  std::vector<Vec3> S_dot;  ///< S_k'
+  std::vector<Mat3> IC_dot; ///< I_k'
   std::vector<Vec3> e;      ///< e_i: velocity-product part of joint point i's acceleration
   std::vector<Vec3> h;      ///< h_i: velocity-product part of CM i's acceleration
   std::vector<Vec3> F;      ///< F_k = sum over subtree(k) of m_i (h_i - g)
@@ -74,8 +79,14 @@ void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::V
 void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q);
 /// Power dissipated by the dampers, sum over coordinates of c u^2 >= 0 (dW_diss/dt).  // u: (nu)
 double dissipationRate(const Model& m, const double* u);
-/// A' (docs/theory.md §6; needs formKT).  // -> ws.Adot (nu x nu)
+/// Subtree momenta L, S' and I' (needs formSubtrees), O(n).
+void formSubtreeRates(const Model& m, Workspace& ws);
+/// A' in O(n depth): formA's product rule (docs/theory.md §6; needs
+/// formSubtreeRates).  // -> ws.Adot (nu x nu)
 void formAdot(const Model& m, Workspace& ws);
+/// A' from the dense K' and K_T: the test oracle of formAdot (needs formKT;
+/// uses ws.Kdot, ws.KTdot).  // (nu x nu)
+Eigen::MatrixXd denseAdot(const Model& m, Workspace& ws);
 /// All of the above in order; A' only when asked.
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws,
                    bool with_Adot = false);

@@ -53,6 +53,14 @@ Workspace formAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd
   return ws;
 }
 
+// The same with the dense oracles' K and K_T formed too.
+Workspace formDenseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  Workspace ws = formAt(m, q, u, true);
+  formK(m, ws);
+  formKT(m, ws);
+  return ws;
+}
+
 template <class F>
 void forEachState(F&& f) {
   std::mt19937 rng(20261122);
@@ -128,7 +136,7 @@ TEST_CASE("planar double pendulum of point masses matches the textbook equations
 
 TEST_CASE("barycentric K equals the naive triple sum", "[identity][formation]") {
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    const Workspace ws = formAt(m, q, u, true);  // K is formed for A' only
+    const Workspace ws = formDenseAt(m, q, u);
     const Eigen::MatrixXd Kn = naiveK(m, ws);
     CHECK((ws.K - Kn).cwiseAbs().maxCoeff() <= kRoundoff * Kn.cwiseAbs().maxCoeff());
   });
@@ -138,10 +146,19 @@ TEST_CASE("A from subtree sums equals the dense PT T K TT P of eq. 2", "[identit
   // Two evaluations of eq. (2): O(n depth) 3-vector products against the
   // dense T K T^T sweeps and 3x3 block projections; both sum O(n) terms.
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    const Workspace ws = formAt(m, q, u, true);
+    const Workspace ws = formDenseAt(m, q, u);
     const Eigen::MatrixXd dense = denseA(m, ws);
     CHECK((ws.A - dense).cwiseAbs().maxCoeff() <= kRoundoff * dense.cwiseAbs().maxCoeff());
     CHECK(ws.A == ws.A.transpose());  // filled symmetrically, exactly
+  });
+}
+
+TEST_CASE("A' from subtree rates equals the dense one from K' and K_T", "[identity][formation]") {
+  forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    Workspace ws = formDenseAt(m, q, u);
+    const Eigen::MatrixXd dense = denseAdot(m, ws);
+    CHECK((ws.Adot - dense).cwiseAbs().maxCoeff() <= kRoundoff * std::max(dense.cwiseAbs().maxCoeff(), 1.0));
+    CHECK(ws.Adot == ws.Adot.transpose());
   });
 }
 
@@ -150,7 +167,7 @@ TEST_CASE("the O(n) product K x equals the dense one", "[identity][formation]") 
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
   forEachState([&](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    Workspace ws = formAt(m, q, u, true);
+    Workspace ws = formDenseAt(m, q, u);
     const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(3 * m.n(), [&] { return gauss(rng); });
     Eigen::VectorXd Kx(3 * m.n());
     multiplyK(m, x, ws, Kx);
