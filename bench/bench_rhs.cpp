@@ -80,7 +80,7 @@ struct Row {
 
 Row measure(int n);
 void printTable(const std::vector<Row>& rows);
-nlohmann::json toJson(const std::vector<Row>& rows);
+nlohmann::json toJson(const std::vector<Row>& rows, int threads);
 
 }  // namespace
 
@@ -94,6 +94,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 999))
       ->capture_default_str();
   app.add_option("--out", out, "Also write the timings as JSON (machine, median/min/max per method and n)");
+  int threads = 1;
+  app.add_option("--threads", threads, "Threads of Eigen's matrix products (a build with -DEM_OPENMP=ON)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -101,6 +105,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "eigenmass_bench: error: %s (see --help)\n", e.what());
     return 2;
   }
+#ifdef _OPENMP
+  Eigen::setNbThreads(threads);
+#else
+  if (threads != 1) {
+    std::fprintf(stderr, "eigenmass_bench: error: --threads: this build has no OpenMP (configure with -DEM_OPENMP=ON)\n");
+    return 2;
+  }
+#endif
   try {
     std::vector<Row> rows;
     for (int n : sizes) {
@@ -112,7 +124,7 @@ int main(int argc, char** argv) {
       }
     }
     printTable(rows);
-    if (!out.empty()) writeJsonAtomic(toJson(rows), out);
+    if (!out.empty()) writeJsonAtomic(toJson(rows, threads), out);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "eigenmass_bench: error: %s\n", e.what());
@@ -211,18 +223,20 @@ void printTable(const std::vector<Row>& rows) {
   std::printf("%s", rows.front().has_mujoco ? "\n" : "\nMuJoCo: not built in (CMake did not find libmujoco-dev)\n");
 }
 
-nlohmann::json timingJson(const char* name, int n, const Timing& t) {
-  return {{"name", name}, {"n", n}, {"median_us", 1e6 * t.median}, {"min_us", 1e6 * t.min}, {"max_us", 1e6 * t.max}};
+nlohmann::json timingJson(const char* name, int n, const Timing& t, int threads) {
+  nlohmann::json j = {{"name", name}, {"n", n}, {"median_us", 1e6 * t.median}, {"min_us", 1e6 * t.min}, {"max_us", 1e6 * t.max}};
+  if (threads != 1) j["threads"] = threads;  // Eigen's products only; Simbody and MuJoCo stay serial
+  return j;
 }
 
-nlohmann::json toJson(const std::vector<Row>& rows) {
+nlohmann::json toJson(const std::vector<Row>& rows, int threads) {
   nlohmann::json results = nlohmann::json::array();
   for (const Row& r : rows) {
     for (auto [name, t] : {std::pair<const char*, const Timing*>{"classical", &r.classical}, {"eigen", &r.eigen},
-                           {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"simbody", &r.simbody},
-                           {"gemm", &r.gemm}})
-      results.push_back(timingJson(name, r.n, *t));
-    if (r.has_mujoco) results.push_back(timingJson("mujoco", r.n, r.mujoco));
+                           {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"gemm", &r.gemm}})
+      results.push_back(timingJson(name, r.n, *t, threads));
+    results.push_back(timingJson("simbody", r.n, r.simbody, 1));
+    if (r.has_mujoco) results.push_back(timingJson("mujoco", r.n, r.mujoco, 1));
   }
   return {{"machine", provenance()}, {"results", results}};
 }
