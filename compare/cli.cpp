@@ -105,8 +105,9 @@ Grid GridArgs::asked(const CLI::App& cmd) const {
   return g;
 }
 
-void GridArgs::applyTo(RunSpec& spec) const {
-  if (allow_long_run) spec.options.max_steps = HUGE_VAL;
+void GridArgs::applyTo(MethodOptions& options) const {
+  if (allow_long_run) options.max_steps = HUGE_VAL;
+  options.block_gap_rel = block_gap;
 }
 
 void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help) {
@@ -114,6 +115,10 @@ void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_hel
   cmd->add_option("--output-dt", g.output_dt, output_dt_help + "; default: the scene's simulate.output_dt")
       ->check(positiveFinite());
   cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+  cmd->add_option("--block-gap", g.block_gap,
+                  "eigen-block: eigenvalues closer than this times the largest share a block (delta)")
+      ->check(CLI::Range(1e-12, 1.0))
+      ->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
   auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },

@@ -45,10 +45,13 @@ CLI::Validator positiveFinite();
 struct GridArgs {
   double t_end = 0, output_dt = 0;
   bool allow_long_run = false;
+  double block_gap = MethodOptions().block_gap_rel;  ///< eigen-block's delta
   /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
   Grid asked(const CLI::App& cmd) const;
-  /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps).
-  void applyTo(RunSpec& spec) const;
+  /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps);
+  /// --block-gap sets eigen-block's delta.
+  void applyTo(MethodOptions& options) const;
+  void applyTo(RunSpec& spec) const { applyTo(spec.options); }
 };
 /// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --progress, --no-progress.
 void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help);

@@ -24,8 +24,8 @@ int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
   const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;
   prepareOutput("--out", path, {a.scene});
   PrecisionOptions o = a.opt;
-  a.grid.applyTo(o.reference);
-  if (a.grid.allow_long_run) o.max_steps = HUGE_VAL;
+  a.grid.applyTo(o.reference.options);
+  a.grid.applyTo(o.options);
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
   o.integrator = parseIntegrator(a.integrator);

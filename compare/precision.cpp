@@ -15,7 +15,7 @@ RunSpec PrecisionOptions::specFor(Method method, double setting) const {
   s.integrator = info(method).engine == Engine::InHouse ? integrator : defaultIntegrator(info(method).engine);
   (s.fixedStep() ? s.dt : s.tol) = setting;
   s.diagnostics = false;  // only errors and cost are wanted here
-  s.options.max_steps = max_steps;
+  s.options = options;
   return s;
 }
 

@@ -18,7 +18,7 @@ struct PrecisionOptions {
   std::vector<double> settings = {1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4};
   RunSpec reference = referenceRun();  ///< Simbody rkmerson at 1e-10 by default
   Grid grid;                           ///< t_end and output_dt asked for (absent: the scene's)
-  double max_steps = MethodOptions().max_steps;  ///< step budget of every point
+  MethodOptions options;               ///< of every point (step budget, eigen-block's delta)
 
   /// The run of `method` at `setting` (dt or tolerance), on no grid yet.
   RunSpec specFor(Method method, double setting) const;

@@ -73,7 +73,9 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
                        {{"sweeps", m.eigen.jacobi_sweeps},
                         {"rotations", m.eigen.jacobi_rotations},
                         {"steps_with_at_most_one_sweep", m.eigen.jacobi_single_sweep_steps},
-                        {"max_sweeps_in_a_step", m.eigen.jacobi_max_sweeps}}}};
+                        {"max_sweeps_in_a_step", m.eigen.jacobi_max_sweeps}}},
+                      {"block_merges", m.eigen.block_merges},
+                      {"block_splits", m.eigen.block_splits}};
   return j;
 }
 

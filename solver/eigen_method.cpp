@@ -23,7 +23,7 @@ class Eigenfactor final : public Formulation {
   bool hasDiagnostics() const override { return true; }
 
   // C(0) = V^T with A = V diag(lambda) V^T (docs/theory.md §7).
-  void initialize(const Workspace& ws, double* x) const override {
+  void initialize(const Workspace& ws, double* x) override {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(ws.A);
     Eigen::Map<RowMatrix>(x, N_, N_) = es.eigenvectors().transpose();
     Eigen::Map<Eigen::VectorXd>(x + N_ * N_, N_) = es.eigenvalues();

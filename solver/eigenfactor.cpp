@@ -14,10 +14,6 @@ double offDiagonalNorm(const Eigen::Ref<const Eigen::MatrixXd>& D) {
   return std::sqrt(s);
 }
 
-namespace {
-
-// One plane rotation zeroing D(p,q) of the symmetric D: D <- J^T D J, C <- J^T C
-// with J = [[c, s], [-s, c]] in the (p,q) plane (Golub & Van Loan, Alg. 8.4.1).
 void rotate(Eigen::MatrixXd& D, Eigen::Ref<RowMatrix> C, int p, int q) {
   const double theta = (D(q, q) - D(p, p)) / (2.0 * D(p, q));
   const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
@@ -39,8 +35,6 @@ void rotate(Eigen::MatrixXd& D, Eigen::Ref<RowMatrix> C, int p, int q) {
     C(q, k) = s * cp + c * cq;
   }
 }
-
-}  // namespace
 
 JacobiStats jacobiCorrect(const Eigen::MatrixXd& A, Eigen::Ref<RowMatrix> C,
                           Eigen::Ref<Eigen::VectorXd> lambda, CorrectionScratch& w,

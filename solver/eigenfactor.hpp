@@ -42,6 +42,10 @@ struct CorrectionScratch {
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
 };
 
+/// One plane rotation zeroing D(p,q) of the symmetric D: D <- J^T D J, C <- J^T C
+/// with J = [[c, s], [-s, c]] in the (p,q) plane (Golub & Van Loan, Alg. 8.4.1).  // D, C: (N x N)
+void rotate(Eigen::MatrixXd& D, Eigen::Ref<RowMatrix> C, int p, int q);
+
 /// Cyclic Jacobi on D = C A C^T warm-started from C: rotate C <- R C until
 /// off(C A C^T) <= tol * ||A||_F, then lambda = diag(D).  // A, C: (N x N)
 JacobiStats jacobiCorrect(const Eigen::MatrixXd& A, Eigen::Ref<RowMatrix> C,

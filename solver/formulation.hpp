@@ -31,6 +31,7 @@ struct StepInfo {
   bool corrected = false;  ///< a correction ran (its Jacobi statistics below)
   JacobiStats jacobi;
   double min_gap = std::numeric_limits<double>::infinity();  ///< smallest eigenvalue gap after it
+  int merges = 0, splits = 0;  ///< eigen-block: clusters joined and broken up by this step's re-clustering
 };
 
 class Formulation {
@@ -41,7 +42,7 @@ class Formulation {
   /// Whether the evaluation needs A' formed (the eigenfactor rates do).
   virtual bool needsAdot() const { return false; }
   /// The extra state at t = 0 from the formed A.  // x: (extraSize)
-  virtual void initialize(const Workspace&, double* /*x*/) const {}
+  virtual void initialize(const Workspace&, double* /*x*/) {}
   /// u' and the extra state's rates from the formed A, B (and A').  // udot: (nu), xdot: (extraSize)
   virtual Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) = 0;
   /// Whether afterStep needs A formed at the accepted state.
@@ -57,5 +58,6 @@ class Formulation {
 /// The registry's factories (solver/classical.cpp, solver/eigen_method.cpp).
 std::unique_ptr<Formulation> makeClassical(const Model& m, const MethodInfo& row, const MethodOptions& opt);
 std::unique_ptr<Formulation> makeEigenfactor(const Model& m, const MethodInfo& row, const MethodOptions& opt);
+std::unique_ptr<Formulation> makeEigenBlock(const Model& m, const MethodInfo& row, const MethodOptions& opt);
 
 }  // namespace em

@@ -48,6 +48,8 @@ class Run {
       stats_.jacobi_single_sweep_steps += st.jacobi.sweeps <= 1;
       stats_.jacobi_max_sweeps = std::max(stats_.jacobi_max_sweeps, st.jacobi.sweeps);
     }
+    stats_.block_merges += st.merges;
+    stats_.block_splits += st.splits;
     if (!s) return fail(s);
     if (st.min_gap < stats_.min_gap) {
       stats_.min_gap = st.min_gap;
@@ -159,7 +161,7 @@ struct GslDeleter {
 };
 
 // Adaptive: GSL's evolve loop; the method's correction runs after every
-// accepted step, and the stepper is reset so it sees the corrected state.
+// accepted step, and stepper and evolve are reset so they see the corrected state.
 void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
   const int n = run.dynamics().size();
   std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(gslStepType(spec.integrator), n));
@@ -178,7 +180,13 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
         return;
       }
       if (!run.accept(t, y.data())) return;
-      if (corrects) gsl_odeiv2_step_reset(step.get());
+      // A corrected state is not the continuation of the step: the stepper and
+      // the evolve object (which reuses the last derivative as the next step's
+      // first stage) must both start afresh.
+      if (corrects) {
+        gsl_odeiv2_step_reset(step.get());
+        gsl_odeiv2_evolve_reset(evo.get());
+      }
       if (h < 1e-14 * std::max(1.0, t)) {
         run.fail(Status::failure(t, "step size underflow (h = " + gnum(h) + ")"));
         return;

@@ -16,6 +16,10 @@ const std::vector<MethodInfo>& methodTable() {
        "eigen plus a Jacobi re-diagonalization after every step (paper method c)"},
       {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi, true,
        makeEigenfactor, "eigen-jacobi that also re-orthonormalizes C (not in the paper)"},
+      {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, true, makeEigenBlock,
+       "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)"},
+      {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, true, makeEigenBlock,
+       "eigen-block plus the paper's Jacobi correction after every step"},
       {Method::Simbody, "simbody", Engine::Simbody, Correction::None, false, nullptr,
        "Simbody's own O(n) recursive dynamics: the independent engine"},
   };

@@ -17,7 +17,7 @@ class Formulation;
 enum class Engine { InHouse, Simbody };
 const char* engineName(Engine e);
 
-enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, Simbody };
+enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody };
 
 /// What an in-house method does to its extra state after every accepted step.
 enum class Correction { None, Jacobi, OrthonormalizeJacobi };

@@ -15,6 +15,9 @@ struct MethodOptions {
   double jacobi_tol = 1e-13;  ///< stop when off(C A C^T) <= tol ||A||_F
   int jacobi_max_sweeps = 50;
   double gap_floor_rel = 1e-12;  ///< fail when min |lambda_i - lambda_j| < floor * max lambda
+  /// eigen-block: eigenvalues closer than this times max lambda share a block (delta);
+  /// a block splits once its eigenvalues are 2 delta apart (docs/theory.md §8).
+  double block_gap_rel = 3e-2;
   double blowup_speed = 1e6;     ///< fail when max |u| exceeds this (rad/s): the run has blown up
   /// Fail when max/min squared Cholesky pivot, a lower bound on cond(A), exceeds
   /// 1/eps: u' then has no reliable digit (gimbal lock, extreme mass ratios).

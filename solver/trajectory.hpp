@@ -34,6 +34,7 @@ struct EigenStats {
   int jacobi_max_sweeps = 0;           ///< most sweeps in one step
   double max_abs_Omega = 0;            ///< over every right-hand-side evaluation
   double min_gap = 0, min_gap_time = 0;  ///< smallest eigenvalue gap over accepted steps, and when
+  long block_merges = 0, block_splits = 0;  ///< eigen-block: clusters joined and broken up
 };
 
 /// A sampled run. Coordinates, speeds and bodies in the source's order.

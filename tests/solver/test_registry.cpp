@@ -19,7 +19,7 @@ TEST_CASE("every method and integrator round-trips through its name - unknown na
   CHECK(methodNames().size() == methodTable().size());
   CHECK(integratorNames(Engine::InHouse).size() + integratorNames(Engine::Simbody).size() == integratorTable().size());
   CHECK_THROWS_WITH(parseMethod("newton"),
-                    "unknown method 'newton' (classical, eigen, eigen-jacobi, eigen-jacobi-orth, simbody)");
+                    "unknown method 'newton' (classical, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody)");
   CHECK_THROWS_WITH(parseIntegrator("euler"), Catch::Contains("unknown integrator 'euler'") && Catch::Contains("rk8pd"));
 }
 
@@ -33,9 +33,12 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
     }
     Dynamics dyn(m, row.id);
     INFO(row.name);
-    CHECK(dyn.correctsAfterStep() == (row.correction != Correction::None));
+    // eigen-block carries C and a full D, and re-clusters after every step whatever its correction.
+    const bool block = row.make == makeEigenBlock;
+    CHECK(dyn.correctsAfterStep() == (block || row.correction != Correction::None));
     CHECK(dyn.eigenfactor() == row.eigenfactor);
-    CHECK(dyn.size() == m.nq + m.nu + (row.eigenfactor ? m.nu * m.nu + m.nu : 0));
+    const int extra = block ? 2 * m.nu * m.nu : row.eigenfactor ? m.nu * m.nu + m.nu : 0;
+    CHECK(dyn.size() == m.nq + m.nu + extra);
   }
   for (Engine e : {Engine::InHouse, Engine::Simbody}) CHECK(info(defaultIntegrator(e)).engine == e);
   CHECK_THROWS_WITH(requireCompatible(Method::Simbody, Integrator::RK4), Catch::Contains("rk4") && Catch::Contains("simbody"));
