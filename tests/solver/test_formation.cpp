@@ -238,7 +238,9 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
   // chain50: N = 52, large enough for Eigen's blocked products and Cholesky.
   for (const char* scene : {"pendulum5.json", "tree_mixed.json", "chain10.json", "chain50.json"}) {
     const Model m = test::loadData(scene);
-    for (Method method : {Method::Classical, Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
+    for (const MethodInfo& row : methodTable()) {  // every in-house method of the registry
+      if (row.engine != Engine::InHouse) continue;
+      const Method method = row.id;
       Dynamics dyn(m, method);
       Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
       REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
