@@ -78,7 +78,7 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
   const double umax = Eigen::Map<const Eigen::VectorXd>(y + nq, N).cwiseAbs().maxCoeff();
   if (umax > opt_.blowup_speed)
     return Status::failure(t, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
-  if (f_->correctsAfterStep()) {  // the correction needs A at the accepted state
+  if (f_->needsAAfterStep()) {  // the correction needs A at the accepted state
     formKinematics(model_, y, y + nq, ws_);
     formSubtrees(model_, ws_);
     formA(model_, ws_);

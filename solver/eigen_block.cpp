@@ -55,6 +55,7 @@ class EigenBlock final : public Formulation {
   int extraSize() const override { return 2 * N_ * N_; }
   bool needsAdot() const override { return true; }
   bool correctsAfterStep() const override { return true; }  // re-clustering changes the state
+  bool needsAAfterStep() const override { return correction_ != Correction::None; }  // only Jacobi reads A
   bool hasDiagnostics() const override { return true; }
 
   void initialize(const Workspace& ws, double* x) override {

@@ -30,7 +30,7 @@ Workspace::Workspace(const Model& m) {
   mu.assign(n, 0.0);
   P = Eigen::Matrix3Xd::Zero(3, nu);
   Pdot = Eigen::Matrix3Xd::Zero(3, nu);
-  for (auto* X : {&K, &KT, &Kdot, &KTdot}) *X = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  // K, K_T, K', K_T' are the tests' dense oracles: sized by formK / denseAdot on first use.
   A = Eigen::MatrixXd::Zero(nu, nu);
   Adot = Eigen::MatrixXd::Zero(nu, nu);
   B = Eigen::VectorXd::Zero(nu);
@@ -114,7 +114,7 @@ void formSubtrees(const Model& m, Workspace& ws) {
 }
 
 void formK(const Model& m, Workspace& ws) {
-  ws.K.setZero();
+  ws.K.setZero(3 * m.n(), 3 * m.n());
   for (int k = 0; k < m.n(); ++k) {
     const Body& B = m.bodies[k];
     ws.K.block<3, 3>(3 * k, 3 * k) = ws.Kd[k];
@@ -282,7 +282,7 @@ double dissipationRate(const Model& m, const double* u) {
 Eigen::MatrixXd denseAdot(const Model& m, Workspace& ws) {
   // K': every block is built of vectors fixed in one body, so each vector x
   // fixed in body j has x' = w_j x x (docs/theory.md §6).
-  ws.Kdot.setZero();
+  ws.Kdot.setZero(3 * m.n(), 3 * m.n());
   for (int k = 0; k < m.n(); ++k) {
     const Mat3 W = skew(ws.omega[k]);
     const Mat3 Kkk = ws.K.block<3, 3>(3 * k, 3 * k);

@@ -45,10 +45,12 @@ class Formulation {
   virtual void initialize(const Workspace&, double* /*x*/) {}
   /// u' and the extra state's rates from the formed A, B (and A').  // udot: (nu), xdot: (extraSize)
   virtual Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) = 0;
-  /// Whether afterStep needs A formed at the accepted state.
+  /// Whether afterStep changes the state (the integrator must then restart).
   virtual bool correctsAfterStep() const { return false; }
+  /// Whether afterStep needs A formed at the accepted state.
+  virtual bool needsAAfterStep() const { return correctsAfterStep(); }
   /// After an accepted step: correct the extra state (ws holds A at that state
-  /// when correctsAfterStep()) and report what was done.
+  /// when needsAAfterStep()) and report what was done.
   virtual Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info);
   /// Drift of the extra state against a fresh factorization of ws.A.
   virtual bool hasDiagnostics() const { return false; }
