@@ -117,7 +117,7 @@ void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_hel
   cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
   cmd->add_option("--block-gap", g.block_gap,
                   "eigen-block: eigenvalues closer than this times the largest share a block (delta)")
-      ->check(CLI::Range(1e-12, 1.0))
+      ->check(positiveFinite() & CLI::Range(0.0, 1.0))
       ->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
