@@ -35,6 +35,13 @@ void validate(const std::vector<BodyDef>& defs) {
     if (b.parent < -1 || b.parent >= n) throw ModelError(f, "parent", "parent index out of range");
     if (b.parent == f) throw ModelError(f, "parent", "a body cannot be its own parent");
   }
+  // Coordinates are named "<prefix>.q0": the prefixes (a joint's name, else
+  // its body's) must be unique too, or two coordinates would share a name.
+  std::unordered_map<std::string, int> by_prefix;
+  for (int f = 0; f < n; ++f)
+    if (auto [it, fresh] = by_prefix.emplace(defs[f].joint.prefix(defs[f].name), f); !fresh)
+      throw ModelError(f, defs[f].joint.name.empty() ? "name" : "joint.name",
+                       "coordinates named '" + it->first + ".q*' twice (first at body " + std::to_string(it->second) + ")");
 }
 
 // §1: depth-first from the ground, children in source order, with an explicit
@@ -152,7 +159,7 @@ std::vector<std::string> coordNames(const Model& m, bool speeds) {
   std::vector<std::string> names(speeds ? m.nu : m.nq);
   for (const Body& b : m.bodies) {
     const int k = speeds ? b.nu() : b.nq(), at = speeds ? b.file_iu : b.file_iq;
-    for (int c = 0; c < k; ++c) names[at + c] = b.name + (speeds ? ".u" : ".q") + std::to_string(c);
+    for (int c = 0; c < k; ++c) names[at + c] = b.joint.prefix(b.name) + (speeds ? ".u" : ".q") + std::to_string(c);
   }
   return names;
 }
@@ -168,5 +175,22 @@ std::vector<int> Model::qFilePermutation() const { return filePermutation(*this,
 std::vector<int> Model::uFilePermutation() const { return filePermutation(*this, true); }
 std::vector<std::string> Model::qNames() const { return coordNames(*this, false); }
 std::vector<std::string> Model::uNames() const { return coordNames(*this, true); }
+
+void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), spd(-2.0, 2.0);
+  std::normal_distribution<double> gauss;
+  q.resize(m.nq);
+  u.resize(m.nu);
+  for (const Body& b : m.bodies) {
+    if (b.joint.type == JointType::Ball) {
+      Vec4 v(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
+      q.segment<4>(b.iq) = v.normalized();
+    } else {
+      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = ang(rng);
+      if (b.joint.type == JointType::Gimbal) q[b.iq + 1] *= 1.2 / M_PI;  // middle angle within +-72 deg
+    }
+    for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = spd(rng);
+  }
+}
 
 }  // namespace em

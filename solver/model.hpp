@@ -3,6 +3,7 @@
 /// structure matrix T), bodies, joints and the map back to the source's order
 /// (docs/theory.md §1–2). Built once by buildModel from bodies listed in any
 /// order; reading them from a file is a format's business (io/).
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct Joint {
   Eigen::VectorXd q0, u0;         ///< initial coordinates (nq) and speeds (nu)
   bool has_spring = false;
   Spring spring;
+  std::string name;               ///< optional (a URDF joint's): coordinates are then named after it, not the body
+  /// Prefix of this joint's coordinate names ("<prefix>.q0"): its name, else the body's.
+  const std::string& prefix(const std::string& body) const { return name.empty() ? body : name; }
 };
 
 /// A body as handed to buildModel, in its source's order.
@@ -98,7 +102,8 @@ struct Model {
   /// Permutation p with (source-order q)[k] = (internal q)[p[k]]; the same for u.
   std::vector<int> qFilePermutation() const;
   std::vector<int> uFilePermutation() const;
-  /// Names of coordinates and speeds in source order ("link1.q0", "link1.u0").
+  /// Names of coordinates and speeds in source order ("link1.q0", "link1.u0";
+  /// a named joint's name in place of the body's).
   std::vector<std::string> qNames() const;
   std::vector<std::string> uNames() const;
 };
@@ -106,7 +111,14 @@ struct Model {
 /// Validate the topology and renumber parents-first (docs/theory.md §1–2):
 /// O(n), no recursion. Throws ModelError naming the body (source index) and
 /// the field: an empty or duplicate name, a parent out of range, a body that
-/// is its own parent or does not reach the ground (a cycle).
+/// is its own parent or does not reach the ground (a cycle), a coordinate
+/// prefix (joint name, else body name) used twice (field "joint.name").
 Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& bodies);
+
+/// A random state in internal order, for checks at states a run may never
+/// reach: angles uniform in [-pi, pi] (a gimbal's middle angle within +-72 deg,
+/// away from its lock, where A is singular), unit quaternions uniform on the
+/// sphere, speeds uniform in [-2, 2] rad/s.  // q: (nq), u: (nu)
+void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u);
 
 }  // namespace em

@@ -61,23 +61,7 @@ inline double udotTolerance(const Eigen::MatrixXd& A, double floor = 1e-12) {
   return std::max(floor, 4 * 2.220446049250313e-16 * ev.maxCoeff() / ev.minCoeff());
 }
 
-/// A random state: angles in [-pi, pi], unit quaternions, speeds in [-2, 2] rad/s.
-inline void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  std::uniform_real_distribution<double> ang(-M_PI, M_PI), spd(-2.0, 2.0);
-  std::normal_distribution<double> gauss;
-  q.resize(m.nq);
-  u.resize(m.nu);
-  for (const Body& b : m.bodies) {
-    if (b.joint.type == JointType::Ball) {
-      Vec4 v(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
-      q.segment<4>(b.iq) = v.normalized();
-    } else {
-      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = ang(rng);
-      // Keep gimbals 20 deg away from lock (middle angle +-90 deg), where A is singular.
-      if (b.joint.type == JointType::Gimbal) q[b.iq + 1] *= 1.2 / M_PI;
-    }
-    for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = spd(rng);
-  }
-}
+/// A random state (solver/model.hpp): angles in [-pi, pi], unit quaternions, speeds in [-2, 2] rad/s.
+using em::randomState;
 
 }  // namespace em::test
