@@ -1,22 +1,38 @@
 #pragma once
-/// A scene ready to run, from whatever file describes it: the model, the run
-/// defaults the file states and where it came from. Every error is one line
-/// naming the file and the key (docs/scene-format.md).
+/// A scene ready to run, from whatever file describes it (`eigenmass-scene/1`
+/// JSON or URDF, told by the extension): the model, the run defaults the file
+/// states and where it came from. Every error is one line naming the file and
+/// the key, link or joint (docs/scene-format.md, docs/urdf.md).
 #include <string>
+#include <vector>
 
 #include "solver/model.hpp"
 
 namespace em {
 
+/// What a user may ask of an import beyond the file (command-line options).
+struct UrdfOptions {
+  bool balance_inertia = false;          ///< --balance-inertia: MuJoCo's balanceinertia repair
+  std::vector<std::string> lock_joints;  ///< --lock-joint: held at zero and merged like a fixed joint
+  bool any() const { return balance_inertia || !lock_joints.empty(); }
+};
+
 struct Scene {
   Model model;
   double t_end = 10.0, output_dt = 0.01;  ///< the file's run defaults (simulate.t_end, .output_dt)
   std::string file;                       ///< where it was read from
+  std::string format = "eigenmass-scene/1";  ///< or "urdf"
+  std::string sha256;                     ///< of the file's bytes (empty for text given in memory)
+  std::vector<std::string> notes;         ///< what an import changed (URDF: repairs, locked joints)
+  std::vector<std::string> source_joints; ///< URDF: the joint of each body, file order, as written
 };
 
 /// Read, validate and build a scene file. Throws std::runtime_error("file: path: what").
-Scene loadScene(const std::string& path);
+/// `urdf` applies to URDF files; asking it of a JSON scene is an error.
+Scene loadScene(const std::string& path, const UrdfOptions& urdf = {});
 /// The same from `eigenmass-scene/1` text in memory; `source` names it in errors.
 Scene loadSceneText(const std::string& text, const std::string& source);
+/// The same from URDF text in memory.
+Scene loadUrdfText(const std::string& text, const std::string& source, const UrdfOptions& options = {});
 
 }  // namespace em

@@ -67,18 +67,23 @@ std::string string(const json& v, const std::string& path) {
   return v.get<std::string>();
 }
 
-// Scene and body names end up in file names and CSV headers: letters, digits,
-// '_' and '-', 1 to 64 of them (docs/scene-format.md).
+// Scene, body and joint names end up in file names and CSV headers: letters,
+// digits, '_' and '-', 1 to 64 of them (docs/scene-format.md).
 std::string name(const json& v, const std::string& path) {
   const std::string n = string(v, path);
   if (n.empty()) throw Err(path, "empty name");
-  const bool safe = n.size() <= kMaxNameLength && std::all_of(n.begin(), n.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-  });
-  if (!safe)
+  if (!isSceneName(n))
     throw Err(path, "name \"" + printable(n, 40) + "\" has characters outside letters, digits, '_' and '-' (or is over " +
                         std::to_string(kMaxNameLength) + " long)");
   return n;
+}
+
+// The "x-" keys of an object (free for comments and provenance), kept as written.
+json extras(const json& obj) {
+  json x = json::object();
+  for (auto it = obj.begin(); it != obj.end(); ++it)
+    if (it.key().rfind("x-", 0) == 0) x[it.key()] = it.value();
+  return x;
 }
 
 Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int max_len = -1) {
@@ -176,7 +181,8 @@ Joint joint(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   Joint j;
   j.type = jointType(require(v, path, "type"), at(path, "type"));
-  checkKeys(v, path, {"type", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
+  checkKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
+  if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
   jointAxes(v, path, j);
   j.in_parent = vec3(require(v, path, "in_parent"), at(path, "in_parent"));
   j.in_body = vec3(require(v, path, "in_body"), at(path, "in_body"));
@@ -213,6 +219,7 @@ BodySpec body(const json& v, const std::string& path) {
   if (!(b.mass > 0)) throw Err(at(path, "mass"), "must be > 0");
   b.inertia = inertia(require(v, path, "inertia"), at(path, "inertia"));
   b.joint = joint(require(v, path, "joint"), at(path, "joint"));
+  b.extra = extras(v);
   return b;
 }
 
@@ -244,6 +251,7 @@ SceneSpec spec(const json& doc) {
   if (bodies.empty()) throw Err("bodies", "empty body list");
   for (size_t i = 0; i < bodies.size(); ++i) s.bodies.push_back(body(bodies[i], at("bodies", i)));
   if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
+  s.extra = extras(doc);
   return s;
 }
 
@@ -264,6 +272,53 @@ std::string bodyPath(int file_index, const std::string& key) { return "bodies[" 
 }  // namespace
 
 SceneSpec parseSceneSpec(const std::string& text) { return spec(parseJsonStrict(text)); }
+
+bool isSceneName(const std::string& n) {
+  return !n.empty() && n.size() <= kMaxNameLength && std::all_of(n.begin(), n.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+namespace {
+
+json numbersJson(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+json vecJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+json jointJson(const Joint& j) {
+  json o = {{"type", jointTypeName(j.type)}};
+  if (!j.name.empty()) o["name"] = j.name;
+  if (j.type == JointType::Revolute) o["axis"] = vecJson(j.axis[0]);
+  if (j.type == JointType::Universal) o["axes"] = {vecJson(j.axis[0]), vecJson(j.axis[1])};
+  o["in_parent"] = vecJson(j.in_parent);
+  o["in_body"] = vecJson(j.in_body);
+  if (j.q0.size()) o["q0"] = numbersJson(j.q0);
+  if (j.u0.size()) o["u0"] = numbersJson(j.u0);
+  if (j.has_spring)
+    o["spring"] = {{"k", numbersJson(j.spring.k)}, {"c", numbersJson(j.spring.c)}, {"q_rest", numbersJson(j.spring.q_rest)}};
+  return o;
+}
+
+json bodyJson(const BodySpec& b) {
+  const Mat3& J = b.inertia;
+  json o = {{"name", b.name}, {"parent", b.parent}, {"mass", b.mass},
+            {"inertia", {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)}}, {"joint", jointJson(b.joint)}};
+  o.update(b.extra);
+  return o;
+}
+
+}  // namespace
+
+std::string sceneJson(const SceneSpec& s) {
+  json head = {{"format", "eigenmass-scene/1"}, {"name", s.name}, {"gravity", vecJson(s.gravity)}};
+  head.update(s.extra);
+  std::string text = "{\n";
+  for (auto it = head.begin(); it != head.end(); ++it) text += "  " + json(it.key()).dump() + ": " + it.value().dump() + ",\n";
+  text += "  \"bodies\": [\n";
+  for (size_t i = 0; i < s.bodies.size(); ++i)
+    text += "    " + bodyJson(s.bodies[i]).dump() + (i + 1 < s.bodies.size() ? ",\n" : "\n");
+  text += "  ],\n  \"simulate\": " + json({{"t_end", s.t_end}, {"output_dt", s.output_dt}}).dump() + "\n}\n";
+  return text;
+}
 
 Model buildModel(const SceneSpec& spec) {
   const int n = static_cast<int>(spec.bodies.size());

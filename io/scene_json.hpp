@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "solver/model.hpp"
 
 namespace em {
@@ -15,6 +17,7 @@ struct BodySpec {
   double mass = 1.0;
   Mat3 inertia = Mat3::Identity();  ///< about the CM, body frame (matrix entries)
   Joint joint;
+  nlohmann::json extra = nlohmann::json::object();  ///< its "x-" keys, kept as written
 };
 
 /// A scene as written: bodies in file order and the run defaults.
@@ -23,10 +26,18 @@ struct SceneSpec {
   Vec3 gravity{0, 0, -9.81};
   std::vector<BodySpec> bodies;
   double t_end = 10.0, output_dt = 0.01;  ///< simulate.t_end, simulate.output_dt
+  nlohmann::json extra = nlohmann::json::object();  ///< top-level "x-" keys, kept as written
 };
 
 /// Parse and validate scene text. Throws InputError (JSON path: what) on any defect.
 SceneSpec parseSceneSpec(const std::string& text);
+
+/// The scene as `eigenmass-scene/1` text that parseSceneSpec reads back to
+/// the same spec: one body per line, numbers to 17 significant digits.
+std::string sceneJson(const SceneSpec& spec);
+
+/// Letters, digits, '_' and '-', 1 to 64 of them: what names in a scene may be.
+bool isSceneName(const std::string& name);
 
 /// The model of a scene as written: parents resolved by name, then the
 /// solver's buildModel. Throws InputError naming `bodies[i].name` or

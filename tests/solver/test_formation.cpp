@@ -16,6 +16,9 @@
 // no pair mixes ours with the library's (ASan reports such mismatches).
 // Over-aligned forms are left to the library: Eigen's fixed-size types here
 // need no more than the default alignment.
+// GCC 12 takes free() of what this operator new returned for a mismatch
+// (-Wmismatched-new-delete) once inlined into library code; both are ours and match.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 static std::atomic<long> g_allocations{0};
 static void* countedAlloc(std::size_t n) noexcept {
   ++g_allocations;

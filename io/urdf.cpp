@@ -1,0 +1,290 @@
+#include "io/urdf.hpp"
+
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "io/digest.hpp"
+#include "io/json_input.hpp"
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+using Err = InputError;
+using json = nlohmann::json;
+
+// The scene loader's tolerance (io/scene_json.cpp): equality in a triangle
+// inequality (a thin plate) passes despite the rounding of written decimals.
+constexpr double kInertiaRelTol = 1e-9;
+
+std::string linkAt(const std::string& n) { return "link '" + printable(n, 40) + "'"; }
+std::string jointAt(const std::string& n) { return "joint '" + printable(n, 40) + "'"; }
+
+Vec3 vec(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
+Mat3 rotation(const urdf::Rotation& r) { return Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().toRotationMatrix(); }
+
+// liburdfdom reports through console_bridge: keep its first error for the
+// one-line message and let nothing else reach the terminal.
+struct CapturedLog : console_bridge::OutputHandler {
+  std::string first_error;
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+  }
+};
+
+urdf::ModelInterfaceSharedPtr parse(const std::string& text) {
+  CapturedLog log;
+  console_bridge::useOutputHandler(&log);
+  urdf::ModelInterfaceSharedPtr m;
+  try {
+    m = urdf::parseURDF(text);
+  } catch (const std::exception& e) {
+    log.first_error = e.what();
+  }
+  console_bridge::restorePreviousOutputHandler();
+  if (!m) throw Err("(urdf)", log.first_error.empty() ? "not a valid URDF" : printable(log.first_error, 160));
+  return m;
+}
+
+// Joint names in the order the file lists them (liburdfdom keeps a map by name).
+std::vector<std::string> jointsInFileOrder(const std::string& text) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  std::vector<std::string> names;
+  const TiXmlElement* robot = doc.RootElement();  // liburdfdom has parsed the same text
+  for (const TiXmlElement* j = robot ? robot->FirstChildElement("joint") : nullptr; j; j = j->NextSiblingElement("joint"))
+    if (const char* n = j->Attribute("name")) names.push_back(n);
+  return names;
+}
+
+// A name as scenes allow it: characters outside letters, digits, '_' and '-' become '_'.
+std::string sceneName(const std::string& urdf_name, const std::string& where) {
+  std::string n = urdf_name;
+  for (char& c : n)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) c = '_';
+  if (!isSceneName(n)) throw Err(where, "name longer than 64 characters, the most a scene allows");
+  return n;
+}
+
+/// A link frame in the world at the zero configuration.
+struct Frame {
+  Mat3 R = Mat3::Identity();
+  Vec3 p = Vec3::Zero();
+};
+
+/// A mass in the world at the zero configuration: m, CM c, inertia J about c (world axes).
+struct MassPart {
+  double m = 0;
+  Vec3 c = Vec3::Zero();
+  Mat3 J = Mat3::Zero();
+};
+
+// Principal moments, ascending, of a symmetric 3x3 matrix.
+Vec3 principal(const Mat3& J) { return Eigen::SelfAdjointEigenSolver<Mat3>(J).eigenvalues(); }
+
+std::string moments(const Vec3& I) { return gnum(I[0]) + ", " + gnum(I[1]) + ", " + gnum(I[2]); }
+
+// A link's inertia as written (its inertial frame), checked; repaired the way
+// MuJoCo's balanceinertia does when the user asks for it.
+Mat3 linkInertia(const urdf::Inertial& in, const std::string& link, const UrdfOptions& opt,
+                 std::vector<std::string>& notes) {
+  Mat3 J;
+  J << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  if (!std::isfinite(in.mass) || !J.allFinite()) throw Err(linkAt(link), "mass or inertia not a finite number");
+  if (in.mass < 0) throw Err(linkAt(link), "negative mass " + gnum(in.mass));
+  if (in.mass == 0) {
+    if (!J.isZero(0)) throw Err(linkAt(link), "mass 0 with a nonzero inertia");
+    return J;
+  }
+  const Vec3 I = principal(J);
+  const double scale = I.cwiseAbs().maxCoeff();
+  if (I[0] < -kInertiaRelTol * scale)
+    throw Err(linkAt(link), "inertia not positive semi-definite (principal moments " + moments(I) + ")");
+  if (I[0] + I[1] >= I[2] * (1 - kInertiaRelTol)) return J;
+  const std::string broken = "principal moments " + gnum(I[0]) + " + " + gnum(I[1]) + " < " + gnum(I[2]);
+  if (!opt.balance_inertia)
+    throw Err(linkAt(link), "inertia violates the triangle inequality (" + broken +
+                                "); --balance-inertia sets such moments to their mean, as MuJoCo's balanceinertia");
+  const double mean = I.sum() / 3;
+  notes.push_back(linkAt(link) + ": " + broken + " (triangle inequality): set to their mean " + gnum(mean, 9) +
+                  " (--balance-inertia)");
+  return mean * Mat3::Identity();
+}
+
+// Mass, CM and inertia about the CM of parts rigidly joined (parallel-axis theorem).
+MassPart combine(const std::vector<MassPart>& parts) {
+  MassPart s;
+  for (const MassPart& p : parts) {
+    s.m += p.m;
+    s.c += p.m * p.c;
+  }
+  if (!(s.m > 0)) return s;
+  s.c /= s.m;
+  for (const MassPart& p : parts) {
+    const Vec3 d = p.c - s.c;
+    s.J += p.J + p.m * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+  }
+  return s;
+}
+
+// How a URDF joint enters the scene: a moving revolute joint, or merged (held at zero).
+bool isMoving(const urdf::Joint& j, const std::set<std::string>& locked) {
+  if (locked.count(j.name) || j.type == urdf::Joint::FIXED) return false;
+  if (j.mimic)
+    throw Err(jointAt(j.name), "mimic joints couple two coordinates, which independent tree joints cannot express "
+                               "(--lock-joint " + j.name + " holds it at zero)");
+  if (j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::CONTINUOUS) return true;
+  const char* kind = j.type == urdf::Joint::PRISMATIC ? "prismatic" : j.type == urdf::Joint::FLOATING ? "floating"
+                     : j.type == urdf::Joint::PLANAR  ? "planar" : "unknown";
+  throw Err(jointAt(j.name), std::string(kind) + " joints are not supported: the formulation covers rotational joints "
+                             "only (--lock-joint " + j.name + " holds it at zero)");
+}
+
+/// The robot at its zero configuration: link frames, which moving link
+/// carries each link ("" for the ground) and each carrier's mass parts.
+struct Walk {
+  std::map<std::string, Frame> frame;
+  std::map<std::string, std::string> carrier;
+  std::map<std::string, std::vector<MassPart>> parts;
+  std::map<std::string, std::vector<std::string>> merged;  ///< carrier -> links merged into it
+  std::vector<std::string> ground_links;                  ///< the root and what is fixed to it
+};
+
+void addMass(const urdf::Link& l, const std::string& carrier, const UrdfOptions& opt, Walk& w,
+             std::vector<std::string>& notes) {
+  if (carrier.empty()) {
+    w.ground_links.push_back(l.name);
+    return;  // held by the ground: its mass never moves
+  }
+  if (carrier != l.name) w.merged[carrier].push_back(l.name);
+  if (!l.inertial) return;
+  const Frame& F = w.frame[l.name];
+  const Mat3 J = linkInertia(*l.inertial, l.name, opt, notes);
+  const Mat3 R = F.R * rotation(l.inertial->origin.rotation);
+  w.parts[carrier].push_back({l.inertial->mass, F.p + F.R * vec(l.inertial->origin.position), R * J * R.transpose()});
+}
+
+// Depth-first from the root with an explicit stack (no recursion on a depth the file chooses).
+Walk walk(const urdf::ModelInterface& u, const std::set<std::string>& locked, const UrdfOptions& opt,
+          std::vector<std::string>& notes) {
+  Walk w;
+  const std::string root = u.getRoot()->name;
+  w.frame[root] = Frame{};
+  w.carrier[root] = "";
+  std::vector<urdf::LinkConstSharedPtr> stack = {u.getRoot()};
+  while (!stack.empty()) {
+    const urdf::LinkConstSharedPtr l = stack.back();
+    stack.pop_back();
+    addMass(*l, w.carrier[l->name], opt, w, notes);
+    for (const urdf::JointSharedPtr& j : l->child_joints) {
+      const Frame& F = w.frame[l->name];
+      const urdf::Pose& o = j->parent_to_joint_origin_transform;
+      w.frame[j->child_link_name] = {F.R * rotation(o.rotation), F.p + F.R * vec(o.position)};
+      w.carrier[j->child_link_name] = isMoving(*j, locked) ? j->child_link_name : w.carrier[l->name];
+    }
+    for (auto it = l->child_links.rbegin(); it != l->child_links.rend(); ++it) stack.push_back(*it);
+  }
+  return w;
+}
+
+// The carrier's mass properties, which must make a body that can turn about any axis.
+MassPart bodyMass(const Walk& w, const std::string& link) {
+  const auto it = w.parts.find(link);
+  const MassPart s = combine(it == w.parts.end() ? std::vector<MassPart>{} : it->second);
+  const std::string with = w.merged.count(link) ? " (with the links fixed to it)" : "";
+  if (!(s.m > 0)) throw Err(linkAt(link), "no mass" + with + ": a moving link needs mass and inertia");
+  const Vec3 I = principal(s.J);
+  if (!(I[0] > kInertiaRelTol * I[2]))
+    throw Err(linkAt(link), "inertia about the CM" + with + " not positive definite (principal moments " + moments(I) + ")");
+  return s;
+}
+
+std::set<std::string> lockedJoints(const urdf::ModelInterface& u, const UrdfOptions& opt, std::vector<std::string>& notes) {
+  std::set<std::string> locked;
+  for (const std::string& name : opt.lock_joints) {
+    if (!u.getJoint(name)) throw Err("--lock-joint", "no joint named '" + printable(name, 40) + "'");
+    if (locked.insert(name).second) notes.push_back(jointAt(name) + ": held at zero (--lock-joint)");
+  }
+  return locked;
+}
+
+// The scene body of moving joint j: joint point and axis from the child link's frame.
+BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, MassPart>& mass) {
+  const std::string& link = j.child_link_name;
+  const Frame& F = w.frame.at(link);
+  const MassPart& m = mass.at(link);
+  const std::string& parent = w.carrier.at(j.parent_link_name);
+  BodySpec b;
+  b.name = sceneName(link, linkAt(link));
+  b.parent = parent.empty() ? "ground" : sceneName(parent, linkAt(parent));
+  b.mass = m.m;
+  b.inertia = m.J;
+  b.joint.type = JointType::Revolute;
+  b.joint.name = sceneName(j.name, jointAt(j.name));
+  const Vec3 axis = F.R * vec(j.axis);
+  if (!(axis.stableNorm() > 0)) throw Err(jointAt(j.name), "zero axis");
+  b.joint.axis[0] = axis.stableNormalized();
+  b.joint.in_parent = parent.empty() ? F.p : Vec3(F.p - mass.at(parent).c);
+  b.joint.in_body = F.p - m.c;
+  b.joint.q0 = b.joint.u0 = Eigen::VectorXd::Zero(1);
+  b.extra = {{"x-urdf-link", link}, {"x-urdf-joint", j.name}};
+  if (w.merged.count(link)) b.extra["x-urdf-merged-links"] = w.merged.at(link);
+  return b;
+}
+
+// Two URDF names that become one scene name would make two bodies (or coordinates) one.
+void requireDistinct(const std::vector<BodySpec>& bodies, const std::vector<std::string>& joints) {
+  std::map<std::string, std::string> seen;
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    const std::string link = bodies[i].extra["x-urdf-link"];
+    for (const auto& [name, what] : {std::pair{bodies[i].name, linkAt(link)}, {bodies[i].joint.name, jointAt(joints[i])}}) {
+      auto [it, fresh] = seen.emplace(name, what);
+      if (!fresh && it->second != what)
+        throw Err(what, "its scene name '" + name + "' is also that of " + it->second);
+    }
+  }
+}
+
+}  // namespace
+
+bool isUrdfPath(const std::string& path) {
+  if (path.size() < 5) return false;
+  std::string ext = path.substr(path.size() - 5);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".urdf";
+}
+
+UrdfScene importUrdf(const std::string& text, const std::string& source, const UrdfOptions& opt) {
+  const urdf::ModelInterfaceSharedPtr u = parse(text);
+  UrdfScene s;
+  const std::set<std::string> locked = lockedJoints(*u, opt, s.notes);
+  const Walk w = walk(*u, locked, opt, s.notes);
+  for (const std::string& name : jointsInFileOrder(text)) {
+    const urdf::JointConstSharedPtr j = u->getJoint(name);
+    if (!j || w.carrier.at(j->child_link_name) != j->child_link_name) continue;  // merged
+    s.joint_names.push_back(name);
+  }
+  // A body's joint point is placed from its parent's CM: every moving link's mass first.
+  std::map<std::string, MassPart> mass;
+  for (const auto& [link, carrier] : w.carrier)
+    if (!carrier.empty() && carrier == link) mass.emplace(link, bodyMass(w, link));
+  for (const std::string& name : s.joint_names) s.spec.bodies.push_back(body(*u->getJoint(name), w, mass));
+  if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute or continuous joint: nothing moves");
+  requireDistinct(s.spec.bodies, s.joint_names);
+  s.spec.name = sceneName(u->getName(), "robot name");
+  s.spec.extra = {{"x-source", {{"format", "urdf"}, {"file", source}, {"sha256", sha256Hex(text)}, {"robot", u->getName()}}},
+                  {"x-urdf-ground-links", w.ground_links},
+                  {"x-urdf-gravity", "URDF states none: the scene's default, 9.81 m/s^2 along -z (URDF's z up)"}};
+  if (!s.notes.empty()) s.spec.extra["x-urdf-notes"] = s.notes;
+  return s;
+}
+
+}  // namespace em

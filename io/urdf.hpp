@@ -1,0 +1,30 @@
+#pragma once
+/// URDF robots as scenes (docs/urdf.md). liburdfdom parses the file; this
+/// maps it: the root link held by the ground, revolute and continuous joints
+/// to revolute joints, fixed (and --lock-joint) joints merged into their
+/// parent with the parallel-axis theorem, every frame turned world-aligned at
+/// the zero configuration. Errors are one line naming the link or joint.
+#include <string>
+#include <vector>
+
+#include "io/scene.hpp"
+#include "io/scene_json.hpp"
+
+namespace em {
+
+/// A URDF as a scene: the spec (bodies in the file order of their joints,
+/// provenance in `x-` keys) and what the import did beyond a plain mapping.
+struct UrdfScene {
+  SceneSpec spec;
+  std::vector<std::string> joint_names;  ///< the URDF joint of spec.bodies[i], as written
+  std::vector<std::string> notes;        ///< repairs and locked joints, one line each
+};
+
+/// Import URDF `text` (`source` names it in provenance). Throws InputError
+/// ("link 'x'" or "joint 'y'": what is wrong) before any computation.
+UrdfScene importUrdf(const std::string& text, const std::string& source, const UrdfOptions& options);
+
+/// True when `path` names a URDF file (by its extension, ".urdf", any case).
+bool isUrdfPath(const std::string& path);
+
+}  // namespace em
