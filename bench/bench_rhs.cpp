@@ -21,9 +21,7 @@
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor.hpp"
-#ifdef EM_HAVE_MUJOCO
-#include "bench/mujoco_peer.hpp"
-#endif
+#include "reference/mujoco_peer.hpp"
 
 using namespace em;
 
@@ -139,7 +137,6 @@ double relDiff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 }
 
 void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
-#ifdef EM_HAVE_MUJOCO
   MujocoPeer mj(m);
   mj.setState(m.q0(), m.u0());
   mj.forward();
@@ -147,9 +144,6 @@ void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
   r.mujoco_A_err = relDiff(mj.massMatrix(), ws.A);
   r.mujoco_B_err = relDiff(mj.rhs(), ws.B);
   r.mujoco = secondsPerCall([&] { mj.forward(); });
-#else
-  (void)m, (void)ws, (void)r;
-#endif
 }
 
 // The eigen method's N^3 part alone (eigenRates: A'C^T, G = C A'C^T, C' = -Omega C).
@@ -220,7 +214,7 @@ void printTable(const std::vector<Row>& rows) {
     if (r.has_mujoco)
       std::printf("%schain %d: MuJoCo vs in-house at the initial state, A %.1e, B %.1e (max |diff| / max |in-house|)",
                   &r == &rows.front() ? "\n" : "; ", r.n, r.mujoco_A_err, r.mujoco_B_err);
-  std::printf("%s", rows.front().has_mujoco ? "\n" : "\nMuJoCo: not built in (CMake did not find libmujoco-dev)\n");
+  std::printf("\n");
 }
 
 nlohmann::json timingJson(const char* name, int n, const Timing& t, int threads) {

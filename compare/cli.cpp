@@ -126,6 +126,16 @@ void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_hel
   on->excludes(off);
 }
 
+void addSceneArg(CLI::App* cmd, SceneArg& s) {
+  cmd->add_option("scene", s.path, "Scene file: eigenmass-scene/1 JSON, or a URDF robot (.urdf; docs/urdf.md)")->required();
+  cmd->add_flag("--balance-inertia", s.urdf.balance_inertia,
+                "URDF: set principal moments that violate the triangle inequality to their mean (MuJoCo's balanceinertia), "
+                "noted in the outputs; refused otherwise");
+  cmd->add_option("--lock-joint", s.urdf.lock_joints,
+                  "URDF: hold this joint at zero, merged like a fixed joint (repeatable or comma-separated)")
+      ->delimiter(',');
+}
+
 void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }
 
 CLI::Validator methodValidator() { return CLI::IsMember(methodNames()); }

@@ -17,6 +17,8 @@ void addEquations(CLI::App& app);
 void addSimulate(CLI::App& app);
 void addCompare(CLI::App& app);
 void addPrecision(CLI::App& app);
+void addImport(CLI::App& app);
+void addCrossCheck(CLI::App& app);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
 int exitCode();
 
@@ -37,6 +39,15 @@ void progress(const std::string& what);
 /// Write a trajectory as CSV and, beside it, `<path>.json`: the run that made
 /// it (RunSpec), its status and failure, and the provenance.
 void writeTrajectory(const Trajectory& tr, const std::string& path);
+
+/// The scene a subcommand reads: its path and, for a URDF, the import options.
+struct SceneArg {
+  std::string path;
+  UrdfOptions urdf;
+  Scene load() const { return loadScene(path, urdf); }
+};
+/// The positional `scene`, --balance-inertia and --lock-joint.
+void addSceneArg(CLI::App* cmd, SceneArg& s);
 
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();

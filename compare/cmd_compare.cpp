@@ -13,7 +13,8 @@ namespace em::cli {
 namespace {
 
 struct CompareArgs {
-  std::string scene, out, csv_dir, gate;
+  SceneArg scene;
+  std::string out, csv_dir, gate;
   std::string reference = methodName(Method::Simbody), reference_integrator;
   std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
   std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
@@ -64,10 +65,10 @@ int gateVerdict(const GateResult& g, const std::string& file) {
 
 int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   // Bad input and unwritable outputs fail here, before any simulation.
-  const Scene scene = loadScene(a.scene);
+  const Scene scene = a.scene.load();
   checkInitialState(scene);
   const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
-  const std::vector<std::string> inputs = {a.scene, a.gate};
+  const std::vector<std::string> inputs = {a.scene.path, a.gate};
   const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
   prepareOutput("--out", out, inputs);
   if (!a.csv_dir.empty()) prepareFolder("--csv-dir", a.csv_dir);
@@ -131,7 +132,7 @@ void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
 void addCompare(CLI::App& app) {
   auto* cmd = app.add_subcommand("compare", "Run several methods side by side against a reference and write a JSON report");
   auto a = std::make_shared<CompareArgs>();
-  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  addSceneArg(cmd, a->scene);
   cmd->add_option("--methods", a->methods, helpWithNames("Methods to compare, comma-separated", methodNames()))
       ->delimiter(',')
       ->check(methodValidator())

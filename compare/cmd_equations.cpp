@@ -19,8 +19,8 @@ nlohmann::json toJson(const Eigen::MatrixXd& A) {
   return rows;
 }
 
-int printEquations(const std::string& file, Engine engine) {
-  const Scene scene = loadScene(file);
+int printEquations(const SceneArg& file, Engine engine) {
+  const Scene scene = file.load();
   checkInitialState(scene);
   const Model& m = scene.model;
   const Equations e = engine == Engine::Simbody ? simbodyEquations(m) : inhouseEquations(m);
@@ -42,9 +42,9 @@ int printEquations(const std::string& file, Engine engine) {
 
 void addEquations(CLI::App& app) {
   auto* cmd = app.add_subcommand("equations", "Print A, B, u', energy and eigenvalues of A at the scene's initial state (JSON)");
-  auto scene = std::make_shared<std::string>();
+  auto scene = std::make_shared<SceneArg>();
   auto engine = std::make_shared<std::string>(engineName(Engine::InHouse));
-  cmd->add_option("scene", *scene, "Scene file (eigenmass-scene/1)")->required();
+  addSceneArg(cmd, *scene);
   cmd->add_option("--engine", *engine, "Who forms the equations: inhouse (Wittenburg) or simbody")
       ->check(CLI::IsMember({engineName(Engine::InHouse), engineName(Engine::Simbody)}))
       ->capture_default_str();

@@ -12,17 +12,18 @@ namespace em::cli {
 namespace {
 
 struct PrecisionArgs {
-  std::string scene, out, integrator = integratorName(Integrator::RK4);
+  SceneArg scene;
+  std::string out, integrator = integratorName(Integrator::RK4);
   std::vector<std::string> methods;
   GridArgs grid;
   PrecisionOptions opt;
 };
 
 int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
-  const Scene scene = loadScene(a.scene);
+  const Scene scene = a.scene.load();
   checkInitialState(scene);
   const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;
-  prepareOutput("--out", path, {a.scene});
+  prepareOutput("--out", path, {a.scene.path});
   PrecisionOptions o = a.opt;
   a.grid.applyTo(o.reference.options);
   a.grid.applyTo(o.options);
@@ -43,7 +44,7 @@ void addPrecision(CLI::App& app) {
   auto* cmd = app.add_subcommand("precision", "Work-precision: each method at several steps or tolerances, error against CPU time");
   auto a = std::make_shared<PrecisionArgs>();
   for (Method m : a->opt.methods) a->methods.push_back(methodName(m));
-  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  addSceneArg(cmd, a->scene);
   cmd->add_option("--methods", a->methods, helpWithNames("Methods, comma-separated", methodNames()))
       ->delimiter(',')
       ->check(methodValidator())

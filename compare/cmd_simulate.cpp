@@ -13,7 +13,8 @@ namespace em::cli {
 namespace {
 
 struct SimulateArgs {
-  std::string scene, out, method = methodName(Method::Classical), integrator;
+  SceneArg scene;
+  std::string out, method = methodName(Method::Classical), integrator;
   RunSpec spec;  ///< dt and tol as given (or their defaults)
   GridArgs grid;
 };
@@ -32,10 +33,10 @@ void printSummary(const Trajectory& tr, const std::string& path) {
 }
 
 int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
-  const Scene scene = loadScene(a.scene);
+  const Scene scene = a.scene.load();
   checkInitialState(scene);
   const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
-  prepareOutput("--out", path, {a.scene});
+  prepareOutput("--out", path, {a.scene.path});
   RunSpec s = a.spec;
   a.grid.applyTo(s);
   s.method = parseMethod(a.method);
@@ -52,7 +53,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
 void addSimulate(CLI::App& app) {
   auto* cmd = app.add_subcommand("simulate", "Integrate a scene with one method and write its trajectory as CSV");
   auto a = std::make_shared<SimulateArgs>();
-  cmd->add_option("scene", a->scene, "Scene file (eigenmass-scene/1)")->required();
+  addSceneArg(cmd, a->scene);
   cmd->add_option("--method", a->method, helpWithNames("Method", methodNames()))
       ->check(methodValidator())
       ->capture_default_str();

@@ -1,4 +1,4 @@
-// The `eigenmass` command-line tool: equations, simulate, compare, precision.
+// The `eigenmass` command-line tool: equations, simulate, compare, precision, import, crosscheck.
 // One exit-code scheme: 0 ok, 1 a run failed or the gate broke, 2 bad input
 // or options (CLI11's own parse errors included), 130/143 interrupted.
 #include <cstdio>
@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   em::cli::addSimulate(app);
   em::cli::addCompare(app);
   em::cli::addPrecision(app);
+  em::cli::addImport(app);
+  em::cli::addCrossCheck(app);
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

@@ -122,7 +122,9 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
   for (Method m : o.methods) names.push_back(methodName(m));
   const RunSpec& ref = r.reference.run;
   return {{"format", "eigenmass-report/1"},
-          {"scene", {{"name", r.scene_name}, {"file", r.scene_file}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}}},
+          {"scene",
+           {{"name", r.scene_name}, {"file", r.scene_file}, {"format", r.scene_format}, {"sha256", r.scene_sha256},
+            {"import_notes", r.scene_notes}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}}},
           {"options",
            {{"methods", names},
             {"inhouse", runSpec(o.inhouse)},

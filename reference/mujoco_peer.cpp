@@ -1,10 +1,11 @@
-#include "bench/mujoco_peer.hpp"
+#include "reference/mujoco_peer.hpp"
 
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
+#include <tinyxml.h>
 
 namespace em {
 
@@ -89,34 +90,86 @@ std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m) {
   return w.files;
 }
 
+namespace {
+
+// The URDF as MuJoCo is to read it: visual and collision elements removed,
+// locked joints fixed, compiler options and disabled forces in MuJoCo's
+// <mujoco> extension element.
+std::string urdfForMujoco(const std::string& text, const std::vector<std::string>& locked, bool balance_inertia) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  TiXmlElement* robot = doc.RootElement();
+  if (!robot) throw std::runtime_error("MuJoCo peer: the URDF does not parse as XML");
+  for (TiXmlElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
+    for (const char* tag : {"visual", "collision"})
+      while (TiXmlElement* e = link->FirstChildElement(tag)) link->RemoveChild(e);
+  for (TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+    for (const std::string& name : locked)
+      if (j->Attribute("name") && name == j->Attribute("name")) j->SetAttribute("type", "fixed");
+  TiXmlDocument ext;
+  ext.Parse((std::string("<mujoco><compiler angle=\"radian\" fusestatic=\"true\" discardvisual=\"true\" balanceinertia=\"") +
+             (balance_inertia ? "true" : "false") + "\"/></mujoco>").c_str());
+  robot->InsertEndChild(*ext.RootElement());
+  TiXmlPrinter printer;
+  doc.Accept(&printer);
+  return printer.CStr();
+}
+
+mjModel* compile(const std::vector<std::pair<std::string, std::string>>& files) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  for (const auto& [name, xml] : files) {
+    if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0)
+      throw std::runtime_error("MuJoCo peer: cannot make the in-memory file " + name);
+    std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs->filedata[vfs->nfile - 1]));
+  }
+  char error[1000] = "";
+  mjModel* mm = mj_loadXML(files[0].first.c_str(), vfs.get(), error, sizeof error);
+  mj_deleteVFS(vfs.get());
+  if (!mm) throw std::runtime_error(std::string("MuJoCo: ") + error);
+  return mm;
+}
+
+}  // namespace
+
 struct MujocoPeer::Impl {
-  const Model& model;
   mjModel* mm = nullptr;
   mjData* d = nullptr;
-  std::vector<int> dof;  // MuJoCo dof of in-house u[i] (= qpos index: hinges only)
-  explicit Impl(const Model& m) : model(m) {}
+  std::vector<int> qadr, dof;  // MuJoCo qpos and dof address of in-house q[i] = u[i] (hinges only)
   ~Impl() {
     if (d) mj_deleteData(d);
     if (mm) mj_deleteModel(mm);
   }
 };
 
-MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>(m)) {
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  for (const auto& [name, xml] : toMjcf(m)) {
-    if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0)
-      throw std::runtime_error("MuJoCo peer: cannot make the in-memory MJCF file " + name);
-    std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs->filedata[vfs->nfile - 1]));
-  }
-  char error[1000] = "";
-  impl_->mm = mj_loadXML("scene.xml", vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!impl_->mm) throw std::runtime_error(std::string("MuJoCo peer: ") + error);
+MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>()) {
+  impl_->mm = compile(toMjcf(m));
   impl_->d = mj_makeData(impl_->mm);
   for (const Body& b : m.bodies) {
     const int id = mj_name2id(impl_->mm, mjOBJ_BODY, b.name.c_str());
-    for (int k = 0; k < b.nu(); ++k) impl_->dof.push_back(impl_->mm->body_dofadr[id] + k);
+    for (int k = 0; k < b.nu(); ++k) {
+      impl_->dof.push_back(impl_->mm->body_dofadr[id] + k);
+      impl_->qadr.push_back(impl_->mm->body_dofadr[id] + k);  // hinges only: qpos index = dof index
+    }
+  }
+}
+
+MujocoPeer::MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
+                       const std::vector<std::string>& locked, bool balance_inertia)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->mm = compile({{"robot.urdf", urdfForMujoco(urdf_text, locked, balance_inertia)}});
+  impl_->mm->opt.disableflags |= mjDSBL_CONSTRAINT | mjDSBL_PASSIVE | mjDSBL_CONTACT;
+  impl_->d = mj_makeData(impl_->mm);
+  if (impl_->mm->nv != m.nu)
+    throw std::runtime_error("MuJoCo peer: MuJoCo has " + std::to_string(impl_->mm->nv) + " speeds, the scene " +
+                             std::to_string(m.nu));
+  for (const Body& b : m.bodies) {
+    const std::string& name = joints.at(b.file_index);
+    const int id = mj_name2id(impl_->mm, mjOBJ_JOINT, name.c_str());
+    if (id < 0 || impl_->mm->jnt_type[id] != mjJNT_HINGE)
+      throw std::runtime_error("MuJoCo peer: no hinge named '" + name + "' in MuJoCo's model");
+    impl_->qadr.push_back(impl_->mm->jnt_qposadr[id]);
+    impl_->dof.push_back(impl_->mm->jnt_dofadr[id]);
   }
 }
 
@@ -124,7 +177,7 @@ MujocoPeer::~MujocoPeer() = default;
 
 void MujocoPeer::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   for (size_t i = 0; i < impl_->dof.size(); ++i) {
-    impl_->d->qpos[impl_->dof[i]] = q[i];  // hinges only: qpos index = dof index
+    impl_->d->qpos[impl_->qadr[i]] = q[i];
     impl_->d->qvel[impl_->dof[i]] = u[i];
   }
 }
@@ -140,6 +193,27 @@ Eigen::MatrixXd MujocoPeer::massMatrix() const {
   for (int i = 0; i < nv; ++i)
     for (int j = 0; j < nv; ++j) A(i, j) = M[dof[i] * nv + dof[j]];
   return A;
+}
+
+std::vector<CompiledMass> MujocoPeer::compiledMass() {
+  const mjModel* mm = impl_->mm;
+  mjData* d = impl_->d;
+  mju_zero(d->qpos, mm->nq);  // hinges only: zero is the zero configuration
+  mj_kinematics(mm, d);
+  std::vector<CompiledMass> out;
+  for (int dof : impl_->dof) {
+    const int b = mm->dof_bodyid[dof];
+    Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->ximat + 9 * b);  // principal axes in the world
+    const Vec3 I(mm->body_inertia + 3 * b);
+    out.push_back({mm->body_mass[b], Vec3(d->xipos + 3 * b), R * I.asDiagonal() * R.transpose()});
+  }
+  return out;
+}
+
+Eigen::VectorXd MujocoPeer::acceleration() const {
+  Eigen::VectorXd a(impl_->mm->nv);
+  for (int i = 0; i < a.size(); ++i) a[i] = impl_->d->qacc[impl_->dof[i]];
+  return a;
 }
 
 Eigen::VectorXd MujocoPeer::rhs() const {

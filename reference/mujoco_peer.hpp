@@ -1,11 +1,19 @@
 #pragma once
-/// MuJoCo as a benchmark peer: the same scene as MJCF (body frames at the
+/// MuJoCo (libmujoco-dev) as an independent engine: a benchmark peer for
+/// scenes and the second reader of URDF robots.
+///
+/// From a Model: the same scene as MJCF (body frames at the
 /// CMs, parallel to the parent's at zero coordinates as in the scene; a
 /// revolute joint is one hinge, a universal two, a gimbal three hinges x, y, z
 /// in one body, applied in order about the turned axes, as Rx Ry Rz; inertia
 /// as diaginertia or fullinertia; contacts, constraints and passive forces off).
 /// Ball joints are not mapped (MuJoCo's ball speed is in the child's frame).
-/// Built only when CMake finds MuJoCo (EM_HAVE_MUJOCO).
+///
+/// From a URDF: MuJoCo compiles the file itself (its own URDF reader, its own
+/// fixed-joint fusion and frame arithmetic), with visual and collision
+/// elements removed (meshes need not exist), locked joints made fixed, and
+/// contacts, constraints (joint limits) and passive forces (URDF damping and
+/// friction) off, since the scene has none of them.
 #include <memory>
 #include <string>
 #include <utility>
@@ -19,10 +27,23 @@ namespace em {
 /// includes (MuJoCo's parser allows 100 nested elements per file).
 std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m);
 
+/// A body's mass properties as MuJoCo compiled them, in the world at the zero
+/// configuration: mass, CM, inertia about the CM (world axes).
+struct CompiledMass {
+  double m = 0;
+  Vec3 c = Vec3::Zero();
+  Mat3 J = Mat3::Zero();
+};
+
 class MujocoPeer {
  public:
   /// Throws std::runtime_error with MuJoCo's message if the model does not compile.
   explicit MujocoPeer(const Model& m);
+  /// MuJoCo's reading of `urdf_text`; `joints` names the URDF joint of each
+  /// body of `m` in source (file) order (Scene::source_joints). `locked`
+  /// joints become fixed; `balance_inertia` sets MuJoCo's balanceinertia.
+  MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
+             const std::vector<std::string>& locked, bool balance_inertia);
   ~MujocoPeer();
   MujocoPeer(const MujocoPeer&) = delete;
   MujocoPeer& operator=(const MujocoPeer&) = delete;
@@ -30,9 +51,13 @@ class MujocoPeer {
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u);
   /// mj_forward: everything up to the accelerations.
   void forward();
-  /// After forward(): the mass matrix and B = -qfrc_bias, in-house order.  // (nu x nu), (nu)
+  /// After forward(): the mass matrix, B = -qfrc_bias and u' = qacc, in-house order.  // (nu x nu), (nu), (nu)
   Eigen::MatrixXd massMatrix() const;
   Eigen::VectorXd rhs() const;
+  Eigen::VectorXd acceleration() const;
+  /// MuJoCo's compiled mass properties of each in-house body (internal order),
+  /// at the zero configuration (leaves the state at zero).
+  std::vector<CompiledMass> compiledMass();
 
  private:
   struct Impl;
