@@ -223,3 +223,52 @@ TEST_CASE("the version flag and a trajectory's sidecar say how it was produced",
     CHECK(meta["provenance"].contains(k));
   CHECK(meta["provenance"]["command_line"].get<std::string>().find("simulate") != std::string::npos);
 }
+
+TEST_CASE("import writes the URDF as a scene that loads back, never over its input", "[cli][urdf]") {
+  namespace fs = std::filesystem;
+  const std::string urdf = em::test::sourcePath("data/robots/z1.urdf");
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_import";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string out = (dir / "z1.json").string();
+  const Run r = eigenmass("import " + urdf + " --out " + out, true);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("7 moving bodies"));
+  const em::Scene back = em::loadScene(out);
+  CHECK(back.model.qNames().front() == "joint1.q0");
+  std::ifstream in(out);
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["x-source"]["format"] == "urdf");
+  CHECK(j["x-source"]["sha256"].get<std::string>().size() == 64);
+  CHECK(j["bodies"][0]["x-urdf-joint"] == "joint1");
+  // The input is never overwritten; a JSON scene is no URDF to import.
+  const Run self = eigenmass("import " + urdf + " --out " + urdf, true);
+  CHECK(self.status == 2);
+  CHECK_THAT(self.out, Catch::Contains("--out"));
+  CHECK(eigenmass("import " + scene("pendulum5.json")).status == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("URDF options are refused for a JSON scene - a URDF report records the import notes", "[cli][urdf]") {
+  const Run r = eigenmass("equations " + scene("pendulum5.json") + " --balance-inertia", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--balance-inertia: applies to URDF files only"));
+  const std::string hand = em::test::sourcePath("data/robots/allegro_right_hand.urdf");
+  const Run refused = eigenmass("equations " + hand, true);
+  CHECK(refused.status == 2);
+  CHECK_THAT(refused.out, Catch::Contains("link 'link_3.0'") && Catch::Contains("triangle inequality"));
+  const std::string out = (std::filesystem::temp_directory_path() / "eigenmass_test_hand.report.json").string();
+  const Run c = eigenmass("compare " + hand + " --balance-inertia --t-end 0.05 --methods classical --out " + out);
+  REQUIRE(c.status == 0);
+  std::ifstream in(out);
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["scene"]["format"] == "urdf");
+  CHECK(j["scene"]["import_notes"].size() == 4);
+  std::filesystem::remove(out);
+}
+
+TEST_CASE("crosscheck passes on a published arm and names its engines", "[cli][urdf][crosscheck]") {
+  const Run r = eigenmass("crosscheck " + em::test::sourcePath("data/robots/ur5.urdf") + " --states 5");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("simbody") && Catch::Contains("mujoco") && Catch::Contains("within 1e-07"));
+}
