@@ -97,3 +97,20 @@ TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-
     CHECK(b.status == "ok");
   }
 }
+
+TEST_CASE("a published quadruped whose identical legs repeat eigenvalues stops eigen at t = 0 but not eigen-block", "[eigenblock][failure][urdf]") {
+  // Solo 12 (data/robots, base held): four identical legs give A exactly
+  // repeated eigenvalues at the zero configuration, so eq. (15)'s Omega is
+  // undefined before the first step. eigen-block keeps each repeated pair in
+  // one block and follows classical (measured: 1.7e-16 m apart over 1 s;
+  // both 5.8e-8 rad from the Simbody reference over 10 s, docs/urdf.md).
+  const Model m = loadScene(test::sourcePath("data/robots/solo12.urdf")).model;
+  const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
+  const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 3e-2));
+  const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
+  CHECK(e.status == "failed");
+  CHECK(e.failure_time == 0.0);
+  CHECK_THAT(e.failure, Catch::Contains("gap"));
+  REQUIRE(b.status == "ok");
+  CHECK(maxPoseDiff(b, c) < 1e-9);
+}
