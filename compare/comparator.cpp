@@ -127,4 +127,12 @@ MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std
   return m;
 }
 
+std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) {
+  if (m.status != "ok") return "failed";
+  const ErrorSeries& s = m.series;
+  for (size_t k = 0; k < s.t.size() && (!horizon || s.t[k] < *horizon); ++k)
+    if (!(s.pose_rad[k] <= kWrongRad)) return "wrong";  // NaN counts as beyond
+  return "ok";
+}
+
 }  // namespace em

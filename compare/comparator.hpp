@@ -27,9 +27,14 @@ struct Peak {
 };
 
 /// Everything the report says about one method.
+/// A completed run that leaves the reference by more than this (pose, rad)
+/// inside the reference horizon is `wrong` (outcomeOf).
+constexpr double kWrongRad = 0.1;
+
 struct MethodMetrics {
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
   std::string status, failure;
+  std::string outcome;  ///< "ok", "wrong" or "failed" (outcomeOf)
   std::optional<double> failure_time;
   double run_time_s = 0;
   long steps = 0, rhs_evals = 0;
@@ -64,6 +69,12 @@ std::optional<double> firstExceedance(const std::vector<double>& t, const std::v
 /// counts as diverged at its failure time.
 MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale);
+
+/// What a run amounts to: `failed` (stopped: status failed), `wrong`
+/// (completed, but beyond kWrongRad of the reference at a sample before
+/// `horizon`, the reference horizon at kWrongRad; anywhere when there is none)
+/// or `ok` (completed and within kWrongRad up to the horizon).
+std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon);
 
 /// Reference horizon per threshold: when the reference and a tighter run of it part.
 std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const Trajectory& tight,

@@ -36,6 +36,9 @@ ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tigh
   r.reference_metrics = compareRun(reference, reference, opt.thresholds, r.horizon, r.energy_scale);
   r.runs = std::move(runs);
   for (const Trajectory& t : r.runs) r.metrics.push_back(compareRun(t, reference, opt.thresholds, r.horizon, r.energy_scale));
+  const std::optional<double> wrong_horizon = referenceHorizon(reference, tight, {kWrongRad})[0];
+  for (MethodMetrics& m : r.metrics) m.outcome = outcomeOf(m, wrong_horizon);
+  r.reference_metrics.outcome = reference.failed() ? "failed" : "ok";
   return r;
 }
 
@@ -93,7 +96,7 @@ std::string timeOrDash(const std::optional<double>& t, bool meaningful) {
 
 void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
   char cell[64];
-  std::snprintf(cell, sizeof cell, "%-18s %-7s", "method", "status");
+  std::snprintf(cell, sizeof cell, "%-18s %-7s", "method", "outcome");
   o << cell;
   for (const char* kind : {"pose", "joint"})
     for (double th : thresholds) {
@@ -106,7 +109,7 @@ void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
 
 void tableRow(std::ostream& o, const MethodMetrics& m) {
   char cell[64];
-  std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), m.status.c_str());
+  std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), m.outcome.c_str());
   o << cell;
   for (size_t i = 0; i < m.divergence_time_s.size(); ++i) {
     std::snprintf(cell, sizeof cell, " %12s", timeOrDash(m.divergence_time_s[i], m.divergence_meaningful[i]).c_str());
@@ -142,6 +145,8 @@ std::string summaryTable(const ComparisonResult& r) {
   for (const MethodMetrics& m : r.metrics)
     if (m.status != "ok")
       o << m.name() << " failed at t = " << gnum(m.failure_time.value_or(0)) << " s: " << m.failure << "\n";
+  o << "outcome: ok; wrong = completed but beyond " << gnum(kWrongRad)
+    << " rad of the reference before the reference horizon (only the comparison shows it); failed = stopped.\n";
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"
        "exceeds x rad (- never; * at or beyond the reference horizon, not meaningful).\n"
        "dE/Escl = |E(t) + W_diss(t) - E(0)| / "

@@ -38,6 +38,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   json j = {{"name", m.name()},
             {"integrator", integratorName(m.run.integrator)},
             {"status", m.status},
+            {"outcome", m.outcome},
             {"failure", m.status == "ok" ? json(nullptr) : json({{"t", orNull(m.failure_time)}, {"cause", m.failure}})},
             {"run_time_s", m.run_time_s},
             {"steps", m.steps},

@@ -79,3 +79,19 @@ TEST_CASE("energy scale falls back when the reference never moves", "[comparator
   blown.kinetic[3] = INFINITY;  // a non-finite sample carries no scale
   CHECK(energyScale(blown) == 2.0);
 }
+
+TEST_CASE("outcome: ok, wrong only before the reference horizon, failed", "[comparator]") {
+  const Trajectory ref = test::turning(Method::Simbody, 0, 0);
+  // Error kSlope t: beyond kWrongRad = 0.1 rad from t = 4.77 s on.
+  const MethodMetrics drifting = compareRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3}, {std::nullopt}, 2.0);
+  REQUIRE(drifting.status == "ok");
+  CHECK(outcomeOf(drifting, std::nullopt) == "wrong");  // no horizon: the whole run counts
+  CHECK(outcomeOf(drifting, 6.0) == "wrong");
+  CHECK(outcomeOf(drifting, 3.0) == "ok");  // beyond 0.1 rad only where the reference itself is uncertain
+  const MethodMetrics close = compareRun(test::turning(Method::Classical, 0.001, 0), ref, {1e-3}, {std::nullopt}, 2.0);
+  CHECK(outcomeOf(close, std::nullopt) == "ok");  // 0.01 rad at most
+  Trajectory stopped = test::turning(Method::Eigen, 0, 0, 3.0);
+  stopped.status = "failed";
+  stopped.failure_time = 3.0;
+  CHECK(outcomeOf(compareRun(stopped, ref, {1e-3}, {std::nullopt}, 2.0), std::nullopt) == "failed");
+}

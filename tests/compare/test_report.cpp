@@ -70,6 +70,8 @@ TEST_CASE("a failed method appears with its time and cause", "[report]") {
   const json j = makeReport(synthetic());
   const json& e = j["methods"][1];
   CHECK(e["status"] == "failed");
+  CHECK(e["outcome"] == "failed");
+  CHECK(j["methods"][0]["outcome"].is_string());
   CHECK(e["failure"]["t"] == 3.0);
   CHECK(e["failure"]["cause"] == "eigenvalue lambda_0 = -0.1 <= 0");
   CHECK(e["divergence_time_s"]["1e-1"] == 3.0);
