@@ -31,12 +31,12 @@ std::string jointAt(const std::string& n) { return "joint '" + printable(n, 40) 
 Vec3 vec(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
 Mat3 rotation(const urdf::Rotation& r) { return Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().toRotationMatrix(); }
 
-// liburdfdom reports through console_bridge: keep its first error for the
+// liburdfdom reports through console_bridge: keep its errors for the
 // one-line message and let nothing else reach the terminal.
 struct CapturedLog : console_bridge::OutputHandler {
-  std::string first_error;
+  std::string errors;
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors += (errors.empty() ? "" : "; ") + text;
   }
 };
 
@@ -47,10 +47,13 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& text) {
   try {
     m = urdf::parseURDF(text);
   } catch (const std::exception& e) {
-    log.first_error = e.what();
+    log.errors = e.what();
   }
   console_bridge::restorePreviousOutputHandler();
-  if (!m) throw Err("(urdf)", log.first_error.empty() ? "not a valid URDF" : printable(log.first_error, 160));
+  // liburdfdom logs some defects and goes on with a default in their place
+  // (an inertial it cannot read becomes all zeros): any error refuses the file.
+  if (!m || !log.errors.empty())
+    throw Err("(urdf)", log.errors.empty() ? "not a valid URDF" : printable(log.errors, 240));
   return m;
 }
 
@@ -180,11 +183,16 @@ Walk walk(const urdf::ModelInterface& u, const std::set<std::string>& locked, co
   w.frame[root] = Frame{};
   w.carrier[root] = "";
   std::vector<urdf::LinkConstSharedPtr> stack = {u.getRoot()};
+  std::set<std::string> reached = {root};
   while (!stack.empty()) {
     const urdf::LinkConstSharedPtr l = stack.back();
     stack.pop_back();
     addMass(*l, w.carrier[l->name], opt, w, notes);
     for (const urdf::JointSharedPtr& j : l->child_joints) {
+      // liburdfdom lets a second joint into the same child pass: a closed loop.
+      if (!reached.insert(j->child_link_name).second)
+        throw Err(jointAt(j->name), "link '" + printable(j->child_link_name, 40) +
+                                        "' is reached a second time: a closed loop, which a tree cannot express");
       const Frame& F = w.frame[l->name];
       const urdf::Pose& o = j->parent_to_joint_origin_transform;
       w.frame[j->child_link_name] = {F.R * rotation(o.rotation), F.p + F.R * vec(o.position)};
