@@ -21,6 +21,7 @@
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor.hpp"
+#include "compare/crosscheck.hpp"
 #include "reference/mujoco_peer.hpp"
 
 using namespace em;
@@ -132,17 +133,13 @@ int main(int argc, char** argv) {
 
 namespace {
 
-double relDiff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
-}
-
 void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
   MujocoPeer mj(m);
   mj.setState(m.q0(), m.u0());
   mj.forward();
   r.has_mujoco = true;
-  r.mujoco_A_err = relDiff(mj.massMatrix(), ws.A);
-  r.mujoco_B_err = relDiff(mj.rhs(), ws.B);
+  r.mujoco_A_err = relativeDifference(mj.massMatrix(), ws.A);
+  r.mujoco_B_err = relativeDifference(mj.rhs(), ws.B);
   r.mujoco = secondsPerCall([&] { mj.forward(); });
 }
 

@@ -22,8 +22,8 @@ int runCrossCheck(const CrossCheckArgs& a) {
   checkInitialState(scene);
   const CrossCheck c = crossCheck(scene, a.scene.urdf, a.states, a.seed);
   std::printf("%s (%s): %d speeds; differences relative to the in-house value's largest entry\n",
-              scene.model.name.c_str(), scene.format.c_str(), scene.model.nu);
-  for (const std::string& n : scene.notes) std::printf("import note: %s\n", n.c_str());
+              scene.model.name.c_str(), scene.source.format.c_str(), scene.model.nu);
+  for (const std::string& n : scene.source.notes) std::printf("import note: %s\n", n.c_str());
   for (const std::string& s : c.skipped) std::printf("skipped %s\n", s.c_str());
   std::printf("%-12s %10s %10s %10s\n", "engine", "A", "B", "u'");
   for (const char* engine : {"simbody", "mujoco", kMujocoMass}) {

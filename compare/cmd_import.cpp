@@ -6,7 +6,6 @@
 
 #include "compare/cli.hpp"
 #include "io/atomic_file.hpp"
-#include "io/json_input.hpp"
 #include "io/urdf.hpp"
 
 namespace em::cli {
@@ -21,12 +20,7 @@ struct ImportArgs {
 int runImport(const ImportArgs& a) {
   if (!isUrdfPath(a.robot.path)) throw std::runtime_error(a.robot.path + ": not a URDF file (expected the extension .urdf)");
   if (!a.out.empty()) prepareOutput("--out", a.out, {a.robot.path});
-  UrdfScene u;
-  try {
-    u = importUrdf(readFile(a.robot.path, "URDF file"), a.robot.path, a.robot.urdf);
-  } catch (const InputError& e) {
-    throw std::runtime_error(a.robot.path + ": " + e.what());
-  }
+  const UrdfScene u = importUrdfFile(a.robot.path, a.robot.urdf);
   const std::string text = sceneJson(u.spec);
   loadSceneText(text, "(the scene written)");  // what is written must load as written
   if (a.out.empty()) std::cout << text;

@@ -75,10 +75,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, vo
   ComparisonResult r = compareRuns(ref, tight, std::move(runs), opt);
   const Model& m = scene.model;
   r.scene_name = m.name;
-  r.scene_file = scene.file;
-  r.scene_format = scene.format;
-  r.scene_sha256 = scene.sha256;
-  r.scene_notes = scene.notes;
+  r.scene_source = scene.source;
   r.nq = m.nq;
   r.nu = m.nu;
   r.bodies = m.n();

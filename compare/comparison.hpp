@@ -25,9 +25,8 @@ struct CompareOptions {
 };
 
 struct ComparisonResult {
-  std::string scene_name, scene_file;
-  std::string scene_format, scene_sha256;  ///< Scene::format, Scene::sha256
-  std::vector<std::string> scene_notes;    ///< what an import changed (Scene::notes)
+  std::string scene_name;
+  SceneSource scene_source;
   int nq = 0, nu = 0, bodies = 0;
   CompareOptions options;
   double t_end = 0, output_dt = 0;             ///< the common grid (the reference run's)

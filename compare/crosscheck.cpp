@@ -13,12 +13,6 @@ namespace em {
 
 namespace {
 
-template <class X>
-double relDiff(const X& engine, const X& inhouse) {
-  const double scale = inhouse.cwiseAbs().maxCoeff();
-  return (engine - inhouse).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
-}
-
 struct Inhouse {
   Eigen::MatrixXd A;
   Eigen::VectorXd B, udot;
@@ -32,8 +26,8 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
 
 // MuJoCo as it can take the scene: its own URDF reader, else the Model as MJCF.
 std::unique_ptr<MujocoPeer> mujocoFor(const Scene& scene, const UrdfOptions& urdf) {
-  if (scene.format != "urdf") return std::make_unique<MujocoPeer>(scene.model);
-  return std::make_unique<MujocoPeer>(scene.model, readFile(scene.file, "URDF file"), scene.source_joints,
+  if (scene.source.format != "urdf") return std::make_unique<MujocoPeer>(scene.model);
+  return std::make_unique<MujocoPeer>(scene.model, readFile(scene.source.file, "URDF file"), scene.source_joints,
                                       urdf.lock_joints, urdf.balance_inertia);
 }
 
@@ -63,10 +57,15 @@ void compare(const Model& m, MujocoPeer& mj, const std::string& engine, int k, c
   const Inhouse in = inhouseAt(m, q, u);
   mj.setState(q, u);
   mj.forward();
-  c.rows.push_back({k, engine, relDiff(mj.massMatrix(), in.A), relDiff(mj.rhs(), in.B), relDiff(mj.acceleration(), in.udot)});
+  c.rows.push_back({k, engine, relativeDifference(mj.massMatrix(), in.A), relativeDifference(mj.rhs(), in.B), relativeDifference(mj.acceleration(), in.udot)});
 }
 
 }  // namespace
+
+double relativeDifference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
+  const double scale = y.cwiseAbs().maxCoeff();
+  return (x - y).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
+}
 
 CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed) {
   const Model& m = scene.model;
@@ -86,8 +85,8 @@ CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, u
     if (k > 0) randomState(m, rng, q, u);
     const Inhouse in = inhouseAt(m, q, u);
     simbody.setState(q, u);
-    c.rows.push_back({k, "simbody", relDiff(simbody.massMatrix(), in.A), relDiff(simbody.rhs(), in.B),
-                      relDiff(simbody.udot(), in.udot)});
+    c.rows.push_back({k, "simbody", relativeDifference(simbody.massMatrix(), in.A), relativeDifference(simbody.rhs(), in.B),
+                      relativeDifference(simbody.udot(), in.udot)});
     if (!mujoco) continue;
     compare(m, *mujoco, "mujoco", k, q, u, c);
     compare(*with_mj_mass, *mujoco, kMujocoMass, k, q, u, c);

@@ -19,6 +19,9 @@ struct CrossCheckRow {
   double worst() const { return std::max(A, std::max(B, udot)); }
 };
 
+/// max|x - y| / max|y| (1 in place of a zero max|y|): how far x is from y, relative to y's largest entry.
+double relativeDifference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y);
+
 /// The engine name of the rows that hand the in-house formation MuJoCo's
 /// compiled masses, CMs and inertias: what differs there is not inertia.
 constexpr const char* kMujocoMass = "mujoco-mass";

@@ -47,10 +47,7 @@ PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, vo
   checkRunSpec(ref_spec);
   PrecisionResult r;
   r.scene_name = scene.model.name;
-  r.scene_file = scene.file;
-  r.scene_format = scene.format;
-  r.scene_sha256 = scene.sha256;
-  r.scene_notes = scene.notes;
+  r.scene_source = scene.source;
   r.options = opt;
   r.t_end = ref_spec.t_end;
   if (progress) progress(std::string("reference ") + methodName(ref_spec.method));
@@ -104,8 +101,7 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
   }
   return {{"format", "eigenmass-precision/1"},
           {"scene", r.scene_name},
-          {"scene_source",
-           {{"file", r.scene_file}, {"format", r.scene_format}, {"sha256", r.scene_sha256}, {"import_notes", r.scene_notes}}},
+          {"scene_source", sceneSourceJson(r.scene_source)},
           {"t_end", r.t_end},
           {"reference",
            {{"method", r.reference.method()}, {"integrator", r.reference.integrator()}, {"tolerance", r.reference.run.tol}}},

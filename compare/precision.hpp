@@ -30,8 +30,7 @@ struct PrecisionPoint {
 
 struct PrecisionResult {
   std::string scene_name;
-  std::string scene_file, scene_format, scene_sha256;  ///< where the scene came from (Scene)
-  std::vector<std::string> scene_notes;              ///< what an import changed (Scene::notes)
+  SceneSource scene_source;
   PrecisionOptions options;
   double t_end = 0;
   Trajectory reference;

@@ -81,4 +81,8 @@ std::string versionText() {
          ", Eigen " + eigenVersion() + ", GSL " + GSL_VERSION + "; " + __VERSION__;
 }
 
+nlohmann::json sceneSourceJson(const SceneSource& s) {
+  return {{"file", s.file}, {"format", s.format}, {"sha256", s.sha256}, {"import_notes", s.notes}};
+}
+
 }  // namespace em

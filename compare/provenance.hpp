@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/scene.hpp"
+
 namespace em {
 
 /// Remember the command line (main calls it first).
@@ -13,6 +15,9 @@ void setCommandLine(int argc, char** argv);
 
 /// The provenance block, as of now.
 nlohmann::json provenance();
+
+/// Where the scene came from: {file, format, sha256, import_notes}.
+nlohmann::json sceneSourceJson(const SceneSource& s);
 
 /// "eigenmass 0.3.0 (commit abc1234)" and the libraries: `eigenmass --version`.
 std::string versionText();

@@ -122,10 +122,10 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
   std::vector<std::string> names;
   for (Method m : o.methods) names.push_back(methodName(m));
   const RunSpec& ref = r.reference.run;
+  json scene = {{"name", r.scene_name}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}};
+  scene.update(sceneSourceJson(r.scene_source));
   return {{"format", "eigenmass-report/1"},
-          {"scene",
-           {{"name", r.scene_name}, {"file", r.scene_file}, {"format", r.scene_format}, {"sha256", r.scene_sha256},
-            {"import_notes", r.scene_notes}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}}},
+          {"scene", scene},
           {"options",
            {{"methods", names},
             {"inhouse", runSpec(o.inhouse)},

@@ -71,11 +71,11 @@ void checkInitialState(const Scene& scene) {
   const Eigen::VectorXd q = m.q0(), u = m.u0();
   formEquations(m, q.data(), u.data(), ws);
   if (!ws.A.allFinite() || !ws.B.allFinite() || !std::isfinite(ws.energy()))
-    throw std::runtime_error(scene.file + ": the equations at t = 0 are not finite (A, B or the energy): a mass, "
+    throw std::runtime_error(scene.source.file + ": the equations at t = 0 are not finite (A, B or the energy): a mass, "
                              "inertia or offset too large for double precision");
   const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
   if (llt.info() != Eigen::Success)
-    throw std::runtime_error(scene.file + ": mass matrix A is not positive definite at t = 0" +
+    throw std::runtime_error(scene.source.file + ": mass matrix A is not positive definite at t = 0" +
                              gimbalLockHint(m, q.data()));
 }
 

@@ -7,35 +7,47 @@
 
 namespace em {
 
-Scene loadSceneText(const std::string& text, const std::string& source) {
+namespace {
+
+// A defect found at a JSON path, a link or a joint becomes one line naming the file.
+template <class Read>
+auto inFile(const std::string& source, Read&& read) -> decltype(read()) {
   try {
-    const SceneSpec spec = parseSceneSpec(text);
-    Scene s;
-    s.model = buildModel(spec);
-    s.t_end = spec.t_end;
-    s.output_dt = spec.output_dt;
-    s.file = source;
-    return s;
+    return read();
   } catch (const InputError& e) {
     throw std::runtime_error(source + ": " + e.what());
   }
 }
 
+Scene fromSpec(const SceneSpec& spec, const std::string& source) {
+  Scene s;
+  s.model = buildModel(spec);
+  s.t_end = spec.t_end;
+  s.output_dt = spec.output_dt;
+  s.source.file = source;
+  return s;
+}
+
+}  // namespace
+
+Scene loadSceneText(const std::string& text, const std::string& source) {
+  return inFile(source, [&] { return fromSpec(parseSceneSpec(text), source); });
+}
+
 Scene loadUrdfText(const std::string& text, const std::string& source, const UrdfOptions& options) {
-  try {
+  return inFile(source, [&] {
     const UrdfScene u = importUrdf(text, source, options);
-    Scene s;
-    s.model = buildModel(u.spec);
-    s.t_end = u.spec.t_end;
-    s.output_dt = u.spec.output_dt;
-    s.file = source;
-    s.format = "urdf";
-    s.notes = u.notes;
+    Scene s = fromSpec(u.spec, source);
+    s.source.format = "urdf";
+    s.source.notes = u.notes;
     s.source_joints = u.joint_names;
     return s;
-  } catch (const InputError& e) {
-    throw std::runtime_error(source + ": " + e.what());
-  }
+  });
+}
+
+UrdfScene importUrdfFile(const std::string& path, const UrdfOptions& options) {
+  const std::string text = readFile(path, "URDF file");
+  return inFile(path, [&] { return importUrdf(text, path, options); });
 }
 
 Scene loadScene(const std::string& path, const UrdfOptions& urdf) {
@@ -45,7 +57,7 @@ Scene loadScene(const std::string& path, const UrdfOptions& urdf) {
                              ": applies to URDF files only, not to " + path);
   const std::string text = readFile(path, is_urdf ? "URDF file" : "scene file");
   Scene s = is_urdf ? loadUrdfText(text, path, urdf) : loadSceneText(text, path);
-  s.sha256 = sha256Hex(text);
+  s.source.sha256 = sha256Hex(text);
   return s;
 }
 

@@ -17,13 +17,18 @@ struct UrdfOptions {
   bool any() const { return balance_inertia || !lock_joints.empty(); }
 };
 
+/// Where a scene came from, as every report records it.
+struct SceneSource {
+  std::string file;                          ///< where it was read from
+  std::string format = "eigenmass-scene/1";  ///< or "urdf"
+  std::string sha256;                        ///< of the file's bytes (empty for text given in memory)
+  std::vector<std::string> notes;            ///< what an import changed (URDF: repairs, locked joints)
+};
+
 struct Scene {
   Model model;
   double t_end = 10.0, output_dt = 0.01;  ///< the file's run defaults (simulate.t_end, .output_dt)
-  std::string file;                       ///< where it was read from
-  std::string format = "eigenmass-scene/1";  ///< or "urdf"
-  std::string sha256;                     ///< of the file's bytes (empty for text given in memory)
-  std::vector<std::string> notes;         ///< what an import changed (URDF: repairs, locked joints)
+  SceneSource source;
   std::vector<std::string> source_joints; ///< URDF: the joint of each body, file order, as written
 };
 
@@ -34,5 +39,8 @@ Scene loadScene(const std::string& path, const UrdfOptions& urdf = {});
 Scene loadSceneText(const std::string& text, const std::string& source);
 /// The same from URDF text in memory.
 Scene loadUrdfText(const std::string& text, const std::string& source, const UrdfOptions& options = {});
+/// A URDF file as a scene spec (io/urdf.hpp's importUrdf), errors naming the file.
+struct UrdfScene;
+UrdfScene importUrdfFile(const std::string& path, const UrdfOptions& options);
 
 }  // namespace em

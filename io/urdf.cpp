@@ -252,7 +252,7 @@ BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, M
 void requireDistinct(const std::vector<BodySpec>& bodies, const std::vector<std::string>& joints) {
   std::map<std::string, std::string> seen;
   for (size_t i = 0; i < bodies.size(); ++i) {
-    const std::string link = bodies[i].extra["x-urdf-link"];
+    const std::string link = bodies[i].extra.at("x-urdf-link");
     for (const auto& [name, what] : {std::pair{bodies[i].name, linkAt(link)}, {bodies[i].joint.name, jointAt(joints[i])}}) {
       auto [it, fresh] = seen.emplace(name, what);
       if (!fresh && it->second != what)

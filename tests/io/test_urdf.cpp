@@ -85,7 +85,7 @@ TEST_CASE("a rotated joint frame and an offset, rotated inertial map to the clos
   CHECK(b.mass == 2);
   CHECK((b.J - Vec3(3, 1, 2).asDiagonal().toDenseMatrix()).norm() < kExact);
   CHECK(s.model.qNames() == std::vector<std::string>{"hinge.q0"});
-  CHECK(s.format == "urdf");
+  CHECK(s.source.format == "urdf");
   CHECK(s.source_joints == std::vector<std::string>{"hinge"});
 }
 
@@ -155,16 +155,16 @@ TEST_CASE("published inertias that violate the triangle inequality are refused, 
   const std::string path = test::sourcePath("data/robots/allegro_right_hand.urdf");
   CHECK_THAT(errorOf(path), Catch::StartsWith(path + ": link 'link_3.0': inertia violates the triangle inequality"));
   const Scene s = loadScene(path, {true, {}});
-  REQUIRE(s.notes.size() == 4);  // link_3.0, 7.0, 11.0 (one finger design) and the thumb's link_15.0
-  CHECK_THAT(s.notes[0], Catch::Contains("set to their mean") && Catch::Contains("--balance-inertia"));
+  REQUIRE(s.source.notes.size() == 4);  // link_3.0, 7.0, 11.0 (one finger design) and the thumb's link_15.0
+  CHECK_THAT(s.source.notes[0], Catch::Contains("set to their mean") && Catch::Contains("--balance-inertia"));
 }
 
 TEST_CASE("a locked joint is merged like a fixed one and noted", "[urdf]") {
   const std::string path = test::sourcePath("data/robots/ur5.urdf");
   const Scene s = loadScene(path, {false, {"wrist_3_joint"}});
   CHECK(s.model.n() == 5);
-  REQUIRE(s.notes.size() == 1);
-  CHECK_THAT(s.notes[0], Catch::Contains("wrist_3_joint") && Catch::Contains("--lock-joint"));
+  REQUIRE(s.source.notes.size() == 1);
+  CHECK_THAT(s.source.notes[0], Catch::Contains("wrist_3_joint") && Catch::Contains("--lock-joint"));
   CHECK_THAT(errorOf(path, {false, {"nope"}}), Catch::Contains("--lock-joint: no joint named 'nope'"));
   // Options of the URDF importer are refused for a JSON scene rather than ignored.
   CHECK_THAT(errorOf(test::sourcePath("data/scenes/pendulum5.json"), {true, {}}),
