@@ -57,6 +57,19 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& text) {
   return m;
 }
 
+// A closed loop makes liburdfdom's links own each other through shared
+// pointers (a cycle nothing frees): when the import is done, whatever its
+// outcome, every link lets go of its children.
+struct ModelGuard {
+  urdf::ModelInterfaceSharedPtr model;
+  ~ModelGuard() {
+    for (auto& [name, link] : model->links_) {
+      link->child_links.clear();
+      link->child_joints.clear();
+    }
+  }
+};
+
 // Joint names in the order the file lists them (liburdfdom keeps a map by name).
 std::vector<std::string> jointsInFileOrder(const std::string& text) {
   TiXmlDocument doc;
@@ -271,7 +284,8 @@ bool isUrdfPath(const std::string& path) {
 }
 
 UrdfScene importUrdf(const std::string& text, const std::string& source, const UrdfOptions& opt) {
-  const urdf::ModelInterfaceSharedPtr u = parse(text);
+  const ModelGuard guard{parse(text)};
+  const urdf::ModelInterfaceSharedPtr& u = guard.model;
   UrdfScene s;
   const std::set<std::string> locked = lockedJoints(*u, opt, s.notes);
   const Walk w = walk(*u, locked, opt, s.notes);
