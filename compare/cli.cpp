@@ -12,6 +12,7 @@
 
 #include "compare/progress.hpp"
 #include "compare/provenance.hpp"
+#include "compare/report.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 
@@ -77,7 +78,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"t_end", r.t_end},
                          {"output_dt", r.output_dt},
                          {"status", tr.status},
-                         {"failure", tr.failed() ? nlohmann::json({{"t", tr.failure_time}, {"cause", tr.failure}})
+                         {"failure", tr.failed() ? failureJson(tr.failure_time, tr.failure_kind, tr.failure, tr.failure_cond_A)
                                                  : nlohmann::json(nullptr)},
                          {"steps", tr.steps},
                          {"rhs_evals", tr.rhs_evals},

@@ -91,6 +91,8 @@ MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std
   m.run = run.run;
   m.status = run.status;
   m.failure = run.failure;
+  m.failure_kind = run.failure_kind;
+  m.failure_cond_A = run.failure_cond_A;
   if (run.failed()) m.failure_time = run.failure_time;
   m.run_time_s = run.run_time_s;
   m.steps = run.steps;

@@ -2,6 +2,7 @@
 /// Metrics of one run against a reference on a common output grid
 /// (docs/report-format.md): coordinate-free pose error, joint-coordinate error,
 /// divergence times per threshold, relative energy error, cost and diagnostics.
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,8 @@ constexpr double kWrongRad = 0.1;
 struct MethodMetrics {
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
   std::string status, failure;
+  Failure failure_kind = Failure::None;
+  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();  ///< cond(A) where it stopped (in-house)
   std::string outcome;  ///< "ok", "wrong" or "failed" (outcomeOf)
   std::optional<double> failure_time;
   double run_time_s = 0;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "compare/provenance.hpp"
+#include "compare/report.hpp"
 
 namespace em {
 
@@ -89,9 +90,7 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
                       {"integrator", integratorName(m.run.integrator)},
                       {m.run.fixedStep() ? "step" : "tolerance", m.run.setting()},
                       {"status", m.status},
-                      {"failure", m.status == "ok" ? json(nullptr)
-                                                   : json({{"t", m.failure_time ? json(*m.failure_time) : json(nullptr)},
-                                                           {"cause", m.failure}})},
+                      {"failure", failureJson(m)},
                       {"max_pose_error_rad", num(m.pose.value)},
                       {"max_position_error_m", num(m.position.value)},
                       {"energy_error_max", num(m.energy.value)},

@@ -39,7 +39,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"integrator", integratorName(m.run.integrator)},
             {"status", m.status},
             {"outcome", m.outcome},
-            {"failure", m.status == "ok" ? json(nullptr) : json({{"t", orNull(m.failure_time)}, {"cause", m.failure}})},
+            {"failure", failureJson(m)},
             {"run_time_s", m.run_time_s},
             {"steps", m.steps},
             {"rhs_evals", m.rhs_evals},
@@ -143,8 +143,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"horizon_tolerance", r.tight.run.tol},
             {"horizon_s", horizon},
             {"status", r.reference.status},
-            {"failure", r.reference.failed() ? json({{"t", r.reference.failure_time}, {"cause", r.reference.failure}})
-                                             : json(nullptr)},
+            {"failure", r.reference.failed() ? failureJson(r.reference_metrics) : json(nullptr)},
             {"run_time_s", r.reference.run_time_s},
             {"steps", r.reference.steps},
             {"rhs_evals", r.reference.rhs_evals},
@@ -157,6 +156,18 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
 
 void writeJsonAtomic(const json& j, const std::string& path) {
   writeAtomic(path, "report", [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+}
+
+json failureJson(const std::optional<double>& t, Failure kind, const std::string& cause, double cond_A) {
+  return {{"t", t ? json(*t) : json(nullptr)},
+          {"kind", failureName(kind)},
+          {"cause", cause},
+          {"cond_A", std::isfinite(cond_A) ? json(cond_A) : json(nullptr)}};
+}
+
+json failureJson(const MethodMetrics& m) {
+  if (m.status == "ok") return nullptr;
+  return failureJson(m.failure_time, m.failure_kind, m.failure, m.failure_cond_A);
 }
 
 }  // namespace em

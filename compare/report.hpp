@@ -16,6 +16,11 @@ std::string thresholdKey(double th);
 /// `max_series_points` bounds the decimated plotting series.
 nlohmann::json makeReport(const ComparisonResult& r, const nlohmann::json& gate = nullptr, int max_series_points = 1000);
 
+/// A failure as every output writes it: {t, kind (the registry's failure
+/// name), cause, cond_A (null unless known)}; of a method, null when it completed.
+nlohmann::json failureJson(const std::optional<double>& t, Failure kind, const std::string& cause, double cond_A);
+nlohmann::json failureJson(const MethodMetrics& m);
+
 /// Write JSON to a temporary file beside `path`, then rename: a reader never
 /// sees a half-written report, and an interrupted run leaves none.
 void writeJsonAtomic(const nlohmann::json& j, const std::string& path);

@@ -283,7 +283,7 @@ Trajectory SimbodyReference::simulate(const RunSpec& spec, const SampleObserver&
       if (observe) observe(t_out);
     }
   } catch (const std::exception& e) {
-    markFailed(tr, integ->getTime(), "Simbody: " + oneLine(e.what()));
+    markFailed(tr, integ->getTime(), Failure::Engine, "Simbody: " + oneLine(e.what()));
   }
   tr.run_time_s = cpu;
   tr.steps = integ->getNumStepsTaken();

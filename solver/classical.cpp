@@ -13,12 +13,12 @@ class Classical final : public Formulation {
 
   Status rates(double t, const Workspace& ws, const double*, double* udot, double*, EvalInfo&) override {
     llt_.compute(ws.A);
-    if (llt_.info() != Eigen::Success) return Status::failure(t, "mass matrix A not positive definite (Cholesky failed)");
+    if (llt_.info() != Eigen::Success) return Status::failure(t, Failure::NotPositiveDefinite, "mass matrix A not positive definite (Cholesky failed)");
     // A nearly singular A (a gimbal at +-90 deg) factors with a tiny positive
     // pivot and gives garbage: cond(A) >= max L_ii^2 / min L_ii^2 catches it.
     const auto pivots = llt_.matrixLLT().diagonal().cwiseAbs2();
     if (pivots.maxCoeff() > opt_.max_pivot_ratio * pivots.minCoeff())
-      return Status::failure(t, "mass matrix A numerically singular: cond(A) >= " +
+      return Status::failure(t, Failure::Singular, "mass matrix A numerically singular: cond(A) >= " +
                                     gnum(pivots.maxCoeff() / pivots.minCoeff()) +
                                     " > 1/eps (gimbal lock or extreme mass ratios)");
     Eigen::Map<Eigen::VectorXd> u_dot(udot, ws.B.size());

@@ -55,14 +55,14 @@ std::string gimbalLockHint(const Model& m, const double* q) {
 
 Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
-  if (!allFinite(y, size_)) return Status::failure(t, "non-finite state (NaN or Inf)");
+  if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   formQdot(model_, y, y + nq, dydt);
   formEquations(model_, y, y + nq, ws_, f_->needsAdot());
   EvalInfo local;
   Status s = f_->rates(t, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
   if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);
   if (!s) s.cause += gimbalLockHint(model_, y);
-  else if (!allFinite(dydt, size_)) return Status::failure(t, "non-finite derivative (NaN or Inf)");
+  else if (!allFinite(dydt, size_)) return Status::failure(t, Failure::NonFinite, "non-finite derivative (NaN or Inf)");
   return s;
 }
 
@@ -74,10 +74,10 @@ void Dynamics::normalizeQuaternions(double* y) const {
 Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
   normalizeQuaternions(y);
   const int nq = model_.nq, N = model_.nu;
-  if (!allFinite(y, size_)) return Status::failure(t, "non-finite state (NaN or Inf)");
+  if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   const double umax = Eigen::Map<const Eigen::VectorXd>(y + nq, N).cwiseAbs().maxCoeff();
   if (umax > opt_.blowup_speed)
-    return Status::failure(t, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
+    return Status::failure(t, Failure::BlowUp, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
   if (f_->needsAAfterStep()) {  // the correction needs A at the accepted state
     formKinematics(model_, y, y + nq, ws_);
     formSubtrees(model_, ws_);
@@ -87,6 +87,13 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
 }
 
 void Dynamics::kinematicsAt(const double* y) { formKinematics(model_, y, y + model_.nq, ws_); }
+
+double Dynamics::conditionAt(const double* y) {
+  formKinematics(model_, y, y + model_.nq, ws_);
+  formSubtrees(model_, ws_);
+  formA(model_, ws_);
+  return conditionNumber(ws_.A);
+}
 
 EigenDiagnostics Dynamics::diagnosticsAt(const double* y) {
   // A, A' and Omega at y, from a fresh evaluation.

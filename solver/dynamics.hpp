@@ -40,6 +40,8 @@ class Dynamics {
   Status afterStep(double t, double* y, StepInfo& info);
   /// Form the kinematics and energies at y into the workspace (for output).
   void kinematicsAt(const double* y);
+  /// cond(A) at y's q (conditionNumber; allocates: for the report of a failure).
+  double conditionAt(const double* y);
   /// Eigenfactor drift diagnostics at y (eigenfactor methods; allocates nothing).
   EigenDiagnostics diagnosticsAt(const double* y);
   Workspace& workspace() { return ws_; }

@@ -120,7 +120,7 @@ Status EigenBlock::rates(double t, const Workspace& ws, const double* x, double*
   eigenOfBlocks(x);
   const double lmax = mu_.maxCoeff(), floor = opt_.gap_floor_rel * lmax;
   for (int i = 0; i < N_; ++i)
-    if (!(mu_[i] > 0)) return Status::failure(t, "eigenvalue of D " + gnum(mu_[i]) + " <= 0 (block " + std::to_string(block_[i]) + ")");
+    if (!(mu_[i] > 0)) return Status::failure(t, Failure::NonPositiveEigenvalue, "eigenvalue of D " + gnum(mu_[i]) + " <= 0 (block " + std::to_string(block_[i]) + ")");
   // G = C A' C^T (symmetric; upper half formed, then mirrored).
   AdotCt_.noalias() = ws.Adot * C.transpose();
   G_.triangularView<Eigen::Upper>() = C * AdotCt_;
@@ -138,7 +138,7 @@ Status EigenBlock::rates(double t, const Workspace& ws, const double* x, double*
       if (sameBlock(i, j)) { G_(i, j) = 0; continue; }
       const double gap = mu_[j] - mu_[i];
       if (!(std::abs(gap) >= floor))
-        return Status::failure(t, "gap between blocks |mu_" + std::to_string(i) + " - mu_" + std::to_string(j) +
+        return Status::failure(t, Failure::EigenGap, "gap between blocks |mu_" + std::to_string(i) + " - mu_" + std::to_string(j) +
                                       "| = " + gnum(std::abs(gap)) + " below the floor " + gnum(floor));
       G_(i, j) /= gap;
     }
@@ -175,7 +175,7 @@ Status EigenBlock::afterStep(double t, const Workspace& ws, double* x, StepInfo&
     info.corrected = true;
     info.jacobi = jacobiCorrect(ws.A, C, mu_, corr_, opt_.jacobi_tol, opt_.jacobi_max_sweeps);
     if (!info.jacobi.converged)
-      return Status::failure(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) + " sweeps");
+      return Status::failure(t, Failure::JacobiNotConverged, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) + " sweeps");
   }
   D.setZero();
   D.diagonal() = mu_;

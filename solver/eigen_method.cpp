@@ -38,11 +38,11 @@ class Eigenfactor final : public Formulation {
     const double lmax = lambda.maxCoeff();
     for (int i = 0; i < N_; ++i)
       if (!(lambda[i] > 0))
-        return Status::failure(t, "eigenvalue lambda_" + std::to_string(i) + " = " + gnum(lambda[i]) + " <= 0");
+        return Status::failure(t, Failure::NonPositiveEigenvalue, "eigenvalue lambda_" + std::to_string(i) + " = " + gnum(lambda[i]) + " <= 0");
     const double floor = opt_.gap_floor_rel * lmax;
     const RateStatus st = eigenRates(C, lambda, ws.Adot, floor, Omega_, AdotCt_, lambda_dot, Cdot);
     if (!st.ok)
-      return Status::failure(t, "eigenvalue gap |lambda_" + std::to_string(st.i) + " - lambda_" + std::to_string(st.j) +
+      return Status::failure(t, Failure::EigenGap, "eigenvalue gap |lambda_" + std::to_string(st.i) + " - lambda_" + std::to_string(st.j) +
                                     "| = " + gnum(st.gap) + " below the floor " + gnum(floor));
     info.max_Omega = st.max_Omega;
     // u' = C^T Lambda^-1 C B (paper eq. (17)).
@@ -61,7 +61,7 @@ class Eigenfactor final : public Formulation {
       info.jacobi = jacobiCorrect(ws.A, C, lambda, corr_, opt_.jacobi_tol, opt_.jacobi_max_sweeps);
       if (!info.jacobi.converged) {
         const double orth = (C * C.transpose() - Eigen::MatrixXd::Identity(N_, N_)).norm();
-        return Status::failure(t, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) +
+        return Status::failure(t, Failure::JacobiNotConverged, "Jacobi correction did not converge in " + std::to_string(opt_.jacobi_max_sweeps) +
                                       " sweeps (off(C A C^T)/||A|| = " + gnum(offDiagonalNorm(corr_.D) / ws.A.norm()) +
                                       ", ||C C^T - I|| = " + gnum(orth) + ")");
       }

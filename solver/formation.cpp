@@ -1,5 +1,9 @@
 #include "solver/formation.hpp"
 
+#include <limits>
+
+#include <Eigen/Eigenvalues>
+
 namespace em {
 
 namespace {
@@ -366,6 +370,13 @@ void formEquations(const Model& m, const double* q, const double* u, Workspace& 
 
 void formQdot(const Model& m, const double* q, const double* u, double* qdot) {
   for (const Body& Bi : m.bodies) jointQdot(Bi.joint, q + Bi.iq, u + Bi.iu, qdot + Bi.iq);
+}
+
+double conditionNumber(const Eigen::MatrixXd& A) {
+  if (!A.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A, Eigen::EigenvaluesOnly).eigenvalues();
+  if (!(lambda[0] > 0)) return std::numeric_limits<double>::infinity();
+  return lambda[lambda.size() - 1] / lambda[0];
 }
 
 }  // namespace em

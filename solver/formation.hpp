@@ -92,6 +92,9 @@ void formEquations(const Model& m, const double* q, const double* u, Workspace& 
                    bool with_Adot = false);
 /// Total potential energy (gravity + springs) at q, using ws's CM positions.
 double potentialEnergy(const Model& m, const double* q, const Workspace& ws);
+/// cond(A) = largest / smallest eigenvalue of a symmetric A (Inf when the
+/// smallest is <= 0, NaN when A is not finite). Allocates: for reports.
+double conditionNumber(const Eigen::MatrixXd& A);
 /// q' from u for all joints.  // q, u -> qdot (nq)
 void formQdot(const Model& m, const double* q, const double* u, double* qdot);
 

@@ -16,8 +16,9 @@ namespace em {
 struct Status {
   bool ok = true;
   double t = 0;
+  Failure kind = Failure::None;
   std::string cause;
-  static Status failure(double t, std::string cause) { return {false, t, std::move(cause)}; }
+  static Status failure(double t, Failure kind, std::string cause) { return {false, t, kind, std::move(cause)}; }
   explicit operator bool() const { return ok; }
 };
 

@@ -79,10 +79,14 @@ class Run {
     tr_.sample_time_s += cpuSeconds() - c0;
   }
 
-  void finish() {
+  // y: the state where the run ended (on a failure, the last accepted one or
+  // the step that failed its check).
+  void finish(const double* y) {
     tr_.rhs_evals = rhs_evals_;
     if (dyn_.eigenfactor()) tr_.eigen = stats_;
-    if (!failure_.ok) markFailed(tr_, failure_.t, failure_.cause);
+    if (failure_.ok) return;
+    markFailed(tr_, failure_.t, failure_.kind, failure_.cause);
+    tr_.failure_cond_A = dyn_.conditionAt(y);
   }
 
   Dynamics& dynamics() { return dyn_; }
@@ -176,7 +180,7 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
     while (t < t_out) {
       const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
       if (status != GSL_SUCCESS) {
-        run.fail(Status::failure(t, std::string("integrator stopped: ") + gsl_strerror(status)));
+        run.fail(Status::failure(t, Failure::IntegratorStopped, std::string("integrator stopped: ") + gsl_strerror(status)));
         return;
       }
       if (!run.accept(t, y.data())) return;
@@ -188,7 +192,7 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
         gsl_odeiv2_evolve_reset(evo.get());
       }
       if (h < 1e-14 * std::max(1.0, t)) {
-        run.fail(Status::failure(t, "step size underflow (h = " + gnum(h) + ")"));
+        run.fail(Status::failure(t, Failure::StepUnderflow, "step size underflow (h = " + gnum(h) + ")"));
         return;
       }
     }
@@ -216,7 +220,7 @@ Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& o
     runAdaptive(run, spec, n_out, y);
   tr.run_time_s = cpuSeconds() - c0 - tr.sample_time_s;
   gsl_set_error_handler(old);
-  run.finish();
+  run.finish(y.data());
   return tr;
 }
 

@@ -39,6 +39,23 @@ const std::vector<IntegratorInfo>& integratorTable() {
   return table;
 }
 
+const std::vector<FailureInfo>& failureTable() {
+  static const std::vector<FailureInfo> table = {
+      {Failure::None, "none", "the run completed"},
+      {Failure::NonFinite, "non-finite", "NaN or Inf in the state or its derivative"},
+      {Failure::BlowUp, "blow-up", "a speed beyond the blow-up bound"},
+      {Failure::NotPositiveDefinite, "not-positive-definite", "the Cholesky factorization of A failed"},
+      {Failure::Singular, "singular", "A numerically singular: cond(A) beyond 1/eps"},
+      {Failure::NonPositiveEigenvalue, "eigenvalue-nonpositive", "an integrated eigenvalue of A (or of D) <= 0"},
+      {Failure::EigenGap, "eigen-gap", "an eigenvalue gap (or a gap between blocks) below the floor"},
+      {Failure::JacobiNotConverged, "jacobi-not-converged", "the Jacobi correction did not converge"},
+      {Failure::IntegratorStopped, "integrator-stopped", "the adaptive integrator gave up"},
+      {Failure::StepUnderflow, "step-underflow", "the adaptive step collapsed"},
+      {Failure::Engine, "engine", "the other engine (Simbody) stopped with an exception"},
+  };
+  return table;
+}
+
 const char* engineName(Engine e) { return e == Engine::InHouse ? "inhouse" : "simbody"; }
 
 namespace {
@@ -73,6 +90,7 @@ const MethodInfo& info(Method m) { return row(methodTable(), m); }
 const IntegratorInfo& info(Integrator i) { return row(integratorTable(), i); }
 const char* methodName(Method m) { return info(m).name; }
 const char* integratorName(Integrator i) { return info(i).name; }
+const char* failureName(Failure f) { return row(failureTable(), f).name; }
 
 bool findMethod(const std::string& name, Method& out) { return find(methodTable(), name, out); }
 bool findIntegrator(const std::string& name, Integrator& out) { return find(integratorTable(), name, out); }

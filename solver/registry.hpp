@@ -46,14 +46,38 @@ struct IntegratorInfo {
   const char* summary;
 };
 
+/// Why a run stopped: the kind of its numerical failure (reports'
+/// `failure.kind`, the extreme gallery's causes); the cause text says the rest.
+enum class Failure {
+  None,
+  NonFinite,              ///< NaN or Inf in the state or its derivative
+  BlowUp,                 ///< max |u| beyond MethodOptions::blowup_speed
+  NotPositiveDefinite,    ///< Cholesky of A failed
+  Singular,               ///< A numerically singular (pivot ratio beyond 1/eps)
+  NonPositiveEigenvalue,  ///< an integrated eigenvalue of A (or of D) <= 0
+  EigenGap,               ///< an eigenvalue gap (or a gap between blocks) below the floor
+  JacobiNotConverged,     ///< the Jacobi correction did not converge
+  IntegratorStopped,      ///< the adaptive integrator gave up
+  StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
+  Engine,                 ///< another engine (Simbody) threw
+};
+
+struct FailureInfo {
+  Failure id;
+  const char* name;
+  const char* summary;
+};
+
 /// The tables, in the order every listing uses.
 const std::vector<MethodInfo>& methodTable();
 const std::vector<IntegratorInfo>& integratorTable();
+const std::vector<FailureInfo>& failureTable();
 
 const MethodInfo& info(Method m);
 const IntegratorInfo& info(Integrator i);
 const char* methodName(Method m);
 const char* integratorName(Integrator i);
+const char* failureName(Failure f);
 
 /// The method or integrator of that name; throws std::invalid_argument
 /// naming every known one ("unknown method 'x' (classical, ...)").

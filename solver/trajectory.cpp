@@ -29,10 +29,11 @@ void appendSample(Trajectory& tr, const Model& m, double t, const double* q, con
   tr.poses.push_back(std::move(pf));
 }
 
-void markFailed(Trajectory& tr, double t, const std::string& cause) {
+void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause) {
   if (tr.failed()) return;
   tr.status = "failed";
   tr.failure = cause;
+  tr.failure_kind = kind;
   tr.failure_time = t;
 }
 

@@ -2,6 +2,7 @@
 /// The trajectory type shared by the in-house methods and the Simbody
 /// reference: samples on an output grid, in the source's order, with the
 /// RunSpec that made it. appendSample is the one sampler of both engines.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,11 @@ struct Trajectory {
   // Run summary.
   std::string status = "ok";               ///< "ok" or "failed"
   std::string failure;                     ///< cause when failed
+  Failure failure_kind = Failure::None;    ///< its kind (registry's failure table)
   double failure_time = 0;
+  /// cond(A) = max/min eigenvalue of A at the state where the run stopped
+  /// (in-house methods; NaN when it completed or for another engine).
+  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   double sample_time_s = 0;                ///< CPU time spent recording samples
   long steps = 0, rhs_evals = 0;
@@ -72,7 +77,7 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run);
 void appendSample(Trajectory& tr, const Model& m, double t, const double* q, const double* u,
                   const std::vector<Pose>& poses, const EnergySample& energy);
 
-/// Mark the run failed at t with its cause (the first failure is kept).
-void markFailed(Trajectory& tr, double t, const std::string& cause);
+/// Mark the run failed at t with its kind and cause (the first failure is kept).
+void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause);
 
 }  // namespace em

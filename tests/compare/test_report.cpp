@@ -19,9 +19,8 @@ ComparisonResult synthetic() {
   CompareOptions o;
   o.methods = {Method::Classical, Method::Eigen};
   Trajectory failed = test::turning(Method::Eigen, 0.021, 0.5, 3.0);
-  failed.status = "failed";
-  failed.failure = "eigenvalue lambda_0 = -0.1 <= 0";
-  failed.failure_time = 3.0;
+  markFailed(failed, 3.0, Failure::NonPositiveEigenvalue, "eigenvalue lambda_0 = -0.1 <= 0");
+  failed.failure_cond_A = 250.0;
   ComparisonResult r = compareRuns(test::turning(Method::Simbody, 0, 0), test::turning(Method::Simbody, 1e-6, 0),
                                    {test::turning(Method::Classical, 1e-5, 0), failed}, o);
   r.scene_name = "synthetic";
@@ -74,6 +73,9 @@ TEST_CASE("a failed method appears with its time and cause", "[report]") {
   CHECK(j["methods"][0]["outcome"].is_string());
   CHECK(e["failure"]["t"] == 3.0);
   CHECK(e["failure"]["cause"] == "eigenvalue lambda_0 = -0.1 <= 0");
+  CHECK(e["failure"]["kind"] == "eigenvalue-nonpositive");
+  CHECK(e["failure"]["cond_A"] == 250.0);
+  CHECK(j["methods"][0]["failure"].is_null());
   CHECK(e["divergence_time_s"]["1e-1"] == 3.0);
   CHECK(e["divergence_time_s"]["1e-3"].get<double>() == Approx(0.05));
 }

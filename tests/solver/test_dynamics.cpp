@@ -3,6 +3,8 @@
 // bounds of the paper's methods b and c, and every failure path.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include "solver/dynamics.hpp"
 #include "solver/integrate.hpp"
 #include "support.hpp"
@@ -138,6 +140,10 @@ TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classic
   CHECK(e.status == "failed");
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
+  CHECK(e.failure_kind == Failure::EigenGap);
+  // Where it stopped, A has two equal eigenvalues but is well conditioned.
+  CHECK(e.failure_cond_A >= 1.0);
+  CHECK(e.failure_cond_A < 100);
   const Trajectory c = simulate(m, rk4(Method::Classical, 0.5));
   CHECK(c.status == "ok");
   CHECK(c.size() == 51);
@@ -205,6 +211,7 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
     const Status st = dyn.rhs(0, y.data(), dy.data());
     CHECK_FALSE(st);
     CHECK_THAT(st.cause, Catch::Contains("lambda_0") && Catch::Contains("<= 0"));
+    CHECK(st.kind == Failure::NonPositiveEigenvalue);
   }
   {
     RunSpec s = rk4(Method::Classical, 2.0);
@@ -212,6 +219,8 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
     const Trajectory t = simulate(m, s);
     CHECK(t.status == "failed");
     CHECK_THAT(t.failure, Catch::Contains("blow-up"));
+    CHECK(t.failure_kind == Failure::BlowUp);
+    CHECK(std::isfinite(t.failure_cond_A));
     CHECK(t.failure_time > 0);
     CHECK(t.failure_time < 2.0);
   }
@@ -231,5 +240,9 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
     CHECK(t.failure_time > 0.5);
     CHECK(t.failure_time < 2.5);
     CHECK(t.t.back() <= t.failure_time);  // no sample after the failure
+    // The kind says the same as the cause (eigen: lambda <= 0; eigen-jacobi: Jacobi).
+    CHECK(t.failure_kind == (meth == Method::Eigen ? Failure::NonPositiveEigenvalue : Failure::JacobiNotConverged));
   }
+  CHECK(c.failure_kind == Failure::None);
+  CHECK(std::isnan(c.failure_cond_A));
 }
