@@ -20,6 +20,11 @@ using Err = InputError;
 // Relative tolerance of the inertia checks: equality in the triangle
 // inequalities (a thin plate) must pass despite rounding of written decimals.
 constexpr double kInertiaRelTol = 1e-9;
+// Smallest principal moment accepted, relative to the largest: the 3x3
+// eigensolver resolves it to ~eps/kInertiaMinRatio (1e-4 relative) and a rod
+// whose axial moment is 1e-9 of its transverse one (the extreme gallery's
+// thin_rods) is a real body.
+constexpr double kInertiaMinRatio = 1e-12;
 // Universal axes count as perpendicular when |cos| is below this (scene-format.md).
 constexpr double kPerpendicularTol = 1e-9;
 // Largest |q0| of an angle: at 1e4 rad a double's spacing is 1.8e-12 rad.
@@ -120,7 +125,7 @@ Mat3 inertia(const json& v, const std::string& path) {
   }
   const Vec3 I = Eigen::SelfAdjointEigenSolver<Mat3>(J).eigenvalues();  // ascending
   const double scale = I.cwiseAbs().maxCoeff();
-  if (!(I[0] > kInertiaRelTol * scale) || !(scale > 0))
+  if (!(I[0] > kInertiaMinRatio * scale) || !(scale > 0))
     throw Err(path, "not positive definite (principal moments " + gnum(I[0]) + ", " + gnum(I[1]) + ", " +
                         gnum(I[2]) + ")");
   if (I[0] + I[1] < I[2] * (1 - kInertiaRelTol))
