@@ -109,6 +109,7 @@ Grid GridArgs::asked(const CLI::App& cmd) const {
 void GridArgs::applyTo(MethodOptions& options) const {
   if (allow_long_run) options.max_steps = HUGE_VAL;
   options.block_gap_rel = block_gap;
+  options.retry_failed_steps = !no_step_retry;
 }
 
 void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help) {
@@ -116,6 +117,9 @@ void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_hel
   cmd->add_option("--output-dt", g.output_dt, output_dt_help + "; default: the scene's simulate.output_dt")
       ->check(positiveFinite());
   cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+  cmd->add_flag("--no-step-retry", g.no_step_retry,
+                "Adaptive integrators: end the run when the right-hand side fails at a trial stage (default: retry the "
+                "step at a quarter of its size)");
   cmd->add_option("--block-gap", g.block_gap,
                   "eigen-block: eigenvalues closer than this times the largest share a block (delta)")
       ->check(positiveFinite() & CLI::Range(0.0, 1.0))

@@ -19,6 +19,7 @@ void addCompare(CLI::App& app);
 void addPrecision(CLI::App& app);
 void addImport(CLI::App& app);
 void addCrossCheck(CLI::App& app);
+void addExtreme(CLI::App& app);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
 int exitCode();
 
@@ -56,15 +57,17 @@ CLI::Validator positiveFinite();
 struct GridArgs {
   double t_end = 0, output_dt = 0;
   bool allow_long_run = false;
+  bool no_step_retry = false;
   double block_gap = MethodOptions().block_gap_rel;  ///< eigen-block's delta
   /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
   Grid asked(const CLI::App& cmd) const;
   /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps);
-  /// --block-gap sets eigen-block's delta.
+  /// --block-gap sets eigen-block's delta; --no-step-retry ends an adaptive run
+  /// at a failed trial stage.
   void applyTo(MethodOptions& options) const;
   void applyTo(RunSpec& spec) const { applyTo(spec.options); }
 };
-/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --progress, --no-progress.
+/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --block-gap, --no-step-retry, --progress, --no-progress.
 void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help);
 
 /// Validators fed from the registry: a method name; an integrator name (of one engine).

@@ -41,6 +41,7 @@ struct MethodMetrics {
   std::optional<double> failure_time;
   double run_time_s = 0;
   long steps = 0, rhs_evals = 0;
+  long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
   Peak pose, position, coord, energy;
   bool coords_shared = false;
   double energy_error_final = 0;

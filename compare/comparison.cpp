@@ -57,22 +57,49 @@ void checkComparison(const CompareOptions& opt, const std::vector<RunSpec>& spec
 
 }  // namespace
 
-ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+namespace {
+
+// Every run of a comparison on the scene's grid: the reference, its tighter
+// twin, then the methods in order.
+std::vector<RunSpec> comparisonSpecs(const Scene& scene, const CompareOptions& opt) {
   const RunSpec ref_spec = onGrid(opt.reference, scene, opt.grid);
   RunSpec tight_spec = ref_spec;
   tight_spec.tol = ref_spec.tol / opt.tight_factor;
   std::vector<RunSpec> specs = {ref_spec, tight_spec};
   for (Method method : opt.methods) specs.push_back(onGrid(opt.specFor(method), scene, opt.grid));
+  return specs;
+}
+
+Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& label,
+                       void (*progress)(const std::string&)) {
+  if (progress) progress(label);
+  return runMethod(scene.model, s);
+}
+
+}  // namespace
+
+void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) {
+  checkComparison(opt, comparisonSpecs(scene, opt));
+}
+
+ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+  const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
   checkComparison(opt, specs);
-  auto run = [&](const RunSpec& s, const std::string& label) {
-    if (progress) progress(label);
-    return runMethod(scene.model, s);
-  };
-  const Trajectory ref = run(ref_spec, std::string("reference ") + methodName(ref_spec.method));
-  const Trajectory tight = run(tight_spec, "horizon run (tolerance / " + gnum(opt.tight_factor) + ")");
+  return {runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
+          runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress)};
+}
+
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+  return runComparison(scene, opt, runReference(scene, opt, progress), progress);
+}
+
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, const ReferenceRuns& reference,
+                               void (*progress)(const std::string&)) {
+  const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
+  checkComparison(opt, specs);
   std::vector<Trajectory> runs;
-  for (size_t i = 2; i < specs.size(); ++i) runs.push_back(run(specs[i], methodName(specs[i].method)));
-  ComparisonResult r = compareRuns(ref, tight, std::move(runs), opt);
+  for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i].method), progress));
+  ComparisonResult r = compareRuns(reference.reference, reference.tight, std::move(runs), opt);
   const Model& m = scene.model;
   r.scene_name = m.name;
   r.scene_source = scene.source;

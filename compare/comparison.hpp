@@ -39,10 +39,25 @@ struct ComparisonResult {
 
 };
 
+/// Throws for settings that cannot run (SettingError, a method named twice,
+/// no threshold): what runComparison checks before anything runs.
+void checkComparisonOptions(const Scene& scene, const CompareOptions& opt);
+
+/// The reference run and its tighter twin (the horizon run).
+struct ReferenceRuns {
+  Trajectory reference, tight;
+};
+/// Run them as `opt` says (after checkComparisonOptions).
+ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&) = nullptr);
+
 /// Run every method and the reference (and its tighter twin), then compare.
 /// `progress` (may be null) is told each run's name as it starts. Settings are
 /// checked (and a method named twice refused) before anything runs.
 ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt,
+                               void (*progress)(const std::string&) = nullptr);
+/// The same against reference runs made earlier with the same reference
+/// settings and grid (several in-house settings against one reference).
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, const ReferenceRuns& reference,
                                void (*progress)(const std::string&) = nullptr);
 
 /// Compare already computed runs (used by runComparison and by tests).

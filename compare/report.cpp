@@ -43,6 +43,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"run_time_s", m.run_time_s},
             {"steps", m.steps},
             {"rhs_evals", m.rhs_evals},
+            {"step_retries", m.step_retries},
             {"max_pose_error_rad", num(m.pose.value)},
             {"max_pose_error_t", m.pose.t},
             {"max_position_error_m", num(m.position.value)},

@@ -27,15 +27,32 @@ class Run {
     stats_.min_gap = std::numeric_limits<double>::infinity();
   }
 
-  // One right-hand-side evaluation, counted; a failure is recorded.
+  // One right-hand-side evaluation, counted; a failure is recorded (as the
+  // run's, or only as the step's when trial failures are retried).
   bool evaluate(double t, const double* y, double* dydt) {
     ++rhs_evals_;
     EvalInfo ev;
     const Status s = dyn_.rhs(t, y, dydt, &ev);
-    if (!s) return fail(s);
+    if (!s) {
+      if (retrying_) {
+        if (trial_failure_.ok) trial_failure_ = s;
+        return false;
+      }
+      return fail(s);
+    }
     stats_.max_abs_Omega = std::max(stats_.max_abs_Omega, ev.max_Omega);
     return true;
   }
+
+  // Adaptive runs: evaluation failures become the step's, to be retried.
+  void retryTrialFailures(bool on) { retrying_ = on; }
+  // The failed trial evaluation of the last step (ok if none), then forgotten.
+  Status takeTrialFailure() {
+    Status s = trial_failure_;
+    trial_failure_ = Status();
+    return s;
+  }
+  long& retries() { return tr_.step_retries; }
 
   // After an accepted step ending at t.
   bool accept(double t, double* y) {
@@ -100,6 +117,8 @@ class Run {
   long rhs_evals_ = 0;
   EigenStats stats_;
   Status failure_;
+  bool retrying_ = false;
+  Status trial_failure_;
 };
 
 // Fixed step: exact multiples of dt, output every `per_output` steps.
@@ -164,6 +183,25 @@ struct GslDeleter {
   void operator()(gsl_odeiv2_evolve* e) const { gsl_odeiv2_evolve_free(e); }
 };
 
+// Smallest adaptive step, relative to max(1, t): below it the run has stalled.
+constexpr double kMinStepRel = 1e-14;
+
+// A trial stage of the step from t failed: shrink h fourfold, or end the run
+// when it would fall below the smallest step (the trial's cause kept). A
+// failure at the step's start is the run's own.
+bool retrySmaller(Run& run, const Status& trial, double t, double& h) {
+  if (trial.t == t) {  // the step's own start, an accepted state: no smaller step helps
+    run.fail(trial);
+    return false;
+  }
+  h *= 0.25;
+  ++run.retries();
+  if (h >= kMinStepRel * std::max(1.0, t)) return true;
+  run.fail(Status::failure(trial.t, Failure::StepUnderflow,
+                           "step size underflow retrying a failed trial stage (last: " + trial.cause + ")"));
+  return false;
+}
+
 // Adaptive: GSL's evolve loop; the method's correction runs after every
 // accepted step, and stepper and evolve are reset so they see the corrected state.
 void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
@@ -175,10 +213,18 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
   gsl_odeiv2_system sys{gslRhs, gslJacobian, static_cast<size_t>(n), &params};
   double t = 0, h = std::min(1e-3, spec.output_dt);
   const bool corrects = run.dynamics().correctsAfterStep();
+  run.retryTrialFailures(spec.options.retry_failed_steps);
   for (long k = 1; k <= n_out; ++k) {
     const double t_out = k * spec.output_dt;
     while (t < t_out) {
       const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
+      const Status trial = run.takeTrialFailure();
+      if (!trial.ok) {  // GSL restored t and y: retry smaller, or give up
+        if (!retrySmaller(run, trial, t, h)) return;
+        gsl_odeiv2_step_reset(step.get());
+        gsl_odeiv2_evolve_reset(evo.get());
+        continue;
+      }
       if (status != GSL_SUCCESS) {
         run.fail(Status::failure(t, Failure::IntegratorStopped, std::string("integrator stopped: ") + gsl_strerror(status)));
         return;
@@ -191,7 +237,7 @@ void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) 
         gsl_odeiv2_step_reset(step.get());
         gsl_odeiv2_evolve_reset(evo.get());
       }
-      if (h < 1e-14 * std::max(1.0, t)) {
+      if (h < kMinStepRel * std::max(1.0, t)) {
         run.fail(Status::failure(t, Failure::StepUnderflow, "step size underflow (h = " + gnum(h) + ")"));
         return;
       }

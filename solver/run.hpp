@@ -25,6 +25,12 @@ struct MethodOptions {
   /// Refuse a fixed-step run of more steps than this before it starts (a
   /// mistyped dt); the CLI's --allow-long-run lifts it.
   double max_steps = 1e8;
+  /// Adaptive integrators: when the right-hand side fails at a trial stage (a
+  /// state the step may never accept: lambda <= 0, a gap below the floor, A
+  /// singular), retry the step at a quarter of its size instead of ending the
+  /// run; it ends only when the step collapses (step-underflow, with the
+  /// evaluation's cause). Accepted states are never retried.
+  bool retry_failed_steps = true;
 };
 
 /// One run, fully resolved (no "0 means the scene's"): what made a trajectory.

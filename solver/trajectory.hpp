@@ -61,6 +61,7 @@ struct Trajectory {
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   double sample_time_s = 0;                ///< CPU time spent recording samples
   long steps = 0, rhs_evals = 0;
+  long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
   EigenStats eigen;  ///< eigenfactor methods only
 
   size_t size() const { return t.size(); }
