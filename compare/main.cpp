@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   em::cli::addPrecision(app);
   em::cli::addImport(app);
   em::cli::addCrossCheck(app);
+  em::cli::addExtreme(app);
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

@@ -246,3 +246,22 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
   CHECK(c.failure_kind == Failure::None);
   CHECK(std::isnan(c.failure_cond_A));
 }
+
+TEST_CASE("adaptive runs retry a step whose trial stage fails, while a failure at an accepted state stays the run failure", "[dynamics][failure]") {
+  // Stiff damped springs (omega ~3000 rad/s): rk8pd's first trial step of
+  // 1e-3 s sends eigen's integrated eigenvalue below zero at a trial stage.
+  const Model stiff = loadScene(test::sourcePath("data/scenes/extreme/stiff_springs_damped.json")).model;
+  RunSpec s = test::runSpec(Method::Eigen, Integrator::RK8PD, 0.05, 1e-10);
+  const Trajectory retried = simulate(stiff, s);
+  CHECK(retried.status == "ok");
+  CHECK(retried.step_retries >= 1);
+  s.options.retry_failed_steps = false;
+  const Trajectory stopped = simulate(stiff, s);
+  CHECK(stopped.status == "failed");
+  CHECK(stopped.failure_kind == Failure::NonPositiveEigenvalue);
+  CHECK(stopped.step_retries == 0);
+  // Equal eigenvalues at t = 0: no smaller step helps, the cause is kept.
+  const Trajectory equal = simulate(sphereOnBall(), test::runSpec(Method::Eigen, Integrator::RK8PD, 0.5, 1e-10));
+  CHECK(equal.failure_kind == Failure::EigenGap);
+  CHECK(equal.failure_time == 0.0);
+}
