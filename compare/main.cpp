@@ -1,4 +1,5 @@
-// The `eigenmass` command-line tool: equations, simulate, compare, precision, import, crosscheck.
+// The `eigenmass` command-line tool: equations, simulate, compare, precision, import, crosscheck,
+// extreme, sweep.
 // One exit-code scheme: 0 ok, 1 a run failed or the gate broke, 2 bad input
 // or options (CLI11's own parse errors included), 130/143 interrupted.
 #include <cstdio>
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   em::cli::addImport(app);
   em::cli::addCrossCheck(app);
   em::cli::addExtreme(app);
+  em::cli::addSweep(app);
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

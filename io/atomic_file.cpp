@@ -41,7 +41,9 @@ void installInterruptCleanup() {
 }
 
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write) {
-  const std::string tmp = path + ".tmp";
+  // One temporary per process: sweep workers may write the same file at once
+  // (a scene's reference, run by whichever case needs it first); the last rename wins.
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   TemporaryGuard guard(tmp);
   {
     std::ofstream out(tmp);

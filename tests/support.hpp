@@ -2,6 +2,7 @@
 // Shared helpers of the tests: data paths, run settings, relative errors, random states.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -17,6 +18,15 @@ namespace em::test {
 inline std::string sourcePath(const std::string& rel) { return std::string(EM_SOURCE_DIR) + "/" + rel; }
 inline Scene sceneData(const std::string& scene) { return loadScene(sourcePath("data/scenes/" + scene)); }
 inline Model loadData(const std::string& scene) { return sceneData(scene).model; }
+
+/// Whether a temporary of an atomic write of `path` (`<path>.tmp.<pid>`) is left beside it.
+inline bool temporaryLeft(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::string prefix = p.filename().string() + ".tmp";
+  for (const auto& f : std::filesystem::directory_iterator(p.parent_path()))
+    if (f.path().filename().string().rfind(prefix, 0) == 0) return true;
+  return false;
+}
 
 /// The n-link chain as data/scenes/chainNN.json defines it (tools/make_scenes.py),
 /// as written, for tests that alter it before building.

@@ -139,7 +139,7 @@ TEST_CASE("an interrupted compare leaves no report and no temporary", "[cli][com
   const int st = std::system(cmd.c_str());
   CHECK(WEXITSTATUS(st) != 0);
   CHECK_FALSE(std::filesystem::exists(out));
-  CHECK_FALSE(std::filesystem::exists(out + ".tmp"));
+  CHECK_FALSE(em::test::temporaryLeft(out));
 }
 
 TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {

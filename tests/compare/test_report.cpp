@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "compare/report.hpp"
+#include "support.hpp"
 #include "synthetic.hpp"
 
 using namespace em;
@@ -94,7 +95,7 @@ TEST_CASE("a report round-trips through its file and no temporary is left", "[re
   const std::string path = std::string(EM_BINARY_DIR) + "/test_report.json";
   const json j = makeReport(synthetic());
   writeJsonAtomic(j, path);
-  CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
+  CHECK_FALSE(test::temporaryLeft(path));
   std::ifstream in(path);
   CHECK(json::parse(in) == j);
   CHECK_THROWS_WITH(writeJsonAtomic(j, "/nonexistent-dir/r.json"), Catch::Contains("/nonexistent-dir/r.json"));

@@ -32,7 +32,7 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
   const Trajectory t = simulate(m, test::runSpec(Method::EigenJacobi, Integrator::RK4, 0.05, 1e-3));
   const std::string path = std::string(EM_BINARY_DIR) + "/test_trajectory.csv";
   writeCsv(t, path);
-  CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
+  CHECK_FALSE(test::temporaryLeft(path));
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);

@@ -1,0 +1,91 @@
+#include "io/trajectory_json.hpp"
+
+#include <stdexcept>
+
+namespace em {
+
+using json = nlohmann::json;
+
+namespace {
+
+json vectorJson(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+
+Eigen::VectorXd vectorFrom(const json& j) {
+  const std::vector<double> v = j.get<std::vector<double>>();
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+// Per sample, per body: [x, y, z, qw, qx, qy, qz].
+json posesJson(const std::vector<Pose>& poses) {
+  json out = json::array();
+  for (const Pose& p : poses) out.push_back({p.p.x(), p.p.y(), p.p.z(), p.quat[0], p.quat[1], p.quat[2], p.quat[3]});
+  return out;
+}
+
+std::vector<Pose> posesFrom(const json& j) {
+  std::vector<Pose> out;
+  for (const json& b : j) {
+    const std::vector<double> v = b.get<std::vector<double>>();
+    if (v.size() != 7) throw std::invalid_argument("a pose has 7 numbers");
+    Pose p;
+    p.p = Vec3(v[0], v[1], v[2]);
+    p.quat = Vec4(v[3], v[4], v[5], v[6]);
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+json trajectoryJson(const Trajectory& tr) {
+  json q = json::array(), u = json::array(), poses = json::array();
+  for (size_t k = 0; k < tr.size(); ++k) {
+    q.push_back(vectorJson(tr.q[k]));
+    u.push_back(vectorJson(tr.u[k]));
+    poses.push_back(posesJson(tr.poses[k]));
+  }
+  return {{"scene", tr.scene},          {"q_names", tr.q_names},   {"u_names", tr.u_names},
+          {"body_names", tr.body_names}, {"t", tr.t},               {"q", q},
+          {"u", u},                      {"energy", tr.energy},     {"kinetic", tr.kinetic},
+          {"dissipated", tr.dissipated}, {"poses", poses},          {"status", tr.status},
+          {"failure", tr.failure},       {"failure_kind", failureName(tr.failure_kind)},
+          {"failure_time", tr.failure_time}, {"run_time_s", tr.run_time_s},
+          {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries}};
+}
+
+Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::string& source) {
+  Trajectory tr;
+  tr.run = run;
+  try {
+    tr.scene = j.at("scene").get<std::string>();
+    tr.q_names = j.at("q_names").get<std::vector<std::string>>();
+    tr.u_names = j.at("u_names").get<std::vector<std::string>>();
+    tr.body_names = j.at("body_names").get<std::vector<std::string>>();
+    tr.t = j.at("t").get<std::vector<double>>();
+    for (const json& v : j.at("q")) tr.q.push_back(vectorFrom(v));
+    for (const json& v : j.at("u")) tr.u.push_back(vectorFrom(v));
+    for (const json& v : j.at("poses")) tr.poses.push_back(posesFrom(v));
+    tr.energy = j.at("energy").get<std::vector<double>>();
+    tr.kinetic = j.at("kinetic").get<std::vector<double>>();
+    tr.dissipated = j.at("dissipated").get<std::vector<double>>();
+    tr.status = j.at("status").get<std::string>();
+    tr.failure = j.at("failure").get<std::string>();
+    tr.failure_time = j.at("failure_time").get<double>();
+    tr.run_time_s = j.at("run_time_s").get<double>();
+    tr.steps = j.at("steps").get<long>();
+    tr.rhs_evals = j.at("rhs_evals").get<long>();
+    tr.step_retries = j.at("step_retries").get<long>();
+    const std::string kind = j.at("failure_kind").get<std::string>();
+    for (const FailureInfo& f : failureTable())
+      if (kind == f.name) tr.failure_kind = f.id;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(source + ": not a trajectory this version wrote (" + e.what() + ")");
+  }
+  const size_t n = tr.t.size();
+  if (tr.q.size() != n || tr.u.size() != n || tr.poses.size() != n || tr.energy.size() != n || tr.kinetic.size() != n ||
+      tr.dissipated.size() != n)
+    throw std::runtime_error(source + ": sample counts differ between t, q, u, poses and energies");
+  return tr;
+}
+
+}  // namespace em
