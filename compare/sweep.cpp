@@ -103,7 +103,9 @@ void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref) {
   rec.max_pose = m.pose.value;
   rec.max_coord = m.coords_shared ? m.coord.value : NAN;
   rec.max_energy = m.energy.value;
-  if (ref) rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
+  if (!ref) return;
+  rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
+  if (m.coords_shared) rec.coord_1e3 = m.coord_divergence_time_s[0], rec.coord_1e1 = m.coord_divergence_time_s[1];
 }
 
 bool sameEnd(const Trajectory& a, const Trajectory& b) {
@@ -161,8 +163,8 @@ std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_
 
 namespace {
 
-// Cases done / total, elapsed, time left: a line per finished case when stderr
-// is not a terminal and the sweep has run for a while, redrawn in place on one.
+// Cases done / total, elapsed, time left: a line every kProgressLineS once the
+// sweep has run kProgressAfterS, at the end, and at once for every failed case.
 class SweepProgress {
  public:
   SweepProgress(size_t total, size_t done) : total_(total), done_(done), start_done_(done) {}
@@ -170,7 +172,9 @@ class SweepProgress {
     ++done_;
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     const double left = elapsed / static_cast<double>(done_ - start_done_) * static_cast<double>(total_ - done_);
-    if (elapsed < kProgressAfterS && what.empty()) return;
+    const bool quiet = elapsed < kProgressAfterS || elapsed - last_line_ < kProgressLineS;
+    if (what.empty() && quiet && done_ < total_) return;
+    last_line_ = elapsed;
     std::fprintf(stderr, "sweep: %zu / %zu cases, elapsed %.0f s, ETA %.0f s%s%s\n", done_, total_, elapsed, left,
                  what.empty() ? "" : ": ", what.c_str());
   }
@@ -179,6 +183,7 @@ class SweepProgress {
   using Clock = std::chrono::steady_clock;
   size_t total_, done_, start_done_;
   Clock::time_point start_ = Clock::now();
+  double last_line_ = 0;  ///< elapsed s at the last line
 };
 
 // Run one case in a child process: its CPU clock is its own, a crash is its own.

@@ -24,7 +24,8 @@ struct CaseRecord {
   std::optional<double> failure_time;
   bool has_error = false;  ///< errors against the plan's reference
   double max_pose = 0, max_coord = 0, max_energy = 0;
-  std::optional<double> pose_1e3, pose_1e1;  ///< first time beyond 1e-3 and 0.1 rad (pose)
+  std::optional<double> pose_1e3, pose_1e1;    ///< first time beyond 1e-3 and 0.1 rad (pose)
+  std::optional<double> coord_1e3, coord_1e1;  ///< the same for the joint coordinates
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit

@@ -52,6 +52,8 @@ json caseRecordJson(const CaseRecord& r) {
           {"energy_error_max", finiteOrNull(r.max_energy)},
           {"pose_beyond_1e-3_s", optNum(r.pose_1e3)},
           {"pose_beyond_1e-1_s", optNum(r.pose_1e1)},
+          {"coord_beyond_1e-3_s", optNum(r.coord_1e3)},
+          {"coord_beyond_1e-1_s", optNum(r.coord_1e1)},
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
           {"repeats_identical", r.repeats_identical}};
@@ -82,6 +84,8 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.max_energy = numFrom(j.at("energy_error_max"));
     r.pose_1e3 = optFrom(j.at("pose_beyond_1e-3_s"));
     r.pose_1e1 = optFrom(j.at("pose_beyond_1e-1_s"));
+    r.coord_1e3 = optFrom(j.at("coord_beyond_1e-3_s"));
+    r.coord_1e1 = optFrom(j.at("coord_beyond_1e-1_s"));
     r.cpu_s = j.at("cpu_s").get<std::vector<double>>();
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
@@ -110,7 +114,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records) {
   std::ostringstream o;
   o.precision(17);
   o << "scene,nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
-       "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
+       "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
        "cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
@@ -118,7 +122,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records) {
     o << r.scene << ',' << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
       << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
-      << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
+      << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
       << (r.repeats_identical ? "true" : "false") << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
       << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';

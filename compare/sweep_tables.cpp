@@ -177,14 +177,15 @@ double perSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.f
 // Every run with its divergence times (plans with the trajectories table).
 std::string runsTable(const std::vector<CaseRecord>& rs) {
   std::ostringstream o;
-  o << "| scene | method | integrator | setting | status | pose > 1e-3 rad at (s) | pose > 0.1 rad at (s) | max dE/Escl | CPU s |\n"
-    << "|---|---|---|---|---|---|---|---|---|\n";
+  o << "| scene | method | integrator | setting | status | pose > 1e-3 rad at (s) | pose > 0.1 rad at (s) | joint > 1e-3 rad at (s) | "
+       "joint > 0.1 rad at (s) | max dE/Escl | CPU s |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto when = [](const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); };
   for (const CaseRecord& r : rs) {
     if (r.role != "run") continue;
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
       << (r.status == "ok" ? "ok" : "failed at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | " << when(r.pose_1e3)
-      << " | " << when(r.pose_1e1) << " | " << sci(r.max_energy) << " | " << gnum(r.cpuMedian(), 3) << " |\n";
+      << " | " << when(r.pose_1e1) << " | " << when(r.coord_1e3) << " | " << when(r.coord_1e1) << " | " << sci(r.max_energy) << " | " << gnum(r.cpuMedian(), 3) << " |\n";
   }
   return o.str() + "\n";
 }

@@ -68,7 +68,8 @@ if __name__ == "__main__":
         write("data/scenes/chain%02d.json" % n, scene("chain%02d" % n, chain(n, GIMBAL)))
     # Sizes only the benchmark uses (kept out of data/scenes, which every scene test walks).
     os.makedirs("data/bench", exist_ok=True)
-    write("data/bench/chain100.json", scene("chain100", chain(100, GIMBAL)))
+    for n in (100, 200):
+        write("data/bench/chain%d.json" % n, scene("chain%d" % n, chain(n, GIMBAL)))
     p5 = json.load(open("data/scenes/pendulum5.json"))
     p5["name"] = "pendulum5_ball"
     p5["bodies"][0]["joint"] = ball_equivalent(p5["bodies"][0]["joint"])
