@@ -4,6 +4,8 @@
 // the paper's methods cannot finish.
 #include <catch2/catch.hpp>
 
+#include <unsupported/Eigen/KroneckerProduct>
+
 #include "solver/dynamics.hpp"
 #include "solver/integrate.hpp"
 #include "support.hpp"
@@ -55,6 +57,55 @@ TEST_CASE("eigen-block rates satisfy G = Omega D - D Omega + D' with Omega skew 
     for (int i = 0; i + 1 < N; ++i) in_block += Ddot(i, i + 1) != 0.0;
     CHECK(in_block > 0);
   }
+}
+
+TEST_CASE("eigen-block's Omega between blocks equals a dense Kronecker solve of each Sylvester equation", "[identity][eigenblock]") {
+  // Omega_IJ D_J - D_I Omega_IJ = G_IJ for I != J (docs/theory.md §8) is, column-major,
+  // (D_J^T (x) I - I (x) D_I) vec(Omega_IJ) = vec(G_IJ): solved here densely, independently
+  // of the method's block diagonalization. The state is first turned within each block by
+  // a random rotation Q (C <- Q C, D <- Q D Q^T: the same A), so that the blocks of D are full.
+  const Model m = test::loadData("chain10.json");
+  Dynamics dyn(m, Method::EigenBlock, withDelta(0.3));
+  Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+  REQUIRE(dyn.rhs(0, y.data(), dy.data()).ok);
+  const int N = m.nu, o = dyn.offsetExtra();
+  Eigen::Map<RowMatrix> C(y.data() + o, N, N);
+  Eigen::Map<Eigen::MatrixXd> D(y.data() + o + N * N, N, N);
+  const Eigen::Map<const Eigen::MatrixXd> Ddot(dy.data() + o + N * N, N, N);
+  std::vector<int> start = {0};  // blocks: contiguous rows coupled in D' = G inside a block
+  for (int i = 1; i < N; ++i)
+    if (Ddot(i - 1, i) == 0.0) start.push_back(i);
+  start.push_back(N);
+  REQUIRE(start.size() < static_cast<size_t>(N) + 1);  // some block has several rows
+  REQUIRE(start.size() > 2);                            // and there are several blocks
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(N, N);
+  for (size_t b = 0; b + 1 < start.size(); ++b) {
+    const int s0 = start[b], n = start[b + 1] - s0;
+    const Eigen::MatrixXd R = Eigen::MatrixXd::NullaryExpr(n, n, [&]() { return normal(rng); });
+    Q.block(s0, s0, n, n) = Eigen::HouseholderQR<Eigen::MatrixXd>(R).householderQ();
+  }
+  C = (Q * C).eval();
+  D = (Q * D * Q.transpose()).eval();
+  REQUIRE(dyn.rhs(0, y.data(), dy.data()).ok);
+  const Eigen::Map<const RowMatrix> Cdot(dy.data() + o, N, N);
+  const Eigen::MatrixXd Omega = -Cdot * C.transpose(), G = C * dyn.workspace().Adot * C.transpose();
+  double worst = 0;
+  for (size_t I = 0; I + 1 < start.size(); ++I)
+    for (size_t J = 0; J + 1 < start.size(); ++J) {
+      if (I == J) continue;
+      const int i0 = start[I], ni = start[I + 1] - i0, j0 = start[J], nj = start[J + 1] - j0;
+      const Eigen::MatrixXd DI = D.block(i0, i0, ni, ni), DJ = D.block(j0, j0, nj, nj), GIJ = G.block(i0, j0, ni, nj);
+      const Eigen::MatrixXd K = Eigen::kroneckerProduct(DJ.transpose(), Eigen::MatrixXd::Identity(ni, ni)) -
+                                Eigen::kroneckerProduct(Eigen::MatrixXd::Identity(nj, nj), DI);
+      const Eigen::VectorXd x = K.fullPivLu().solve(Eigen::Map<const Eigen::VectorXd>(GIJ.data(), ni * nj));
+      const Eigen::MatrixXd OIJ = Omega.block(i0, j0, ni, nj);
+      worst = std::max(worst, (Eigen::Map<const Eigen::MatrixXd>(x.data(), ni, nj) - OIJ).norm() / OIJ.norm());
+    }
+  INFO("blocks " << start.size() - 1 << ", worst relative difference " << worst);
+  CHECK((Omega.block(start[0], start[0], start[1], start[1])).norm() <= 1e-12 * Omega.norm());  // zero inside a block
+  CHECK(worst <= 1e-10);  // both well conditioned: blocks are >= delta apart
 }
 
 TEST_CASE("with no clusters eigen-block is eigen: pendulum5 over 1 s", "[identity][eigenblock]") {
