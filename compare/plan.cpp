@@ -21,6 +21,7 @@ struct TableRow {
 };
 const TableRow kTables[] = {{PlanTable::WorkPrecision, "work-precision"},
                             {PlanTable::CostVsSize, "cost-vs-size"},
+                            {PlanTable::Runs, "runs"},
                             {PlanTable::Trajectories, "trajectories"}};
 
 double positiveNumber(const json& v, const std::string& path) {
@@ -131,7 +132,7 @@ std::vector<PlanTable> tablesAt(const json& v) {
     const std::string name = stringAt(list[i], jsonPath("tables", i));
     const auto* row = std::find_if(std::begin(kTables), std::end(kTables), [&](const TableRow& r) { return name == r.name; });
     if (row == std::end(kTables))
-      throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (work-precision, cost-vs-size, trajectories)");
+      throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (work-precision, cost-vs-size, runs, trajectories)");
     out.push_back(row->id);
   }
   return out;

@@ -19,7 +19,7 @@ struct PlanLine {
 };
 
 /// The tables a plan's merged results carry (docs/sweep.md).
-enum class PlanTable { WorkPrecision, CostVsSize, Trajectories };
+enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories };
 const char* planTableName(PlanTable t);
 
 struct Plan {

@@ -97,6 +97,7 @@ void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref) {
   if (run.failed()) rec.failure_time = run.failure_time;
   rec.steps = run.steps;
   rec.rhs_evals = run.rhs_evals;
+  if (info(run.run.method).eigenfactor) rec.eigen = run.eigen;
   const Trajectory& against = ref ? *ref : run;
   const MethodMetrics m = compareRun(run, against, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, energyScale(against));
   rec.has_error = ref != nullptr;

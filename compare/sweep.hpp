@@ -29,6 +29,9 @@ struct CaseRecord {
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
+  /// Eigenfactor methods: smallest eigenvalue gap (eigen-block: between blocks), largest |Omega|,
+  /// Jacobi sweeps, eigen-block's merges and splits (absent for other methods).
+  std::optional<EigenStats> eigen;
 
   double cpuMedian() const;
   double cpuMin() const;

@@ -24,6 +24,28 @@ json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(); }
 std::optional<double> optFrom(const json& j) { return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>()); }
 double numFrom(const json& j) { return j.is_null() ? NAN : j.get<double>(); }
 
+json eigenStatsJson(const EigenStats& e) {
+  return {{"min_gap", finiteOrNull(e.min_gap)}, {"max_abs_Omega", e.max_abs_Omega}, {"jacobi_sweeps", e.jacobi_sweeps},
+          {"block_merges", e.block_merges}, {"block_splits", e.block_splits}};
+}
+
+EigenStats eigenStatsFrom(const json& j) {
+  EigenStats e;
+  e.min_gap = numFrom(j.at("min_gap"));
+  e.max_abs_Omega = j.at("max_abs_Omega").get<double>();
+  e.jacobi_sweeps = j.at("jacobi_sweeps").get<long>();
+  e.block_merges = j.at("block_merges").get<long>();
+  e.block_splits = j.at("block_splits").get<long>();
+  return e;
+}
+
+// min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits (blank for other methods).
+std::string eigenCells(const std::optional<EigenStats>& e) {
+  if (!e) return ",,,,";
+  return (std::isfinite(e->min_gap) ? gnum(e->min_gap, 17) : "") + "," + gnum(e->max_abs_Omega, 17) + "," +
+         std::to_string(e->jacobi_sweeps) + "," + std::to_string(e->block_merges) + "," + std::to_string(e->block_splits);
+}
+
 std::vector<double> sorted(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v;
@@ -56,7 +78,8 @@ json caseRecordJson(const CaseRecord& r) {
           {"coord_beyond_1e-1_s", optNum(r.coord_1e1)},
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
-          {"repeats_identical", r.repeats_identical}};
+          {"repeats_identical", r.repeats_identical},
+          {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()}};
 }
 
 CaseRecord readCaseRecord(const json& j, const std::string& source) {
@@ -90,6 +113,7 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
     r.repeats_identical = j.at("repeats_identical").get<bool>();
+    if (j.contains("eigen") && !j["eigen"].is_null()) r.eigen = eigenStatsFrom(j["eigen"]);  // absent in files of d178fb4
   } catch (const std::exception& e) {
     throw std::runtime_error(source + ": not a case result this version wrote (" + e.what() + ")");
   }
@@ -115,7 +139,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records) {
   o.precision(17);
   o << "scene,nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
        "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
-       "cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
+       "min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
   for (const CaseRecord& r : records) {
@@ -123,7 +147,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records) {
       << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
       << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
-      << (r.repeats_identical ? "true" : "false") << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
+      << (r.repeats_identical ? "true" : "false") << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
       << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';
   }

@@ -174,18 +174,24 @@ double perRhs(const CaseRecord& r, double) { return r.rhs_evals ? r.cpuMedian() 
 double perStep(const CaseRecord& r, double) { return r.steps ? r.cpuMedian() / r.steps : NAN; }
 double perSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
 
-// Every run with its divergence times (plans with the trajectories table).
+// Every run: outcome, divergence times, energy, cost and the eigenfactor
+// diagnostics (plans with the runs or trajectories table).
 std::string runsTable(const std::vector<CaseRecord>& rs) {
   std::ostringstream o;
-  o << "| scene | method | integrator | setting | status | pose > 1e-3 rad at (s) | pose > 0.1 rad at (s) | joint > 1e-3 rad at (s) | "
-       "joint > 0.1 rad at (s) | max dE/Escl | CPU s |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  o << "| scene | method | integrator | setting | status | pose > 1e-3 rad (s) | pose > 0.1 rad (s) | joint > 0.1 rad (s) | "
+       "max pose err (rad) | max dE/Escl | µs / step | min gap | max abs(Omega) | merges / splits |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto when = [](const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); };
   for (const CaseRecord& r : rs) {
     if (r.role != "run") continue;
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
-      << (r.status == "ok" ? "ok" : "failed at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | " << when(r.pose_1e3)
-      << " | " << when(r.pose_1e1) << " | " << when(r.coord_1e3) << " | " << when(r.coord_1e1) << " | " << sci(r.max_energy) << " | " << gnum(r.cpuMedian(), 3) << " |\n";
+      << (r.status == "ok" ? "ok" : r.failure_kind + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
+      << when(r.pose_1e3) << " | " << when(r.pose_1e1) << " | " << when(r.coord_1e1) << " | " << sci(r.max_pose) << " | "
+      << sci(r.max_energy) << " | " << gnum(r.steps ? r.cpuMedian() / r.steps * 1e6 : NAN, 3) << " | "
+      << (r.eigen ? sci(r.eigen->min_gap) + " | " + sci(r.eigen->max_abs_Omega) + " | " +
+                        std::to_string(r.eigen->block_merges) + " / " + std::to_string(r.eigen->block_splits)
+                  : std::string("| |"))
+      << " |\n";
   }
   return o.str() + "\n";
 }
@@ -210,7 +216,7 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
       double floor = 0;
       o << referenceLine(records, s, floor);
     }
-  if (plan.hasTable(PlanTable::Trajectories)) o << runsTable(records);
+  if (plan.hasTable(PlanTable::Runs) || plan.hasTable(PlanTable::Trajectories)) o << runsTable(records);
   return o.str();
 }
 

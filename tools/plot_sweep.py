@@ -21,6 +21,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v", "rk3": "<", "cpodes": ">"}
+STYLES = {"rk4": "-", "rkf45": "--", "rk8pd": "-.", "bsimp": ":", "rkmerson": "-", "rk3": "--", "cpodes": "-."}
+COLORS = {"classical": "tab:blue", "eigen": "tab:orange", "eigen-jacobi": "tab:green", "eigen-jacobi-orth": "tab:olive",
+          "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown", "simbody": "tab:gray"}
 
 
 def read_merged(results, plan_name):
@@ -47,10 +50,16 @@ def work_precision(rows, out):
             ok = [p for p in pts if p["status"] == "ok"]
             bad = [p for p in pts if p["status"] != "ok"]
             line, = ax.loglog([num(p["cpu_median_s"]) for p in ok], [num(p["max_pose_error_rad"]) for p in ok],
-                              marker=MARKERS.get(integ, "."), ms=4, lw=1, label="%s %s" % (method, integ))
+                              marker=MARKERS.get(integ, "."), ls=STYLES.get(integ, "-"), color=COLORS.get(method),
+                              ms=4, lw=1, label="%s %s" % (method, integ))
             if bad:
                 ax.loglog([num(p["cpu_median_s"]) for p in bad], [max(num(p["max_pose_error_rad"]), 1e-16) for p in bad],
                           "x", color=line.get_color(), ms=7)
+        check = [r for r in rows if r["scene"] == scene and r["role"] == "check"]
+        if check:
+            ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
+            ax.annotate("floor: reference vs its check (%s)" % check[0]["method"], (ax.get_xlim()[0], num(check[0]["max_pose_error_rad"])),
+                        fontsize=7, va="bottom")
         ax.set_xlabel("CPU time of the integration, s (median of the repeats)")
         ax.set_ylabel("max pose error against the reference, rad")
         ax.set_title("Work-precision: %s (x: run failed; its error up to the failure)" % scene)
