@@ -66,6 +66,10 @@ std::string referenceLine(const std::vector<CaseRecord>& rs, const std::string& 
     o << " Its check, " << chk->method << " " << chk->integrator << " " << chk->setting_kind << " " << gnum(chk->setting)
       << ": max pose difference " << sci(chk->max_pose) << " rad, max coordinate difference " << sci(chk->max_coord)
       << " rad: the floor of every error below.";
+    if (chk->pose_1e3 || chk->pose_1e1)
+      o << " They part by 1e-3 rad at " << (chk->pose_1e3 ? gnum(*chk->pose_1e3, 4) + " s" : "no time")
+        << " and by 0.1 rad at " << (chk->pose_1e1 ? gnum(*chk->pose_1e1, 4) + " s" : "no time")
+        << ": the reference horizon (chaos); a divergence after it says nothing about a method.";
   }
   return o.str() + "\n\n";
 }
@@ -214,7 +218,8 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
   if (!plan.hasTable(PlanTable::WorkPrecision))
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
-      o << referenceLine(records, s, floor);
+      const std::string line = referenceLine(records, s, floor);
+      if (!line.empty()) o << "**" << s << "**. " << line;
     }
   if (plan.hasTable(PlanTable::Runs) || plan.hasTable(PlanTable::Trajectories)) o << runsTable(records);
   return o.str();
