@@ -108,6 +108,50 @@ TEST_CASE("eigen-block's Omega between blocks equals a dense Kronecker solve of 
   CHECK(worst <= 1e-10);  // both well conditioned: blocks are >= delta apart
 }
 
+TEST_CASE("through a family of near-crossings eigen-block's rates stay bounded while eigen's grow as 1/gap", "[closedform][eigenblock]") {
+  // The gallery's two-link near-crossing (tools/make_extreme.py): with link 2's
+  // moment about its joint K2 = (J1 + m2 l1^2) / 2 + e, A's two eigenvalues come
+  // closest at cos q2 = -K2 / b (b = m2 l1 a2), with a gap proportional to e.
+  // There eigen's Omega_12 = G_12 / gap grows as 1/gap; eigen-block puts both
+  // eigenvalues in one block (Omega = 0, D' = G: bounded by |A'|).
+  const SceneSpec base = parseSceneSpec(readFile(test::sourcePath("data/scenes/extreme/near_crossing.json"), "scene"));
+  const double m1 = base.bodies[0].mass, m2 = base.bodies[1].mass, a2 = base.bodies[1].joint.in_body.z(), l1 = 1.0;
+  const double J1 = base.bodies[0].inertia(0, 0) + m1 * 0.25 * l1 * l1, b = m2 * l1 * a2;
+  double previous_gap = 0, previous_omega = 0, first_Ddot = 0;
+  for (double e : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) {  // relative gaps 4e-3 ... 4e-7: all below delta
+    SceneSpec s = base;
+    const double K2 = (J1 + m2 * l1 * l1) / 2 + e;
+    s.bodies[1].inertia(0, 0) = s.bodies[1].inertia(1, 1) = K2 - m2 * a2 * a2;
+    s.bodies[1].joint.q0[0] = std::acos(-K2 / b);
+    s.bodies[0].joint.u0[0] = 0.0;
+    s.bodies[1].joint.u0[0] = 1.0;
+    const Model m = buildModel(s);
+    Dynamics eig(m, Method::Eigen), blk(m, Method::EigenBlock, withDelta(3e-2));
+    Eigen::VectorXd ye = eig.initialState(m.q0(), m.u0()), dye(eig.size());
+    Eigen::VectorXd yb = blk.initialState(m.q0(), m.u0()), dyb(blk.size());
+    REQUIRE(eig.rhs(0, ye.data(), dye.data()).ok);
+    REQUIRE(blk.rhs(0, yb.data(), dyb.data()).ok);
+    const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(eig.workspace().A).eigenvalues();
+    const double gap = lambda[1] - lambda[0];
+    const int o = eig.offsetExtra(), ob = blk.offsetExtra();
+    const Eigen::Map<const RowMatrix> Ce(ye.data() + o, 2, 2), Cde(dye.data() + o, 2, 2);
+    const Eigen::Map<const RowMatrix> Cb(yb.data() + ob, 2, 2), Cdb(dyb.data() + ob, 2, 2);
+    const double omega_eigen = (Cde * Ce.transpose()).cwiseAbs().maxCoeff();
+    const double omega_block = (Cdb * Cb.transpose()).cwiseAbs().maxCoeff();
+    const double Ddot = Eigen::Map<const Eigen::MatrixXd>(dyb.data() + ob + 4, 2, 2).norm();
+    INFO("e = " << e << ": gap " << gap << ", eigen |Omega| " << omega_eigen << ", eigen-block |Omega| " << omega_block
+                << ", |D'| " << Ddot);
+    CHECK(omega_block == 0.0);
+    if (first_Ddot == 0) first_Ddot = Ddot;
+    CHECK(Ddot == Approx(first_Ddot).epsilon(0.05));  // bounded: A' barely changes along the family
+    if (previous_gap > 0) {
+      CHECK(previous_gap / gap == Approx(10).epsilon(0.02));             // the gap is proportional to e
+      CHECK(omega_eigen / previous_omega == Approx(10).epsilon(0.05));   // eigen's rate as 1/gap
+    }
+    previous_gap = gap, previous_omega = omega_eigen;
+  }
+}
+
 TEST_CASE("with no clusters eigen-block is eigen: pendulum5 over 1 s", "[identity][eigenblock]") {
   const Model m = test::loadData("pendulum5.json");
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
