@@ -126,10 +126,9 @@ std::vector<std::string> scenesAt(const json& v, const std::string& plan_file) {
 
 std::vector<PlanTable> tablesAt(const json& v) {
   std::vector<PlanTable> out;
-  const json& list = v.is_array() ? v : json::array();
   if (!v.is_array()) throw InputError("tables", "expected a list");
-  for (size_t i = 0; i < list.size(); ++i) {
-    const std::string name = stringAt(list[i], jsonPath("tables", i));
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string name = stringAt(v[i], jsonPath("tables", i));
     const auto* row = std::find_if(std::begin(kTables), std::end(kTables), [&](const TableRow& r) { return name == r.name; });
     if (row == std::end(kTables))
       throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (work-precision, cost-vs-size, runs, trajectories)");

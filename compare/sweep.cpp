@@ -14,6 +14,7 @@
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
 #include "io/csv.hpp"
+#include "io/digest.hpp"
 #include "io/json_input.hpp"
 #include "io/trajectory_json.hpp"
 
@@ -33,9 +34,9 @@ json specKey(const RunSpec& s) {
 
 // What a result file must have been made from to count for this plan: the
 // scene's bytes, the grid, the run, the reference, the repeats.
-json caseKey(const Plan& plan, const SweepCase& c, const Scene& scene) {
+json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha256) {
   return {{"case", c.name},
-          {"scene_sha256", scene.source.sha256},
+          {"scene_sha256", scene_sha256},
           {"t_end", plan.t_end},
           {"output_dt", plan.output_dt},
           {"repeats", c.role == CaseRole::Run ? plan.repeats : 1},
@@ -71,7 +72,7 @@ Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scen
   const SweepCase r = referenceCase(plan, c);
   const std::string path = caseFile(dir, r);
   if (!fs::exists(path)) runCase(plan, r, dir);
-  checkKey(path, caseKey(plan, r, scene));
+  checkKey(path, caseKey(plan, r, scene.source.sha256));
   return trajectoryFromJson(readJsonFile(path).at("trajectory"), r.spec, path);
 }
 
@@ -115,18 +116,28 @@ bool sameEnd(const Trajectory& a, const Trajectory& b) {
 
 }  // namespace
 
-bool caseDone(const Plan& plan, const SweepCase& c, const std::string& dir) {
+namespace {
+
+// The case's file exists and has the key of this plan and scene bytes (throws if it has another).
+bool doneWith(const Plan& plan, const SweepCase& c, const std::string& dir, const std::string& scene_sha256) {
   const std::string path = caseFile(dir, c);
   if (!fs::exists(path)) return false;
-  checkKey(path, caseKey(plan, c, loadScene(plan.scenes[c.scene])));
+  checkKey(path, caseKey(plan, c, scene_sha256));
   return true;
 }
 
+}  // namespace
+
+bool caseDone(const Plan& plan, const SweepCase& c, const std::string& dir) {
+  // The key needs only the scene file's hash: no need to build its model.
+  return doneWith(plan, c, dir, sha256Hex(readFile(plan.scenes[c.scene], "scene")));
+}
+
 bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
-  if (caseDone(plan, c, dir)) return false;
   const Scene scene = loadScene(plan.scenes[c.scene]);
+  if (doneWith(plan, c, dir, scene.source.sha256)) return false;
   CaseRecord rec = baseRecord(c, scene);
-  json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene)}};
+  json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene.source.sha256)}};
   const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;
   std::optional<Trajectory> ref;
   if (plan.reference && c.role != CaseRole::Reference) ref = loadReference(plan, c, scene, dir);
@@ -206,10 +217,9 @@ pid_t startCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
 }
 
 // What the finished case's file says, for the progress line ("" when it ran to the end).
-std::string failureNote(const Plan& plan, const SweepCase& c, const std::string& dir, int wstatus) {
+std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus) {
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (see above)";
   const CaseRecord r = readCaseRecord(readJsonFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
-  (void)plan;
   if (r.status == "ok") return "";
   return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";
 }
@@ -230,7 +240,7 @@ int runPool(const Plan& plan, const std::vector<SweepCase>& todo, const std::str
     const SweepCase* c = running.at(pid);
     running.erase(pid);
     if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) ++errors;
-    meter.finished(failureNote(plan, *c, dir, wstatus));
+    meter.finished(failureNote(*c, dir, wstatus));
   }
   return errors;
 }
