@@ -44,6 +44,8 @@ class EigenBlock final : public Formulation {
     for (auto* X : {&Q_, &W_}) X->setZero(N_, N_);
     mu_.setZero(N_);
     z_.setZero(N_);
+    r_.setZero(N_);
+    du_.setZero(N_);
     order_.resize(N_);
     old_block_.resize(N_);
     seen_old_.resize(N_);
@@ -82,6 +84,8 @@ class EigenBlock final : public Formulation {
   }
   // X <- Q X and X <- X Q^T (Q^T X Q when `back`), block by block; 1x1 blocks are left alone.
   void applyQ(Eigen::MatrixXd& X, bool back);
+  // out = C^T D^-1 C b (u' when b = B).
+  void applyInverse(const Eigen::Ref<const RowMatrix>& C, const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> out);
   void recluster(double* x, StepInfo& info);
   void countMergesSplits(StepInfo& info);
   bool sameBlock(int i, int j) const { return block_[i] == block_[j]; }
@@ -92,7 +96,8 @@ class EigenBlock final : public Formulation {
   CorrectionScratch corr_;
   Eigen::MatrixXd G_, AdotCt_, M_, T_;  // (N x N) scratch: G then Omega, A'C^T, D's eigenblocks, products
   RowMatrix Q_, W_;                     // (N x N) within-block rotations; row scratch
-  Eigen::VectorXd mu_, z_;              // (N) eigenvalues of D; Lambda^-1 C B
+  Eigen::VectorXd mu_, z_;              // (N) eigenvalues of D; D^-1 C b
+  Eigen::VectorXd r_, du_;              // (N) residual B - A u' and its correction
   std::vector<int> start_;              // (blocks + 1) first row of each block
   std::vector<int> block_;              // (N) block of each row
   std::vector<int> order_, old_block_;  // (N) scratch of recluster
@@ -111,6 +116,20 @@ void EigenBlock::applyQ(Eigen::MatrixXd& X, bool back) {
     else T_.leftCols(s).noalias() = X.middleCols(s0, s) * Qb.transpose();
     X.middleCols(s0, s) = T_.leftCols(s);
   }
+}
+
+void EigenBlock::applyInverse(const Eigen::Ref<const RowMatrix>& C, const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> out) {
+  // C^T D^-1 C b, D^-1 = Q^T diag(1/mu) Q block by block (Q_, mu_ from eigenOfBlocks).
+  z_.noalias() = C * b;
+  for (size_t k = 0; k + 1 < start_.size(); ++k) {
+    const int s0 = start_[k], s = start_[k + 1] - s0;
+    if (s == 1) { z_[s0] /= mu_[s0]; continue; }
+    const auto Qb = Q_.block(s0, s0, s, s);
+    T_.col(0).head(s).noalias() = Qb * z_.segment(s0, s);
+    T_.col(0).head(s).array() /= mu_.segment(s0, s).array();
+    z_.segment(s0, s).noalias() = Qb.transpose() * T_.col(0).head(s);
+  }
+  out.noalias() = C.transpose() * z_;
 }
 
 Status EigenBlock::rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) {
@@ -146,17 +165,12 @@ Status EigenBlock::rates(double t, const Workspace& ws, const double* x, double*
   applyQ(G_, true);
   info.max_Omega = G_.cwiseAbs().maxCoeff();
   Cdot.noalias() = -G_ * C;
-  // u' = C^T D^-1 C B, D^-1 = Q^T diag(1/mu) Q block by block.
-  z_.noalias() = C * ws.B;
-  for (size_t b = 0; b + 1 < start_.size(); ++b) {
-    const int s0 = start_[b], s = start_[b + 1] - s0;
-    if (s == 1) { z_[s0] /= mu_[s0]; continue; }
-    const auto Qb = Q_.block(s0, s0, s, s);
-    T_.col(0).head(s).noalias() = Qb * z_.segment(s0, s);
-    T_.col(0).head(s).array() /= mu_.segment(s0, s).array();
-    z_.segment(s0, s).noalias() = Qb.transpose() * T_.col(0).head(s);
-  }
-  Eigen::Map<Eigen::VectorXd>(udot, N_).noalias() = C.transpose() * z_;
+  // u' = C^T D^-1 C B, then `refine` residual corrections u' += C^T D^-1 C (B - A u').
+  Eigen::Map<Eigen::VectorXd> u_dot(udot, N_);
+  applyInverse(C, ws.B, u_dot);
+  const auto applyH = [&](const Eigen::VectorXd& b, Eigen::VectorXd& out) { applyInverse(C, b, out); };
+  if (!refineResidual(ws.A, ws.B, opt_.refine, applyH, u_dot, r_, du_))
+    return Status::failure(t, Failure::RefinementDiverged, refineDivergedCause(opt_.refine));
   return {};
 }
 

@@ -15,6 +15,8 @@ class Eigenfactor final : public Formulation {
     Omega_.setZero(N_, N_);
     AdotCt_.setZero(N_, N_);
     z_.setZero(N_);
+    r_.setZero(N_);
+    du_.setZero(N_);
   }
 
   int extraSize() const override { return N_ * N_ + N_; }
@@ -45,10 +47,16 @@ class Eigenfactor final : public Formulation {
       return Status::failure(t, Failure::EigenGap, "eigenvalue gap |lambda_" + std::to_string(st.i) + " - lambda_" + std::to_string(st.j) +
                                     "| = " + gnum(st.gap) + " below the floor " + gnum(floor));
     info.max_Omega = st.max_Omega;
-    // u' = C^T Lambda^-1 C B (paper eq. (17)).
-    z_.noalias() = C * ws.B;
-    z_.array() /= lambda.array();
-    Eigen::Map<Eigen::VectorXd>(udot, N_).noalias() = C.transpose() * z_;
+    // u' = C^T Lambda^-1 C B (paper eq. (17)), then opt_.refine residual corrections.
+    const auto applyH = [&](const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> out) {
+      z_.noalias() = C * b;
+      z_.array() /= lambda.array();
+      out.noalias() = C.transpose() * z_;
+    };
+    Eigen::Map<Eigen::VectorXd> u_dot(udot, N_);
+    applyH(ws.B, u_dot);
+    if (!refineResidual(ws.A, ws.B, opt_.refine, applyH, u_dot, r_, du_))
+      return Status::failure(t, Failure::RefinementDiverged, refineDivergedCause(opt_.refine));
     return {};
   }
 
@@ -80,7 +88,8 @@ class Eigenfactor final : public Formulation {
   Correction correction_;
   MethodOptions opt_;
   Eigen::MatrixXd Omega_, AdotCt_;  // (N x N) scratch: Omega (G formed in place) and A' C^T
-  Eigen::VectorXd z_;               // (N) scratch: Lambda^-1 C B
+  Eigen::VectorXd z_;               // (N) scratch: Lambda^-1 C b
+  Eigen::VectorXd r_, du_;          // (N) scratch of refineResidual
   CorrectionScratch corr_;
 };
 

@@ -92,6 +92,11 @@ RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<con
   return st;
 }
 
+std::string refineDivergedCause(int steps) {
+  return "residual correction diverged (|B - A u'| grew within " + std::to_string(steps) +
+         " corrections): the eigenfactors no longer approximate A's inverse";
+}
+
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda) {
   double g = std::numeric_limits<double>::infinity();
   for (int i = 0; i < lambda.size(); ++i)

@@ -2,6 +2,9 @@
 /// The Junkins–Schaub eigenfactor pieces (paper §2, eqs. (5)–(17); docs/theory.md §7):
 /// the cyclic Jacobi re-diagonalization, symmetric re-orthonormalization and the
 /// drift diagnostics. Hand-written: they are the subject of the research.
+#include <limits>
+#include <string>
+
 #include <Eigen/Dense>
 
 namespace em {
@@ -68,6 +71,35 @@ struct EigenDiagnostics {
 /// Diagnostics of (C, lambda) against A (not on the hot path: allocates).
 EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<const RowMatrix>& C,
                                   const Eigen::Ref<const Eigen::VectorXd>& lambda, double max_Omega);
+
+/// Residual correction (docs/theory.md §8, "Residual correction"): `steps`
+/// times u' <- u' + H (B - A u'), H = C^T Lambda^-1 C (eigen-block: C^T D^-1 C)
+/// the eigenfactors' approximate inverse of A, applied as applyH(b, out). Each
+/// correction multiplies the error of u' by I - H A, so the factorization's
+/// drift enters u' to the power steps + 1, and A is never factorized. Returns
+/// false when a residual grew beyond the previous one and beyond rounding
+/// (sqrt(eps) of |A u'| + |B|): H no longer contracts, u' is not to be trusted.
+/// r, du: (N) scratch.
+template <class ApplyH>
+bool refineResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, int steps, ApplyH&& applyH,
+                    Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du) {
+  constexpr double kRoundingRel = 1.5e-8;  // sqrt(eps): below it a residual is rounding
+  double previous = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < steps; ++k) {
+    r.noalias() = A * udot;
+    const double scale = r.norm() + B.norm();
+    r = B - r;
+    const double norm = r.norm();
+    if (norm > previous && norm > kRoundingRel * scale) return false;
+    previous = norm;
+    applyH(r, du);
+    udot += du;
+  }
+  return true;
+}
+
+/// The failure's cause when refineResidual returns false.
+std::string refineDivergedCause(int steps);
 
 /// min over i<j of |lambda_i - lambda_j| (+inf for N < 2).
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda);

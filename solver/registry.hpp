@@ -57,6 +57,7 @@ enum class Failure {
   NonPositiveEigenvalue,  ///< an integrated eigenvalue of A (or of D) <= 0
   EigenGap,               ///< an eigenvalue gap (or a gap between blocks) below the floor
   JacobiNotConverged,     ///< the Jacobi correction did not converge
+  RefinementDiverged,     ///< a residual correction of u' grew the residual (MethodOptions::refine)
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
   Engine,                 ///< another engine (Simbody) threw

@@ -10,6 +10,9 @@
 
 namespace em {
 
+/// Most residual corrections per evaluation a run may ask for (MethodOptions::refine).
+constexpr int kMaxRefine = 10;
+
 /// Numerical-failure thresholds and the correction's tolerance.
 struct MethodOptions {
   double jacobi_tol = 1e-13;  ///< stop when off(C A C^T) <= tol ||A||_F
@@ -18,6 +21,9 @@ struct MethodOptions {
   /// eigen-block: eigenvalues closer than this times max lambda share a block (delta);
   /// a block splits once its eigenvalues are 2 delta apart (docs/theory.md §8).
   double block_gap_rel = 3e-2;
+  /// Eigenfactor methods: residual corrections per evaluation, u' += C^T Lambda^-1 C (B - A u')
+  /// (docs/theory.md §8): the eigenfactors as an approximate inverse of A. 0 = as the paper.
+  int refine = 0;
   double blowup_speed = 1e6;     ///< fail when max |u| exceeds this (rad/s): the run has blown up
   /// Fail when max/min squared Cholesky pivot, a lower bound on cond(A), exceeds
   /// 1/eps: u' then has no reliable digit (gimbal lock, extreme mass ratios).

@@ -244,16 +244,20 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
     for (const MethodInfo& row : methodTable()) {  // every in-house method of the registry
       if (row.engine != Engine::InHouse) continue;
       const Method method = row.id;
-      Dynamics dyn(m, method);
-      Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
-      REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
-      const long before = g_allocations.load();
-      for (int k = 0; k < 10; ++k) dyn.rhs(0, y.data(), dy.data());
-      StepInfo step;
-      dyn.afterStep(0, y.data(), step);
-      const long allocations = g_allocations.load() - before;  // read before INFO allocates
-      INFO(scene << " " << methodName(method));
-      CHECK(allocations == 0);
+      for (int refine : {0, 2}) {  // with and without residual corrections (MethodOptions::refine)
+        MethodOptions opt;
+        opt.refine = refine;
+        Dynamics dyn(m, method, opt);
+        Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+        REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up
+        const long before = g_allocations.load();
+        for (int k = 0; k < 10; ++k) dyn.rhs(0, y.data(), dy.data());
+        StepInfo step;
+        dyn.afterStep(0, y.data(), step);
+        const long allocations = g_allocations.load() - before;  // read before INFO allocates
+        INFO(scene << " " << methodName(method) << " refine " << refine);
+        CHECK(allocations == 0);
+      }
     }
   }
 }
