@@ -109,6 +109,7 @@ Grid GridArgs::asked(const CLI::App& cmd) const {
 void GridArgs::applyTo(MethodOptions& options) const {
   if (allow_long_run) options.max_steps = HUGE_VAL;
   options.block_gap_rel = block_gap;
+  options.refine = refine;
   options.retry_failed_steps = !no_step_retry;
 }
 
@@ -123,6 +124,11 @@ void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_hel
   cmd->add_option("--block-gap", g.block_gap,
                   "eigen-block: eigenvalues closer than this times the largest share a block (delta)")
       ->check(positiveFinite() & CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--refine", g.refine,
+                  "Eigenfactor methods: residual corrections per evaluation, u' += C^T Lambda^-1 C (B - A u') "
+                  "(docs/theory.md §8); 0 = the paper's u'")
+      ->check(CLI::Range(0, kMaxRefine))
       ->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");

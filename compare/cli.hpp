@@ -60,15 +60,17 @@ struct GridArgs {
   bool allow_long_run = false;
   bool no_step_retry = false;
   double block_gap = MethodOptions().block_gap_rel;  ///< eigen-block's delta
+  int refine = MethodOptions().refine;                ///< eigenfactor methods' residual corrections
   /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
   Grid asked(const CLI::App& cmd) const;
   /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps);
-  /// --block-gap sets eigen-block's delta; --no-step-retry ends an adaptive run
+  /// --block-gap sets eigen-block's delta; --refine the eigenfactor methods'
+  /// residual corrections per evaluation; --no-step-retry ends an adaptive run
   /// at a failed trial stage.
   void applyTo(MethodOptions& options) const;
   void applyTo(RunSpec& spec) const { applyTo(spec.options); }
 };
-/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --block-gap, --no-step-retry, --progress, --no-progress.
+/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --block-gap, --refine, --no-step-retry, --progress, --no-progress.
 void addGridOptions(CLI::App* cmd, GridArgs& g, const std::string& output_dt_help);
 
 /// Validators fed from the registry: a method name; an integrator name (of one engine).

@@ -139,7 +139,7 @@ std::vector<PlanTable> tablesAt(const json& v) {
 
 void readPlanKeys(const json& doc, Plan& p) {
   onlyKeys(doc, "", {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats", "reference",
-                     "reference_check", "lines", "tables", "max_steps"});
+                     "reference_check", "lines", "tables", "max_steps", "refine"});
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
     throw InputError("format", "expected \"eigenmass-plan/1\"");
   p.name = stringAt(doc.value("name", json()), "name");
@@ -164,6 +164,13 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
   if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
   if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
+  if (doc.contains("refine")) {
+    const json& r = doc["refine"];
+    if (!r.is_number_integer() || r.get<long>() < 0 || r.get<long>() > kMaxRefine)
+      throw InputError("refine", "must be a whole number from 0 to " + std::to_string(kMaxRefine) +
+                                     " (residual corrections per evaluation)");
+    p.options.refine = r.get<int>();
+  }
 }
 
 // Every run of the plan on its grid: a setting that cannot run is refused

@@ -31,7 +31,7 @@ struct Plan {
   std::optional<RunSpec> reference_check;  ///< the reference's own check (another engine)
   std::vector<PlanLine> lines;
   std::vector<PlanTable> tables;
-  MethodOptions options;  ///< of every run (the plan's "max_steps")
+  MethodOptions options;  ///< of every run (the plan's "max_steps" and "refine")
 
   bool hasTable(PlanTable t) const;
 };

@@ -64,6 +64,8 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
     j["diagnostics"] = nullptr;
     return j;
   }
+  j["refine"] = m.run.options.refine;
+  if (m.run.method == Method::EigenBlock || m.run.method == Method::EigenBlockJacobi) j["block_gap"] = m.run.options.block_gap_rel;
   j["diagnostics"] = {{"orthogonality_error_max", peak(m.orth_err)},
                       {"offdiag_rel_max", peak(m.offdiag_rel)},
                       {"inverse_error_max", peak(m.inv_err)},

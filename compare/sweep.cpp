@@ -35,14 +35,16 @@ json specKey(const RunSpec& s) {
 // What a result file must have been made from to count for this plan: the
 // scene's bytes, the grid, the run, the reference, the repeats.
 json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha256) {
-  return {{"case", c.name},
-          {"scene_sha256", scene_sha256},
-          {"t_end", plan.t_end},
-          {"output_dt", plan.output_dt},
-          {"repeats", c.role == CaseRole::Run ? plan.repeats : 1},
-          {"max_steps", plan.options.max_steps},
-          {"run", specKey(c.spec)},
-          {"reference", plan.reference ? specKey(*plan.reference) : json()}};
+  json key = {{"case", c.name},
+              {"scene_sha256", scene_sha256},
+              {"t_end", plan.t_end},
+              {"output_dt", plan.output_dt},
+              {"repeats", c.role == CaseRole::Run ? plan.repeats : 1},
+              {"max_steps", plan.options.max_steps},
+              {"run", specKey(c.spec)},
+              {"reference", plan.reference ? specKey(*plan.reference) : json()}};
+  if (plan.options.refine != 0) key["refine"] = plan.options.refine;  // absent at 0: older results stay valid
+  return key;
 }
 
 json readJsonFile(const std::string& path) { return parseJsonStrict(readFile(path, "case result")); }

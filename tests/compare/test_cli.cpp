@@ -162,6 +162,8 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"simulate " + s + " --dt abc", "--dt: expected a number, got 'abc'"},
       {"simulate " + s + " --block-gap nan", "--block-gap: must be a finite number > 0, got nan"},
       {"compare " + s + " --block-gap 2", "--block-gap: Value 2 not in range 0"},
+      {"compare " + s + " --refine 11", "--refine: Value 11 not in range 0"},
+      {"compare " + s + " --refine 1.5", "--refine"},
       {"simulate " + s + " --dt 1e-12 --t-end 10", "is 1e+13 steps, more than the budget of 1e+08 (--allow-long-run"},
       {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
       {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},

@@ -119,6 +119,11 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   p = smallPlan();
   p.erase("reference");
   CHECK_THAT(planError(p), Catch::Contains("tables: work-precision needs a reference"));
+  p = smallPlan();
+  p["refine"] = 1.5;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  p["refine"] = 11;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
   CHECK(planError(smallPlan()).empty());
 }
 
