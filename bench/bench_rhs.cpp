@@ -72,7 +72,7 @@ Model chain(int n) {
 // One chain's timings (seconds per call) and the MuJoCo agreement check.
 struct Row {
   int n = 0, N = 0;
-  Timing classical, eigen, eigen_n3, jacobi, simbody, mujoco, gemm;
+  Timing classical, eigen, eigen_refined, eigen_n3, jacobi, simbody, mujoco, gemm;  // eigen_refined: eigen with refine 2
   bool has_mujoco = false;
   double mujoco_A_err = 0, mujoco_B_err = 0;  ///< max |diff| / max |in-house| at the initial state
 };
@@ -167,6 +167,10 @@ Row measure(int n) {
   Eigen::VectorXd yj = ye;
   r.classical = secondsPerCall([&] { classical.rhs(0, yc.data(), dc.data()); });
   r.eigen = secondsPerCall([&] { eigen.rhs(0, ye.data(), de.data()); });
+  MethodOptions refine2;
+  refine2.refine = 2;  // two residual corrections (docs/theory.md §8): 6 N^2 multiply-adds
+  Dynamics refined(m, Method::Eigen, refine2);
+  r.eigen_refined = secondsPerCall([&] { refined.rhs(0, ye.data(), de.data()); });
   r.eigen_n3 = eigenN3(m, eigen, ye);
   // The correction after a step: forming A and the Jacobi sweeps from an exact basis.
   StepInfo step;
@@ -191,9 +195,9 @@ double gemmFlops(int N) { return 2.0 * N * N * N; }
 void printTable(const std::vector<Row>& rows) {
   std::printf("Median of 7 batches, microseconds per call. mj = MuJoCo mj_forward; SB = Simbody realize(Acceleration);\n"
               "N3 / GEMM = the eigen N^3 part's flop rate over the machine's N x N matrix multiply.\n\n");
-  std::printf("| n | N | classical | eigen | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
-              " | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| n | N | classical | eigen | eigen refine 2 | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
+              " | refine 2 / eigen | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const Row& r : rows) {
     const double us = 1e6;
     const double rate_n3 = eigenN3Flops(r.N) / r.eigen_n3.median, rate_gemm = gemmFlops(r.N) / r.gemm.median;
@@ -202,10 +206,10 @@ void printTable(const std::vector<Row>& rows) {
       std::snprintf(mj, sizeof mj, "%.2f", us * r.mujoco.median);
       std::snprintf(ratio_mj, sizeof ratio_mj, "%.2f", r.classical.median / r.mujoco.median);
     }
-    std::printf("| %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
-                us * r.classical.median, us * r.eigen.median, us * r.eigen_n3.median, us * r.jacobi.median,
-                us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm,
-                1e-9 * rate_gemm);
+    std::printf("| %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
+                us * r.classical.median, us * r.eigen.median, us * r.eigen_refined.median, us * r.eigen_n3.median,
+                us * r.jacobi.median, us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median,
+                r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm, 1e-9 * rate_gemm);
   }
   for (const Row& r : rows)
     if (r.has_mujoco)
@@ -224,6 +228,7 @@ nlohmann::json toJson(const std::vector<Row>& rows, int threads) {
   nlohmann::json results = nlohmann::json::array();
   for (const Row& r : rows) {
     for (auto [name, t] : {std::pair<const char*, const Timing*>{"classical", &r.classical}, {"eigen", &r.eigen},
+                           {"eigen-refine2", &r.eigen_refined},
                            {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"gemm", &r.gemm}})
       results.push_back(timingJson(name, r.n, *t, threads));
     results.push_back(timingJson("simbody", r.n, r.simbody, 1));
