@@ -2,6 +2,7 @@
 /// The Junkins–Schaub eigenfactor pieces (paper §2, eqs. (5)–(17); docs/theory.md §7):
 /// the cyclic Jacobi re-diagonalization, symmetric re-orthonormalization and the
 /// drift diagnostics. Hand-written: they are the subject of the research.
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -76,23 +77,26 @@ EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<con
 /// times u' <- u' + H (B - A u'), H = C^T Lambda^-1 C (eigen-block: C^T D^-1 C)
 /// the eigenfactors' approximate inverse of A, applied as applyH(b, out). Each
 /// correction multiplies the error of u' by I - H A, so the factorization's
-/// drift enters u' to the power steps + 1, and A is never factorized. Returns
-/// false when a residual grew beyond the previous one and beyond rounding
-/// (sqrt(eps) of |A u'| + |B|): H no longer contracts, u' is not to be trusted.
-/// r, du: (N) scratch.
+/// drift enters u' to the power steps + 1, and A is never factorized.
+/// The residuals r_k = B - A u'_k obey r_k+1 = (I - A H) r_k, which shrinks
+/// in the H-norm (r^T H r = r . du, free) exactly when every eigenvalue of
+/// H A lies in (0, 2), while the 2-norm may grow on the way when A is ill
+/// conditioned. Returns false when r^T H r grew (or went negative: H not
+/// positive definite) beyond rounding (eps of (|A u'| + |B|) |u'|): H no
+/// longer contracts and u' is not to be trusted. r, du: (N) scratch.
 template <class ApplyH>
 bool refineResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, int steps, ApplyH&& applyH,
                     Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du) {
-  constexpr double kRoundingRel = 1.5e-8;  // sqrt(eps): below it a residual is rounding
+  constexpr double kRounding = std::numeric_limits<double>::epsilon();
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0; k < steps; ++k) {
     r.noalias() = A * udot;
-    const double scale = r.norm() + B.norm();
+    const double floor = kRounding * (r.norm() + B.norm()) * udot.norm();
     r = B - r;
-    const double norm = r.norm();
-    if (norm > previous && norm > kRoundingRel * scale) return false;
-    previous = norm;
     applyH(r, du);
+    const double rHr = r.dot(du);
+    if ((rHr > previous || rHr < 0) && std::abs(rHr) > floor) return false;
+    previous = rHr;
     udot += du;
   }
   return true;

@@ -173,3 +173,24 @@ TEST_CASE("a residual correction that grows the residual is reported, not applie
   CHECK_FALSE(refineResidual(A, B, 3, applyH, u, r, du));
   CHECK_FALSE(refineDivergedCause(3).empty());
 }
+
+TEST_CASE("a residual correction that contracts is not stopped when the residual's 2-norm grows on the way", "[closedform][eigenfactor][refine]") {
+  // A = diag(1, 1e6), H = A^-1 + e [[0, 1], [1, 0]] (positive definite for
+  // e = 1e-4): I - A H = -A E has eigenvalues +-1e3 e = +-0.1, so u' converges
+  // tenfold per correction, yet from B = (1, 0) the residual's 2-norm goes
+  // 100, 0.01, 1: it grows a hundredfold at the second correction. In the
+  // H-norm, which refineResidual watches, it shrinks tenfold every time, and
+  // so does the error of u' in the A-norm (its 2-norm swings: 1e-4, 1e-2, 1e-6, 1e-4).
+  constexpr double e = 1e-4;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, 2), H(2, 2);
+  A(0, 0) = 1, A(1, 1) = 1e6;
+  H << 1, e, e, 1e-6;
+  const Eigen::VectorXd B = Eigen::Vector2d(1, 0), exact = A.inverse() * B;
+  const auto applyH = [&](const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> out) { out = H * b; };
+  Eigen::VectorXd u(2), r(2), du(2);
+  const auto errorA = [&](const Eigen::VectorXd& v) { return std::sqrt((v - exact).dot(A * (v - exact))); };
+  u = H * B;
+  const double e0 = errorA(u);
+  REQUIRE(refineResidual(A, B, 3, applyH, u, r, du));
+  CHECK(errorA(u) == Approx(1e-3 * e0).epsilon(1e-6));  // 0.1 per correction, exactly
+}
