@@ -93,8 +93,8 @@ RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<con
 }
 
 std::string refineDivergedCause(int steps) {
-  return "residual correction diverged (|B - A u'| grew within " + std::to_string(steps) +
-         " corrections): the eigenfactors no longer approximate A's inverse";
+  return "residual correction diverged (r^T H r, r = B - A u', grew within " + std::to_string(steps) +
+         " corrections): the eigenfactors H no longer approximate A's inverse";
 }
 
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda) {
