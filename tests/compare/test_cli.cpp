@@ -130,6 +130,21 @@ TEST_CASE("compare writes the report and prints the table - a broken gate exits 
   CHECK(nlohmann::json::parse(gin)["gate"]["passed"] == false);
 }
 
+TEST_CASE("compare --refine records the corrections per eigenfactor method and says so under the table", "[cli][comparison][refine]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_refine";
+  std::filesystem::remove_all(dir);
+  const Run r = eigenmass("compare " + scene("chain02.json") + " --t-end 0.3 --methods classical,eigen,eigen-block --refine 2 --out " +
+                          dir + "/r.json");
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("eigenfactor methods: 2 residual correction(s) per evaluation (--refine)") != std::string::npos);
+  std::ifstream in(dir + "/r.json");
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["methods"][0].contains("refine") == false);  // classical: nothing to correct
+  CHECK(j["methods"][1]["refine"] == 2);
+  CHECK(j["methods"][2]["refine"] == 2);
+  CHECK(j["methods"][2]["block_gap"] == 3e-2);
+}
+
 TEST_CASE("an interrupted compare leaves no report and no temporary", "[cli][comparison]") {
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_interrupted.json";
   std::filesystem::remove(out);
