@@ -266,7 +266,7 @@ TEST_CASE("adaptive runs retry a step whose trial stage fails, while a failure a
   CHECK(equal.failure_time == 0.0);
 }
 
-TEST_CASE("at rk4's second stage the eigenfactors miss A(q) by O(h^2), u' by more; two residual corrections recover u'", "[eigenfactor][refine]") {
+TEST_CASE("at rk4's second stage the eigenfactors miss A(q) by O(h squared), u' by more, and two residual corrections recover u'", "[eigenfactor][refine]") {
   // Why the eigenfactor methods' error constants exceed classical's at the same
   // step (docs/theory.md §8, "Residual correction"): the stage's C, lambda
   // are a Taylor prediction of A's factors, off A(q_stage) by O(h^2), and u' =
