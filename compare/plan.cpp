@@ -137,6 +137,13 @@ std::vector<PlanTable> tablesAt(const json& v) {
   return out;
 }
 
+// A whole number from lo to hi at `key`; `why` ends the error.
+int wholeNumberAt(const json& v, const std::string& key, int lo, int hi, const std::string& why) {
+  if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
+    throw InputError(key, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + " (" + why + ")");
+  return v.get<int>();
+}
+
 void readPlanKeys(const json& doc, Plan& p) {
   onlyKeys(doc, "", {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats", "reference",
                      "reference_check", "lines", "tables", "max_steps", "refine"});
@@ -149,11 +156,7 @@ void readPlanKeys(const json& doc, Plan& p) {
   p.scenes = scenesAt(doc.value("scenes", json()), p.file);
   p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
-  if (doc.contains("repeats")) {
-    if (!doc["repeats"].is_number_integer() || doc["repeats"].get<long>() < 3 || doc["repeats"].get<long>() > 100)
-      throw InputError("repeats", "must be a whole number from 3 to 100 (timings are medians)");
-    p.repeats = doc["repeats"].get<int>();
-  }
+  if (doc.contains("repeats")) p.repeats = wholeNumberAt(doc["repeats"], "repeats", 3, 100, "timings are medians");
   if (doc.contains("reference")) p.reference = runAt(doc["reference"], "reference");
   if (doc.contains("reference_check")) {
     if (!p.reference) throw InputError("reference_check", "needs a reference to check");
@@ -164,13 +167,8 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
   if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
   if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
-  if (doc.contains("refine")) {
-    const json& r = doc["refine"];
-    if (!r.is_number_integer() || r.get<long>() < 0 || r.get<long>() > kMaxRefine)
-      throw InputError("refine", "must be a whole number from 0 to " + std::to_string(kMaxRefine) +
-                                     " (residual corrections per evaluation)");
-    p.options.refine = r.get<int>();
-  }
+  if (doc.contains("refine"))
+    p.options.refine = wholeNumberAt(doc["refine"], "refine", 0, kMaxRefine, "residual corrections per evaluation");
 }
 
 // Every run of the plan on its grid: a setting that cannot run is refused

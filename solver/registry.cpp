@@ -49,7 +49,7 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::NonPositiveEigenvalue, "eigenvalue-nonpositive", "an integrated eigenvalue of A (or of D) <= 0"},
       {Failure::EigenGap, "eigen-gap", "an eigenvalue gap (or a gap between blocks) below the floor"},
       {Failure::JacobiNotConverged, "jacobi-not-converged", "the Jacobi correction did not converge"},
-      {Failure::RefinementDiverged, "refinement-diverged", "a residual correction of u' grew the residual: the eigenfactors no longer approximate A's inverse"},
+      {Failure::RefinementDiverged, "refinement-diverged", "a residual correction of u' grew the residual in the H-norm: the eigenfactors no longer approximate A's inverse"},
       {Failure::IntegratorStopped, "integrator-stopped", "the adaptive integrator gave up"},
       {Failure::StepUnderflow, "step-underflow", "the adaptive step collapsed"},
       {Failure::Engine, "engine", "the other engine (Simbody) stopped with an exception"},
