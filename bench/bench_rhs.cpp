@@ -20,7 +20,7 @@
 #include "io/scene.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
-#include "solver/eigenfactor.hpp"
+#include "solver/eigenfactor_ops.hpp"
 #include "compare/crosscheck.hpp"
 #include "reference/mujoco_peer.hpp"
 
@@ -148,8 +148,9 @@ Timing eigenN3(const Model& m, Dynamics& eigen, const Eigen::VectorXd& y) {
   const int N = m.nu;
   Workspace ws(m);
   formEquations(m, y.data(), y.data() + m.nq, ws, true);
-  Eigen::Map<const RowMatrix> C(y.data() + eigen.offsetC(), N, N);
-  Eigen::Map<const Eigen::VectorXd> lambda(y.data() + eigen.offsetLambda(), N);
+  // ExtraState::CLambda: C (N*N), then lambda (N).
+  Eigen::Map<const RowMatrix> C(y.data() + eigen.offsetExtra(), N, N);
+  Eigen::Map<const Eigen::VectorXd> lambda(y.data() + eigen.offsetExtra() + N * N, N);
   Eigen::MatrixXd Omega(N, N), AdotCt(N, N);
   Eigen::VectorXd lambda_dot(N);
   RowMatrix Cdot(N, N);
@@ -168,7 +169,7 @@ Row measure(int n) {
   r.classical = secondsPerCall([&] { classical.rhs(0, yc.data(), dc.data()); });
   r.eigen = secondsPerCall([&] { eigen.rhs(0, ye.data(), de.data()); });
   MethodOptions refine2;
-  refine2.refine = 2;  // two residual corrections (docs/theory.md §8): 6 N^2 multiply-adds
+  refine2.params["refine"] = 2;  // two residual corrections (docs/theory.md §8): 6 N^2 multiply-adds
   Dynamics refined(m, Method::Eigen, refine2);
   r.eigen_refined = secondsPerCall([&] { refined.rhs(0, ye.data(), de.data()); });
   r.eigen_n3 = eigenN3(m, eigen, ye);

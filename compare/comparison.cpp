@@ -166,11 +166,13 @@ std::string summaryTable(const ComparisonResult& r) {
   tableHeader(o, r.options.thresholds);
   for (const MethodMetrics& m : r.metrics) tableRow(o, m);
   referenceLine(o, r);
-  for (const MethodMetrics& m : r.metrics)
-    if (m.has_diagnostics && m.run.options.refine > 0) {
-      o << "eigenfactor methods: " << m.run.options.refine << " residual correction(s) per evaluation (--refine)\n";
+  for (const MethodMetrics& m : r.metrics) {
+    const MethodInfo& row = info(m.run.method);
+    if (row.takes("refine") && row.param("refine", m.run.options) > 0) {
+      o << "eigenfactor methods: " << row.param("refine", m.run.options) << " residual correction(s) per evaluation (--refine)\n";
       break;
     }
+  }
   for (const MethodMetrics& m : r.metrics)
     if (m.status != "ok")
       o << m.name() << " failed at t = " << gnum(m.failure_time.value_or(0)) << " s: " << m.failure << "\n";

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "compare/comparator.hpp"
-#include "compare/runner.hpp"
+#include "compare/metrics.hpp"
+#include "compare/engines.hpp"
 
 namespace em {
 

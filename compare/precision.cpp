@@ -82,7 +82,6 @@ std::string precisionTable(const PrecisionResult& r) {
 
 nlohmann::json precisionJson(const PrecisionResult& r) {
   using json = nlohmann::json;
-  auto num = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
   json points = json::array();
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
@@ -91,9 +90,9 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
                       {m.run.fixedStep() ? "step" : "tolerance", m.run.setting()},
                       {"status", m.status},
                       {"failure", failureJson(m)},
-                      {"max_pose_error_rad", num(m.pose.value)},
-                      {"max_position_error_m", num(m.position.value)},
-                      {"energy_error_max", num(m.energy.value)},
+                      {"max_pose_error_rad", finiteOrNull(m.pose.value)},
+                      {"max_position_error_m", finiteOrNull(m.position.value)},
+                      {"energy_error_max", finiteOrNull(m.energy.value)},
                       {"run_time_s", m.run_time_s},
                       {"steps", m.steps},
                       {"rhs_evals", m.rhs_evals}});

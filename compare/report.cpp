@@ -14,12 +14,8 @@ namespace {
 
 using json = nlohmann::json;
 
-json orNull(const std::optional<double>& x) { return x ? json(*x) : json(nullptr); }
 
-// NaN and Inf are not JSON: a non-finite metric is reported as null.
-json num(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
-json peak(const Peak& p) { return {{"value", num(p.value)}, {"t", p.t}}; }
+json peak(const Peak& p) { return {{"value", finiteOrNull(p.value)}, {"t", p.t}}; }
 
 json perThreshold(const std::vector<double>& th, const std::vector<std::optional<double>>& v) {
   json o = json::object();
@@ -44,16 +40,16 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"steps", m.steps},
             {"rhs_evals", m.rhs_evals},
             {"step_retries", m.step_retries},
-            {"max_pose_error_rad", num(m.pose.value)},
+            {"max_pose_error_rad", finiteOrNull(m.pose.value)},
             {"max_pose_error_t", m.pose.t},
-            {"max_position_error_m", num(m.position.value)},
-            {"max_coordinate_error_rad", m.coords_shared ? num(m.coord.value) : json(nullptr)},
+            {"max_position_error_m", finiteOrNull(m.position.value)},
+            {"max_coordinate_error_rad", m.coords_shared ? finiteOrNull(m.coord.value) : json(nullptr)},
             {"divergence_time_s", perThreshold(th, m.divergence_time_s)},
             {"coordinate_divergence_time_s", perThreshold(th, m.coord_divergence_time_s)},
-            {"energy_error_max", num(m.energy.value)},
+            {"energy_error_max", finiteOrNull(m.energy.value)},
             {"energy_error_max_t", m.energy.t},
-            {"energy_error_final", num(m.energy_error_final)},
-            {"dissipated_final_J", num(m.dissipated_final)}};
+            {"energy_error_final", finiteOrNull(m.energy_error_final)},
+            {"dissipated_final_J", finiteOrNull(m.dissipated_final)}};
   if (m.run.fixedStep()) j["step"] = m.run.dt;
   else j["tolerance"] = m.run.tol;
   json meaningful = json::object();
@@ -64,14 +60,17 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
     j["diagnostics"] = nullptr;
     return j;
   }
-  j["refine"] = m.run.options.refine;
-  if (m.run.method == Method::EigenBlock || m.run.method == Method::EigenBlockJacobi) j["block_gap"] = m.run.options.block_gap_rel;
+  const MethodInfo& row = info(m.run.method);
+  for (const MethodParam& p : row.params) {  // the row's own options, as run
+    const double v = row.param(p.name, m.run.options);
+    j[p.name] = p.whole ? json(static_cast<long>(v)) : json(v);
+  }
   j["diagnostics"] = {{"orthogonality_error_max", peak(m.orth_err)},
                       {"offdiag_rel_max", peak(m.offdiag_rel)},
                       {"inverse_error_max", peak(m.inv_err)},
-                      {"max_abs_Omega", num(m.eigen.max_abs_Omega)},
+                      {"max_abs_Omega", finiteOrNull(m.eigen.max_abs_Omega)},
                       {"max_abs_Omega_sampled", peak(m.max_Omega)},
-                      {"min_eigen_gap", num(m.eigen.min_gap)},
+                      {"min_eigen_gap", finiteOrNull(m.eigen.min_gap)},
                       {"min_eigen_gap_t", m.eigen.min_gap_time},
                       {"jacobi",
                        {{"sweeps", m.eigen.jacobi_sweeps},
@@ -86,8 +85,8 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
 // Every k-th sample so that at most max_points remain (the last one always kept).
 json decimated(const std::vector<double>& v, size_t stride) {
   json a = json::array();
-  for (size_t k = 0; k < v.size(); k += stride) a.push_back(num(v[k]));
-  if (!v.empty() && (v.size() - 1) % stride) a.push_back(num(v.back()));
+  for (size_t k = 0; k < v.size(); k += stride) a.push_back(finiteOrNull(v[k]));
+  if (!v.empty() && (v.size() - 1) % stride) a.push_back(finiteOrNull(v.back()));
   return a;
 }
 
@@ -145,12 +144,12 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"tolerance", ref.tol},
             {"horizon_tolerance", r.tight.run.tol},
             {"horizon_s", horizon},
-            {"status", r.reference.status},
+            {"status", r.reference.status()},
             {"failure", r.reference.failed() ? failureJson(r.reference_metrics) : json(nullptr)},
             {"run_time_s", r.reference.run_time_s},
             {"steps", r.reference.steps},
             {"rhs_evals", r.reference.rhs_evals},
-            {"energy_error_max", num(r.reference_metrics.energy.value)}}},
+            {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)}}},
           {"methods", methods},
           {"series", series},
           {"gate", gate},

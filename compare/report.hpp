@@ -1,5 +1,7 @@
 #pragma once
 /// The JSON report `eigenmass-report/1` (docs/report-format.md), written atomically.
+#include <cmath>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -7,6 +9,15 @@
 #include "compare/comparison.hpp"
 
 namespace em {
+
+/// NaN and Inf are not JSON: every output writes a non-finite number as null,
+/// and an absent one as null; readers of results turn null back.
+inline nlohmann::json finiteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+inline nlohmann::json orNull(const std::optional<double>& x) { return x ? nlohmann::json(*x) : nlohmann::json(nullptr); }
+inline std::optional<double> optionalFrom(const nlohmann::json& j) {
+  return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>());
+}
+inline double numberFrom(const nlohmann::json& j) { return j.is_null() ? NAN : j.get<double>(); }
 
 /// A threshold as a report key: shortest exact scientific form, '.' written
 /// as 'p' so the key has no dot ("1e-3", "2p5e-3"; docs/report-format.md).

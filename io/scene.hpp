@@ -6,16 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "io/urdf.hpp"
 #include "solver/model.hpp"
 
 namespace em {
-
-/// What a user may ask of an import beyond the file (command-line options).
-struct UrdfOptions {
-  bool balance_inertia = false;          ///< --balance-inertia: MuJoCo's balanceinertia repair
-  std::vector<std::string> lock_joints;  ///< --lock-joint: held at zero and merged like a fixed joint
-  bool any() const { return balance_inertia || !lock_joints.empty(); }
-};
 
 /// Where a scene came from, as every report records it.
 struct SceneSource {
@@ -40,7 +34,6 @@ Scene loadSceneText(const std::string& text, const std::string& source);
 /// The same from URDF text in memory.
 Scene loadUrdfText(const std::string& text, const std::string& source, const UrdfOptions& options = {});
 /// A URDF file as a scene spec (io/urdf.hpp's importUrdf), errors naming the file.
-struct UrdfScene;
 UrdfScene importUrdfFile(const std::string& path, const UrdfOptions& options);
 
 }  // namespace em

@@ -7,7 +7,7 @@
 #include <unordered_map>
 
 #include "io/json_input.hpp"
-#include "solver/run.hpp"
+#include "solver/run_spec.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -260,15 +260,19 @@ SceneSpec spec(const json& doc) {
   return s;
 }
 
-// One workspace holds four (3n x 3n) matrices (K, K_T, K', K_T'): 288 n^2 bytes.
-// A scene that cannot fit in half the machine's memory is refused up front
-// instead of ending in std::bad_alloc.
-void requireMemoryFor(size_t n) {
-  const double need = 288.0 * double(n) * double(n);
+// What every run allocates that grows faster than n: the workspace's A and A'
+// and classical's factor of A, three (N x N) matrices, 24 N^2 bytes (N the
+// speeds). A scene that cannot fit that in half the machine's memory is
+// refused up front instead of ending in std::bad_alloc; an eigenfactor method
+// carries more (about 60 N^2 doubles under an adaptive GSL integrator).
+void requireMemoryFor(const std::vector<BodySpec>& bodies) {
+  double N = 0;
+  for (const BodySpec& b : bodies) N += jointNu(b.joint.type);
+  const double need = 24.0 * N * N;
   const double have = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
   if (have > 0 && need > 0.5 * have)
-    throw Err("bodies", std::to_string(n) + " bodies need about " + gnum(need / 1e9, 3) +
-                            " GB for one workspace (288 n^2 bytes), more than half of this machine's " +
+    throw Err("bodies", std::to_string(bodies.size()) + " bodies (" + gnum(N) + " speeds) need about " +
+                            gnum(need / 1e9, 3) + " GB for any run (24 N^2 bytes), more than half of this machine's " +
                             gnum(have / 1e9, 3) + " GB");
 }
 
@@ -328,7 +332,7 @@ std::string sceneJson(const SceneSpec& s) {
 Model buildModel(const SceneSpec& spec) {
   const int n = static_cast<int>(spec.bodies.size());
   if (n == 0) throw Err("bodies", "empty body list");
-  requireMemoryFor(spec.bodies.size());
+  requireMemoryFor(spec.bodies);
   // Parents are named in the file: "ground" is the format's word for the base.
   std::unordered_map<std::string, int> by_name;
   for (int f = 0; f < n; ++f) {

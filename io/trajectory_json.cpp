@@ -47,7 +47,7 @@ json trajectoryJson(const Trajectory& tr) {
   return {{"scene", tr.scene},          {"q_names", tr.q_names},   {"u_names", tr.u_names},
           {"body_names", tr.body_names}, {"t", tr.t},               {"q", q},
           {"u", u},                      {"energy", tr.energy},     {"kinetic", tr.kinetic},
-          {"dissipated", tr.dissipated}, {"poses", poses},          {"status", tr.status},
+          {"dissipated", tr.dissipated}, {"poses", poses},          {"status", tr.status()},
           {"failure", tr.failure},       {"failure_kind", failureName(tr.failure_kind)},
           {"failure_time", tr.failure_time}, {"run_time_s", tr.run_time_s},
           {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries}};
@@ -68,7 +68,7 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     tr.energy = j.at("energy").get<std::vector<double>>();
     tr.kinetic = j.at("kinetic").get<std::vector<double>>();
     tr.dissipated = j.at("dissipated").get<std::vector<double>>();
-    tr.status = j.at("status").get<std::string>();
+    const std::string status = j.at("status").get<std::string>();
     tr.failure = j.at("failure").get<std::string>();
     tr.failure_time = j.at("failure_time").get<double>();
     tr.run_time_s = j.at("run_time_s").get<double>();
@@ -78,6 +78,7 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     const std::string kind = j.at("failure_kind").get<std::string>();
     for (const FailureInfo& f : failureTable())
       if (kind == f.name) tr.failure_kind = f.id;
+    if (status != tr.status()) throw std::runtime_error("status " + status + " against failure_kind " + kind);
   } catch (const std::exception& e) {
     throw std::runtime_error(source + ": not a trajectory this version wrote (" + e.what() + ")");
   }

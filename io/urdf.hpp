@@ -7,10 +7,16 @@
 #include <string>
 #include <vector>
 
-#include "io/scene.hpp"
 #include "io/scene_json.hpp"
 
 namespace em {
+
+/// What a user may ask of an import beyond the file (command-line options).
+struct UrdfOptions {
+  bool balance_inertia = false;          ///< --balance-inertia: MuJoCo's balanceinertia repair
+  std::vector<std::string> lock_joints;  ///< --lock-joint: held at zero and merged like a fixed joint
+  bool any() const { return balance_inertia || !lock_joints.empty(); }
+};
 
 /// A URDF as a scene: the spec (bodies in the file order of their joints,
 /// provenance in `x-` keys) and what the import did beyond a plain mapping.

@@ -15,7 +15,7 @@ bool allFinite(const double* x, int n) {
   return true;
 }
 
-std::unique_ptr<Formulation> make(const Model& m, Method method, const MethodOptions& opt) {
+std::unique_ptr<MethodImpl> make(const Model& m, Method method, const MethodOptions& opt) {
   const MethodInfo& row = info(method);
   if (!row.make) throw std::invalid_argument(std::string(row.name) + " is not an in-house method");
   return row.make(m, row, opt);
@@ -24,13 +24,13 @@ std::unique_ptr<Formulation> make(const Model& m, Method method, const MethodOpt
 
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
-      size_(m.nq + m.nu + f_->extraSize() + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)) {}
+      size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(size_);
   y.head(model_.nq) = q;
   y.segment(model_.nq, model_.nu) = u;
-  if (f_->extraSize() > 0) {
+  if (info(method_).extra != ExtraState::None) {
     formEquations(model_, y.data(), y.data() + model_.nq, ws_);
     f_->initialize(ws_, y.data() + offsetExtra());
   }

@@ -3,12 +3,12 @@
 /// layout, the right-hand side and what follows an accepted step. It holds no
 /// run state: an evaluation returns its status, and the integration loop owns
 /// the counters and the failure (solver/integrate.cpp).
-/// State y = [q (nq), u (nu), the method's extra state]; eigenfactor methods:
-/// C (N*N, row-major, rows = eigenvectors), lambda (N), N = nu; last, when the
-/// model has dampers, the dissipated work W_diss (1), with W_diss' = sum c u^2.
+/// State y = [q (nq), u (nu), the method's extra state (its row's ExtraState:
+/// C and lambda, or C and D), then, when the model has dampers, the
+/// dissipated work W_diss (1), with W_diss' = sum c u^2].
 #include <memory>
 
-#include "solver/formulation.hpp"
+#include "solver/method.hpp"
 
 namespace em {
 
@@ -23,9 +23,8 @@ class Dynamics {
   bool eigenfactor() const { return f_->hasDiagnostics(); }
   bool correctsAfterStep() const { return f_->correctsAfterStep(); }
   int size() const { return size_; }
+  /// Where the extra state starts in y (laid out as info(method()).extra says).
   int offsetExtra() const { return model_.nq + model_.nu; }
-  int offsetC() const { return offsetExtra(); }
-  int offsetLambda() const { return offsetC() + model_.nu * model_.nu; }
   /// Index of W_diss in y, or -1 without dampers.
   int offsetDissipated() const { return model_.has_dampers ? size_ - 1 : -1; }
   /// W_diss at y (0 without dampers).
@@ -52,7 +51,7 @@ class Dynamics {
   const Model& model_;
   Method method_;
   MethodOptions opt_;
-  std::unique_ptr<Formulation> f_;
+  std::unique_ptr<MethodImpl> f_;
   int size_;
   Workspace ws_;
   Eigen::VectorXd scratch_;  // (size) derivative scratch of diagnosticsAt

@@ -13,28 +13,17 @@ inline Mat3 kernel(const Vec3& a, const Vec3& b) {
   return a.dot(b) * Mat3::Identity() - b * a.transpose();
 }
 
-// In-place T X T^T on a (3n x 3n) block matrix: T sums over subtrees, and with
-// regular numbering a descending sweep that adds each block row (column) into
-// its parent's completes every subtree before it is used.
-void applyTXTt(const Model& m, Eigen::MatrixXd& X) {
-  for (int i = m.n() - 1; i >= 0; --i)
-    if (int p = m.bodies[i].parent; p >= 0) X.middleRows<3>(3 * p) += X.middleRows<3>(3 * i);
-  for (int i = m.n() - 1; i >= 0; --i)
-    if (int p = m.bodies[i].parent; p >= 0) X.middleCols<3>(3 * p) += X.middleCols<3>(3 * i);
-}
-
 }  // namespace
 
 Workspace::Workspace(const Model& m) {
   const int n = m.n(), nu = m.nu;
   for (auto* v : {&omega, &b, &d, &o, &vo, &r, &v, &s, &e, &h, &F, &S, &z, &y, &L, &S_dot}) v->assign(n, Vec3::Zero());
-  for (auto* M : {&Kd, &IC, &JW, &D, &IC_dot}) M->assign(n, Mat3::Zero());
+  for (auto* M : {&Kd, &IC, &JW, &Gamma, &IC_dot}) M->assign(n, Mat3::Zero());
   R.assign(n, Mat3::Identity());
   J_w.assign(n, Mat3::Zero());
   mu.assign(n, 0.0);
   P = Eigen::Matrix3Xd::Zero(3, nu);
   Pdot = Eigen::Matrix3Xd::Zero(3, nu);
-  // K, K_T, K', K_T' are the tests' dense oracles: sized by formK / denseAdot on first use.
   A = Eigen::MatrixXd::Zero(nu, nu);
   Adot = Eigen::MatrixXd::Zero(nu, nu);
   B = Eigen::VectorXd::Zero(nu);
@@ -117,63 +106,6 @@ void formSubtrees(const Model& m, Workspace& ws) {
   }
 }
 
-void formK(const Model& m, Workspace& ws) {
-  ws.K.setZero(3 * m.n(), 3 * m.n());
-  for (int k = 0; k < m.n(); ++k) {
-    const Body& B = m.bodies[k];
-    ws.K.block<3, 3>(3 * k, 3 * k) = ws.Kd[k];
-    // Off-diagonal with every strict ancestor j: l_ji = d_c for all i in subtree(k).
-    for (int c = k, j = B.parent; j >= 0; c = j, j = m.bodies[j].parent) {
-      const Mat3 Kjk = kernel(ws.d[c], ws.s[k]);
-      ws.K.block<3, 3>(3 * j, 3 * k) = Kjk;
-      ws.K.block<3, 3>(3 * k, 3 * j) = Kjk.transpose();
-    }
-  }
-}
-
-Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws) {
-  const int n = m.n();
-  // l_ji: inside body j from joint j toward body i (to CM i when j = i).
-  auto l = [&](int j, int i) -> Vec3 {
-    if (j == i) return ws.b[i];
-    int c = i;
-    while (m.bodies[c].parent != j) c = m.bodies[c].parent;
-    return ws.d[c];
-  };
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (int j = 0; j < n; ++j) {
-    K.block<3, 3>(3 * j, 3 * j) += ws.J_w[j];
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < n; ++i)
-        if (m.T(j, i) && m.T(k, i))
-          K.block<3, 3>(3 * j, 3 * k) += m.bodies[i].mass * kernel(l(j, i), l(k, i));
-  }
-  return K;
-}
-
-namespace {
-
-// out = P^T X P block by block: P is block diagonal, so block (j,k) of the
-// (nu x nu) result is P_j^T X_jk P_k (docs/theory.md §4, eq. (2)).
-void projectBlocks(const Model& m, const Eigen::MatrixXd& X, const Eigen::Matrix3Xd& Pl,
-                   const Eigen::Matrix3Xd& Pr, Eigen::MatrixXd& out, bool accumulate = false) {
-  Axes XP;
-  for (const Body& Bj : m.bodies) {
-    const int j = &Bj - m.bodies.data();
-    for (const Body& Bk : m.bodies) {
-      const int k = &Bk - m.bodies.data();
-      XP.noalias() = X.block<3, 3>(3 * j, 3 * k) * Pr.middleCols(Bk.iu, Bk.nu());
-      auto dst = out.block(Bj.iu, Bk.iu, Bj.nu(), Bk.nu());
-      if (accumulate)
-        dst.noalias() += Pl.middleCols(Bj.iu, Bj.nu()).transpose() * XP;
-      else
-        dst.noalias() = Pl.middleCols(Bj.iu, Bj.nu()).transpose() * XP;
-    }
-  }
-}
-
-}  // namespace
-
 void formA(const Model& m, Workspace& ws) {
   // Column b (of body k) against every row a of k and of its ancestors j:
   // A_ab = p_a . (I_k p_b + r_jk x (p_b x S_k)), r_jk = o_k - o_j (docs/theory.md §4).
@@ -192,17 +124,6 @@ void formA(const Model& m, Workspace& ws) {
     }
   }
   ws.A.triangularView<Eigen::StrictlyLower>() = ws.A.transpose();
-}
-
-void formKT(const Model& m, Workspace& ws) {
-  ws.KT = ws.K;
-  applyTXTt(m, ws.KT);
-}
-
-Eigen::MatrixXd denseA(const Model& m, const Workspace& ws) {
-  Eigen::MatrixXd A(m.nu, m.nu);
-  projectBlocks(m, ws.KT, ws.P, ws.P, A);
-  return A;
 }
 
 void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::VectorXd& Kx) {
@@ -283,35 +204,6 @@ double dissipationRate(const Model& m, const double* u) {
   return P;
 }
 
-Eigen::MatrixXd denseAdot(const Model& m, Workspace& ws) {
-  // K': every block is built of vectors fixed in one body, so each vector x
-  // fixed in body j has x' = w_j x x (docs/theory.md §6).
-  ws.Kdot.setZero(3 * m.n(), 3 * m.n());
-  for (int k = 0; k < m.n(); ++k) {
-    const Mat3 W = skew(ws.omega[k]);
-    const Mat3 Kkk = ws.K.block<3, 3>(3 * k, 3 * k);
-    ws.Kdot.block<3, 3>(3 * k, 3 * k) = W * Kkk - Kkk * W;
-    const Vec3& s = ws.s[k];
-    const Vec3 s_dot = ws.omega[k].cross(s);
-    for (int c = k, j = m.bodies[k].parent; j >= 0; c = j, j = m.bodies[j].parent) {
-      const Vec3& d = ws.d[c];
-      const Vec3 d_dot = ws.omega[j].cross(d);
-      const Mat3 Kjk_dot = kernel(d_dot, s) + kernel(d, s_dot);
-      ws.Kdot.block<3, 3>(3 * j, 3 * k) = Kjk_dot;
-      ws.Kdot.block<3, 3>(3 * k, 3 * j) = Kjk_dot.transpose();
-    }
-  }
-  ws.KTdot = ws.Kdot;
-  applyTXTt(m, ws.KTdot);
-  // A' = P'^T K_T P + P^T K_T' P + P^T K_T P'; the first is the transpose of the last.
-  Eigen::MatrixXd Adot(m.nu, m.nu);
-  projectBlocks(m, ws.KT, ws.P, ws.Pdot, Adot);
-  for (int a = 0; a < m.nu; ++a)
-    for (int c = a; c < m.nu; ++c) Adot(a, c) = Adot(c, a) = Adot(a, c) + Adot(c, a);
-  projectBlocks(m, ws.KTdot, ws.P, ws.P, Adot, true);
-  return Adot;
-}
-
 void formSubtreeRates(const Model& m, Workspace& ws) {
   // Bottom-up like formSubtrees; docs/theory.md §6.
   for (int k = m.n() - 1; k >= 0; --k) {
@@ -320,18 +212,18 @@ void formSubtreeRates(const Model& m, Workspace& ws) {
     const Mat3 W = skew(ws.omega[k]);
     ws.L[k] = mv;
     ws.JW[k] = W * ws.J_w[k] - ws.J_w[k] * W;  // J_k'
-    ws.D[k] = kernel(mv, ws.b[k]) + kernel(ws.b[k], mv);
+    ws.Gamma[k] = kernel(mv, ws.b[k]) + kernel(ws.b[k], mv);
     for (int c : B.children) {
       const Vec3& d = ws.d[c];
       ws.L[k] += ws.L[c];
       ws.JW[k] += ws.JW[c];
-      ws.D[k] += ws.D[c] + kernel(ws.L[c], d) + kernel(d, ws.L[c]);
+      ws.Gamma[k] += ws.Gamma[c] + kernel(ws.L[c], d) + kernel(d, ws.L[c]);
     }
   }
   for (int k = 0; k < m.n(); ++k) {
     const Vec3& vo = ws.vo[k];
     ws.S_dot[k] = ws.L[k] - ws.mu[k] * vo;
-    ws.IC_dot[k] = ws.JW[k] + ws.D[k] - kernel(vo, ws.S[k]) - kernel(ws.S[k], vo);
+    ws.IC_dot[k] = ws.JW[k] + ws.Gamma[k] - kernel(vo, ws.S[k]) - kernel(ws.S[k], vo);
   }
 }
 
@@ -366,6 +258,13 @@ void formEquations(const Model& m, const double* q, const double* u, Workspace& 
   if (!with_Adot) return;
   formSubtreeRates(m, ws);
   formAdot(m, ws);
+}
+
+Workspace equationsAtStart(const Model& m) {
+  Workspace ws(m);
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  formEquations(m, q.data(), u.data(), ws);
+  return ws;
 }
 
 void formQdot(const Model& m, const double* q, const double* u, double* qdot) {

@@ -1,6 +1,8 @@
 #pragma once
 /// Wittenburg's direct formation of the equations of motion A u' = B on a
 /// preallocated workspace (docs/theory.md §3–6; paper eqs. (1)–(4), (18)).
+/// The dense K, K_T and their rates, the oracles of formA and formAdot, live
+/// with the tests (tests/solver/dense_oracles.hpp).
 #include <vector>
 
 #include "solver/joint.hpp"
@@ -30,7 +32,7 @@ struct Workspace {
   std::vector<Mat3> IC;     ///< I_k: inertia of subtree(k) about joint point k (composite)
   std::vector<Vec3> z, y;   ///< O(n) K phi: z_k = sum over subtree(k) of phi_i x s_i; y_k over ancestors
   std::vector<Vec3> L;      ///< L_k = sum over subtree(k) of m_i v_i (for A')
-  std::vector<Mat3> JW, D;  ///< sums over subtree(k) of J_i' and of m_i [k(v_i, rho_i) + k(rho_i, v_i)]
+  std::vector<Mat3> JW, Gamma;  ///< sums over subtree(k) of J_i' and Gamma_k = of m_i [k(v_i, rho_i) + k(rho_i, v_i)] (theory.md §6)
   std::vector<Vec3> S_dot;  ///< S_k'
   std::vector<Mat3> IC_dot; ///< I_k'
   std::vector<Vec3> e;      ///< e_i: velocity-product part of joint point i's acceleration
@@ -38,9 +40,6 @@ struct Workspace {
   std::vector<Vec3> F;      ///< F_k = sum over subtree(k) of m_i (h_i - g)
   Eigen::Matrix3Xd P;       ///< the paper's p: world axes p_jk as columns (block diagonal, stored 3 x nu)
   Eigen::Matrix3Xd Pdot;    ///< axis rates p_jk'  (3 x nu)
-  Eigen::MatrixXd K;        ///< inertia block matrix  (3n x 3n; empty until formK: tests only)
-  Eigen::MatrixXd KT;       ///< K_T = T K T^T  (3n x 3n)
-  Eigen::MatrixXd Kdot, KTdot;  ///< K', K_T' = T K' T^T  (3n x 3n; empty until denseAdot)
   Eigen::MatrixXd A, Adot;  ///< mass matrix and its time derivative  (nu x nu)
   Eigen::VectorXd B;        ///< right-hand side  (nu)
   Eigen::VectorXd phi;      ///< phi = T^T f: velocity-product angular accelerations  (3n)
@@ -55,20 +54,11 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
 /// Subtree masses mu, barycentric s, K's diagonal blocks Kd, first moments S
 /// and composite inertias I_k, all O(n) bottom-up (needs formKinematics).
 void formSubtrees(const Model& m, Workspace& ws);
-/// K by the barycentric O(n^2) form (needs formSubtrees).  // -> ws.K (3n x 3n)
-void formK(const Model& m, Workspace& ws);
-/// K by the naive triple sum over i, j, k: the test oracle.  // (3n x 3n)
-Eigen::MatrixXd naiveK(const Model& m, const Workspace& ws);
 /// A = (P^T T) K (P^T T)^T (paper eq. (2)) in O(n * depth) from the subtree
 /// sums: A_ab = (p_a, o_j x p_a) . (I_k p_b + o_k x c_b, c_b), c_b = p_b x S_k,
 /// for a of body j, b of body k, j = k or an ancestor (docs/theory.md §4;
 /// needs formSubtrees).  // -> ws.A (nu x nu)
 void formA(const Model& m, Workspace& ws);
-/// K_T = T K T^T by subtree sweeps (needs formK).  // -> ws.KT (3n x 3n)
-void formKT(const Model& m, Workspace& ws);
-/// A = P^T K_T P block by block, the dense form of eq. (2): the test oracle of
-/// formA (needs formKT).  // (nu x nu)
-Eigen::MatrixXd denseA(const Model& m, const Workspace& ws);
 /// B = -(P^T T)[K T^T f + M'] + Q (paper eq. (18)), K phi by multiplyK
 /// (needs formSubtrees).  // -> ws.B (nu)
 void formB(const Model& m, const double* q, const double* u, Workspace& ws);
@@ -84,12 +74,11 @@ void formSubtreeRates(const Model& m, Workspace& ws);
 /// A' in O(n depth): formA's product rule (docs/theory.md §6; needs
 /// formSubtreeRates).  // -> ws.Adot (nu x nu)
 void formAdot(const Model& m, Workspace& ws);
-/// A' from the dense K' and K_T: the test oracle of formAdot (needs formKT;
-/// uses ws.Kdot, ws.KTdot).  // (nu x nu)
-Eigen::MatrixXd denseAdot(const Model& m, Workspace& ws);
 /// All of the above in order; A' only when asked.
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws,
                    bool with_Adot = false);
+/// A workspace holding the equations (A, B, energies) at the model's initial state (q0, u0).
+Workspace equationsAtStart(const Model& m);
 /// Total potential energy (gravity + springs) at q, using ws's CM positions.
 double potentialEnergy(const Model& m, const double* q, const Workspace& ws);
 /// cond(A) = largest / smallest eigenvalue of a symmetric A (Inf when the

@@ -18,11 +18,11 @@ namespace {
 
 double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-// The run's own state: the dynamics it drives, its counters and its first
+// One integration's own state: the dynamics it drives, its counters and its first
 // failure; the trajectory receives them as they happen (steps) or at the end.
-class Run {
+class Integration {
  public:
-  Run(Dynamics& dyn, const RunSpec& spec, Trajectory& tr, const SampleObserver& observe)
+  Integration(Dynamics& dyn, const RunSpec& spec, Trajectory& tr, const SampleObserver& observe)
       : dyn_(dyn), spec_(spec), tr_(tr), observe_(observe), poses_(dyn.model().n()) {
     stats_.min_gap = std::numeric_limits<double>::infinity();
   }
@@ -121,16 +121,19 @@ class Run {
   Status trial_failure_;
 };
 
-// Fixed step: exact multiples of dt, output every `per_output` steps.
-void runFixed(Run& run, const RunSpec& spec, long n_out, long per_output, Eigen::VectorXd& y) {
+// Fixed step: exact multiples of dt, output every `per_output` steps, each
+// step by the integrator row's step function.
+void runFixed(Integration& run, const RunSpec& spec, long n_out, long per_output, Eigen::VectorXd& y) {
   const int n = run.dynamics().size();
-  Eigen::VectorXd k1(n), k2(n), k3(n), k4(n), tmp(n);
-  auto f = [&run](double t, const double* yy, double* dy) { return run.evaluate(t, yy, dy); };
+  const FixedStep step = info(spec.integrator).step;
+  StepScratch w(n);
+  auto evaluate = [&run](double t, const double* yy, double* dy) { return run.evaluate(t, yy, dy); };
+  const Derivative f(evaluate);
   for (long k = 1; k <= n_out; ++k) {
     for (long s = 0; s < per_output; ++s) {
-      const long step = (k - 1) * per_output + s;
-      const double t = step * spec.dt;
-      if (!rk4Step(f, t, spec.dt, y.data(), n, k1.data(), k2.data(), k3.data(), k4.data(), tmp.data())) return;
+      const long i = (k - 1) * per_output + s;
+      const double t = i * spec.dt;
+      if (!step(f, t, spec.dt, y.data(), n, w)) return;
       if (!run.accept(t + spec.dt, y.data())) return;
     }
     run.sample(k * spec.output_dt, y.data());
@@ -139,8 +142,8 @@ void runFixed(Run& run, const RunSpec& spec, long n_out, long per_output, Eigen:
 
 // What GSL's callbacks get: the run and the Jacobian's scratch (sized once per run).
 struct GslParams {
-  GslParams(Run& r, int n) : run(&r), yp(n), f0(n), f1(n) {}
-  Run* run;
+  GslParams(Integration& r, int n) : run(&r), yp(n), f0(n), f1(n) {}
+  Integration* run;
   std::vector<double> yp, f0, f1;
 };
 
@@ -167,16 +170,6 @@ int gslJacobian(double t, const double y[], double* dfdy, double dfdt[], void* p
   return GSL_SUCCESS;
 }
 
-// The GSL stepper of an adaptive in-house integrator.
-const gsl_odeiv2_step_type* gslStepType(Integrator i) {
-  switch (i) {
-    case Integrator::RKF45: return gsl_odeiv2_step_rkf45;
-    case Integrator::RK8PD: return gsl_odeiv2_step_rk8pd;
-    case Integrator::BSIMP: return gsl_odeiv2_step_bsimp;
-    default: throw std::logic_error(std::string("no GSL stepper for ") + integratorName(i));
-  }
-}
-
 struct GslDeleter {
   void operator()(gsl_odeiv2_step* s) const { gsl_odeiv2_step_free(s); }
   void operator()(gsl_odeiv2_control* c) const { gsl_odeiv2_control_free(c); }
@@ -189,7 +182,7 @@ constexpr double kMinStepRel = 1e-14;
 // A trial stage of the step from t failed: shrink h fourfold, or end the run
 // when it would fall below the smallest step (the trial's cause kept). A
 // failure at the step's start is the run's own.
-bool retrySmaller(Run& run, const Status& trial, double t, double& h) {
+bool retrySmaller(Integration& run, const Status& trial, double t, double& h) {
   if (trial.t == t) {  // the step's own start, an accepted state: no smaller step helps
     run.fail(trial);
     return false;
@@ -204,9 +197,9 @@ bool retrySmaller(Run& run, const Status& trial, double t, double& h) {
 
 // Adaptive: GSL's evolve loop; the method's correction runs after every
 // accepted step, and stepper and evolve are reset so they see the corrected state.
-void runAdaptive(Run& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
+void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
   const int n = run.dynamics().size();
-  std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(gslStepType(spec.integrator), n));
+  std::unique_ptr<gsl_odeiv2_step, GslDeleter> step(gsl_odeiv2_step_alloc(*info(spec.integrator).gsl, n));
   std::unique_ptr<gsl_odeiv2_control, GslDeleter> ctl(gsl_odeiv2_control_standard_new(spec.tol, spec.tol, 1.0, 0.0));
   std::unique_ptr<gsl_odeiv2_evolve, GslDeleter> evo(gsl_odeiv2_evolve_alloc(n));
   GslParams params(run, n);
@@ -255,7 +248,7 @@ Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& o
   Dynamics dyn(m, spec.method, spec.options);  // throws for another engine's method
   Trajectory tr = makeTrajectory(m, spec);
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0());
-  Run run(dyn, spec, tr, observe);
+  Integration run(dyn, spec, tr, observe);
   run.sample(0.0, y.data());
   tr.sample_time_s = 0;
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts

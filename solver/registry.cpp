@@ -2,25 +2,48 @@
 
 #include <stdexcept>
 
-#include "solver/formulation.hpp"
 
 namespace em {
 
+// Each in-house method's code, defined in its own file (solver/method_*.cpp).
+MethodFactory makeClassical, makeEigen, makeEigenBlock;
+
+namespace {
+
+// Options several rows share, written once.
+const MethodParam kRefine = {"refine", 0, 0, 10, true,
+                             "Eigenfactor methods: residual corrections per evaluation, u' += C^T Lambda^-1 C (B - A u') "
+                             "(docs/theory.md §8, eq. (R)); 0 = the paper's u'"};
+const MethodParam kBlockGap = {"block_gap", 3e-2, 0, 1, false,
+                               "eigen-block: eigenvalues closer than this times the largest share a block (delta; "
+                               "docs/theory.md §8)"};
+
+}  // namespace
+
+const std::vector<EngineInfo>& engineTable() {
+  static const std::vector<EngineInfo> table = {
+      {Engine::InHouse, "inhouse", Integrator::RK4, Integrator::RK8PD},
+      {Engine::Simbody, "simbody", Integrator::RKMerson, Integrator::RKMerson},
+  };
+  return table;
+}
+
 const std::vector<MethodInfo>& methodTable() {
   static const std::vector<MethodInfo> table = {
-      {Method::Classical, "classical", Engine::InHouse, Correction::None, false, makeClassical,
+      {Method::Classical, "classical", Engine::InHouse, Correction::None, ExtraState::None, false, makeClassical, {},
        "Cholesky of A every evaluation (paper method a)"},
-      {Method::Eigen, "eigen", Engine::InHouse, Correction::None, true, makeEigenfactor,
+      {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine},
        "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)"},
-      {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, true, makeEigenfactor,
-       "eigen plus a Jacobi re-diagonalization after every step (paper method c)"},
-      {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi, true,
-       makeEigenfactor, "eigen-jacobi that also re-orthonormalizes C (not in the paper)"},
-      {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, true, makeEigenBlock,
+      {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CLambda, true, makeEigen,
+       {kRefine}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)"},
+      {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi,
+       ExtraState::CLambda, true, makeEigen, {kRefine}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)"},
+      {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, ExtraState::CD, true, makeEigenBlock,
+       {kRefine, kBlockGap},
        "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)"},
-      {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, true, makeEigenBlock,
-       "eigen-block plus the paper's Jacobi correction after every step"},
-      {Method::Simbody, "simbody", Engine::Simbody, Correction::None, false, nullptr,
+      {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CD, true,
+       makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step"},
+      {Method::Simbody, "simbody", Engine::Simbody, Correction::None, ExtraState::None, false, nullptr, {},
        "Simbody's own O(n) recursive dynamics: the independent engine"},
   };
   return table;
@@ -28,13 +51,17 @@ const std::vector<MethodInfo>& methodTable() {
 
 const std::vector<IntegratorInfo>& integratorTable() {
   static const std::vector<IntegratorInfo> table = {
-      {Integrator::RK4, "rk4", Engine::InHouse, true, "classical four-stage Runge-Kutta, fixed step (hand-written)"},
-      {Integrator::RKF45, "rkf45", Engine::InHouse, false, "GSL Runge-Kutta-Fehlberg (4, 5), adaptive"},
-      {Integrator::RK8PD, "rk8pd", Engine::InHouse, false, "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive"},
-      {Integrator::BSIMP, "bsimp", Engine::InHouse, false, "GSL implicit Bulirsch-Stoer, adaptive (stiff)"},
-      {Integrator::RKMerson, "rkmerson", Engine::Simbody, false, "Simbody Runge-Kutta-Merson, adaptive"},
-      {Integrator::RK3, "rk3", Engine::Simbody, false, "Simbody Runge-Kutta 3, adaptive"},
-      {Integrator::CPodes, "cpodes", Engine::Simbody, false, "Simbody CPodes (implicit BDF), adaptive"},
+      {Integrator::RK4, "rk4", Engine::InHouse, true, rk4Step, nullptr,
+       "classical four-stage Runge-Kutta, fixed step (hand-written)"},
+      {Integrator::RKF45, "rkf45", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_rkf45,
+       "GSL Runge-Kutta-Fehlberg (4, 5), adaptive"},
+      {Integrator::RK8PD, "rk8pd", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_rk8pd,
+       "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive"},
+      {Integrator::BSIMP, "bsimp", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_bsimp,
+       "GSL implicit Bulirsch-Stoer, adaptive (stiff)"},
+      {Integrator::RKMerson, "rkmerson", Engine::Simbody, false, nullptr, nullptr, "Simbody Runge-Kutta-Merson, adaptive"},
+      {Integrator::RK3, "rk3", Engine::Simbody, false, nullptr, nullptr, "Simbody Runge-Kutta 3, adaptive"},
+      {Integrator::CPodes, "cpodes", Engine::Simbody, false, nullptr, nullptr, "Simbody CPodes (implicit BDF), adaptive"},
   };
   return table;
 }
@@ -56,8 +83,6 @@ const std::vector<FailureInfo>& failureTable() {
   };
   return table;
 }
-
-const char* engineName(Engine e) { return e == Engine::InHouse ? "inhouse" : "simbody"; }
 
 namespace {
 
@@ -87,8 +112,10 @@ std::vector<std::string> names(const std::vector<Row>& table) {
 
 }  // namespace
 
+const EngineInfo& info(Engine e) { return row(engineTable(), e); }
 const MethodInfo& info(Method m) { return row(methodTable(), m); }
 const IntegratorInfo& info(Integrator i) { return row(integratorTable(), i); }
+const char* engineName(Engine e) { return info(e).name; }
 const char* methodName(Method m) { return info(m).name; }
 const char* integratorName(Integrator i) { return info(i).name; }
 const char* failureName(Failure f) { return row(failureTable(), f).name; }
@@ -125,7 +152,43 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-Integrator defaultIntegrator(Engine e) { return e == Engine::InHouse ? Integrator::RK4 : Integrator::RKMerson; }
+Integrator defaultIntegrator(Engine e) { return info(e).fixed_default; }
+Integrator adaptiveIntegrator(Engine e) { return info(e).adaptive_default; }
+
+int extraStateSize(ExtraState x, int N) {
+  switch (x) {
+    case ExtraState::None: return 0;
+    case ExtraState::CLambda: return N * N + N;
+    case ExtraState::CD: return 2 * N * N;
+  }
+  throw std::logic_error("registry: an extra state without a size");
+}
+
+bool MethodInfo::takes(const std::string& option) const {
+  for (const MethodParam& p : params)
+    if (option == p.name) return true;
+  return false;
+}
+
+double MethodInfo::param(const std::string& option, const MethodOptions& o) const {
+  for (const MethodParam& p : params)
+    if (option == p.name) {
+      const auto set = o.params.find(option);
+      return set == o.params.end() ? p.fallback : set->second;
+    }
+  throw std::logic_error(std::string("registry: method ") + name + " has no option " + option);
+}
+
+std::vector<MethodParam> methodParams() {
+  std::vector<MethodParam> all;
+  for (const MethodInfo& m : methodTable())
+    for (const MethodParam& p : m.params) {
+      bool seen = false;
+      for (const MethodParam& q : all) seen = seen || std::string(q.name) == p.name;
+      if (!seen) all.push_back(p);
+    }
+  return all;
+}
 
 void requireCompatible(Method method, Integrator integrator) {
   const Engine e = info(method).engine;

@@ -1,48 +1,91 @@
 #pragma once
 /// One table per kind of thing (MuJoCo's one enum and one name table): the
-/// methods and the integrators with the properties every other part reads
-/// instead of comparing names. Adding a method or an integrator is one row
-/// here plus its own code (docs/theory.md §8–9).
+/// engines, the methods, the integrators and the failures, with the
+/// properties every other part reads instead of comparing names. Adding a
+/// method is its enum value, its row here (its options and properties are
+/// columns), its own file and its CMake line; adding a fixed-step integrator
+/// is its enum value, its row and its step function (solver/steppers.hpp).
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "solver/method_options.hpp"
+#include "solver/steppers.hpp"
+
 namespace em {
 
 struct Model;
-struct MethodOptions;
-class Formulation;
+class MethodImpl;
 
 /// Who runs a method or an integrator.
 enum class Engine { InHouse, Simbody };
-const char* engineName(Engine e);
 
 enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody };
+
+enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes };
+
+/// An engine's row: its name and the integrators it runs when none is named.
+struct EngineInfo {
+  Engine id;
+  const char* name;
+  Integrator fixed_default;     ///< when nothing is asked (in-house rk4)
+  Integrator adaptive_default;  ///< when a tolerance alone is asked, and for reference runs
+};
+
+/// Tolerance of a reference run when none is asked (with the engine's adaptive default).
+constexpr double kReferenceTol = 1e-10;
 
 /// What an in-house method does to its extra state after every accepted step.
 enum class Correction { None, Jacobi, OrthonormalizeJacobi };
 
+/// The extra state a method integrates beside (q, u) (docs/theory.md §7–8).
+enum class ExtraState {
+  None,     ///< nothing
+  CLambda,  ///< C (N*N, row-major, rows = eigenvectors), then lambda (N)
+  CD,       ///< C (N*N, row-major), then D (N*N, column-major, block diagonal)
+};
+/// Entries of that extra state for N = nu.
+int extraStateSize(ExtraState x, int N);
+
+/// One of a method's own options, a column of its row: the plan key and the
+/// report key are `name`, the CLI option is `--` + name with '_' as '-'.
+struct MethodParam {
+  const char* name;
+  double fallback;   ///< the value when none is set
+  double min, max;   ///< allowed: [min, max] for whole numbers, (min, max] otherwise
+  bool whole;        ///< a whole number (reports and plan keys write it as one)
+  const char* help;  ///< one line: --help and docs
+};
+
 struct MethodInfo;
-/// Builds an in-house method's own code for one model.
-using FormulationFactory = std::unique_ptr<Formulation> (*)(const Model&, const MethodInfo&, const MethodOptions&);
+/// Builds an in-house method's own code for one model (defined in the method's own file).
+using MethodFactory = std::unique_ptr<MethodImpl>(const Model&, const MethodInfo&, const MethodOptions&);
 
 struct MethodInfo {
   Method id;
   const char* name;
   Engine engine;
   Correction correction;
-  bool eigenfactor;           ///< integrates a factorization of A beside (q, u): drift diagnostics
-  FormulationFactory make;    ///< in-house methods only (nullptr for another engine's)
-  const char* summary;        ///< one line: --help and docs
-};
+  ExtraState extra;                 ///< what it integrates beside (q, u)
+  bool eigenfactor;                 ///< integrates a factorization of A: drift diagnostics
+  MethodFactory* make;              ///< in-house methods only (nullptr for another engine's)
+  std::vector<MethodParam> params;  ///< its own options (values in MethodOptions::params)
+  const char* summary;              ///< one line: --help and docs
 
-enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes };
+  /// Whether the row has the option `name`.
+  bool takes(const std::string& name) const;
+  /// The value of its option `name` in `o` (the fallback when unset);
+  /// throws std::logic_error when the row has no such option.
+  double param(const std::string& name, const MethodOptions& o) const;
+};
 
 struct IntegratorInfo {
   Integrator id;
   const char* name;
   Engine engine;
   bool fixed_step;  ///< a step dt (else a tolerance: adaptive)
+  FixedStep step;   ///< in-house fixed-step schemes: one step of exactly h
+  GslStepper gsl;   ///< in-house adaptive schemes: GSL's stepper
   const char* summary;
 };
 
@@ -57,7 +100,7 @@ enum class Failure {
   NonPositiveEigenvalue,  ///< an integrated eigenvalue of A (or of D) <= 0
   EigenGap,               ///< an eigenvalue gap (or a gap between blocks) below the floor
   JacobiNotConverged,     ///< the Jacobi correction did not converge
-  RefinementDiverged,     ///< a residual correction of u' grew the residual (MethodOptions::refine)
+  RefinementDiverged,     ///< a residual correction of u' grew the residual (the refine option)
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
   Engine,                 ///< another engine (Simbody) threw
@@ -70,12 +113,15 @@ struct FailureInfo {
 };
 
 /// The tables, in the order every listing uses.
+const std::vector<EngineInfo>& engineTable();
 const std::vector<MethodInfo>& methodTable();
 const std::vector<IntegratorInfo>& integratorTable();
 const std::vector<FailureInfo>& failureTable();
 
+const EngineInfo& info(Engine e);
 const MethodInfo& info(Method m);
 const IntegratorInfo& info(Integrator i);
+const char* engineName(Engine e);
 const char* methodName(Method m);
 const char* integratorName(Integrator i);
 const char* failureName(Failure f);
@@ -92,11 +138,15 @@ bool findIntegrator(const std::string& name, Integrator& out);
 std::vector<std::string> methodNames();
 std::vector<std::string> integratorNames();
 std::vector<std::string> integratorNames(Engine e);
+/// Every option any method takes, once each, in table order (CLI, plans).
+std::vector<MethodParam> methodParams();
 /// "a, b, c": the names joined for messages and help texts.
 std::string joined(const std::vector<std::string>& names);
 
-/// The integrator an engine runs when none is asked for (in-house rk4, Simbody RK-Merson).
+/// The integrator an engine runs when none is asked for (EngineInfo::fixed_default).
 Integrator defaultIntegrator(Engine e);
+/// Its adaptive one (EngineInfo::adaptive_default): a tolerance given alone, reference runs.
+Integrator adaptiveIntegrator(Engine e);
 /// An integrator that `method`'s engine runs; throws std::invalid_argument otherwise.
 void requireCompatible(Method method, Integrator integrator);
 

@@ -31,9 +31,8 @@ void appendSample(Trajectory& tr, const Model& m, double t, const double* q, con
 
 void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause) {
   if (tr.failed()) return;
-  tr.status = "failed";
   tr.failure = cause;
-  tr.failure_kind = kind;
+  tr.failure_kind = kind == Failure::None ? Failure::Engine : kind;  // a failure always has a kind
   tr.failure_time = t;
 }
 

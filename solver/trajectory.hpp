@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "solver/model.hpp"
-#include "solver/run.hpp"
+#include "solver/run_spec.hpp"
 
 namespace em {
 
@@ -51,7 +51,6 @@ struct Trajectory {
   std::vector<std::vector<Pose>> poses;    ///< per sample, per body
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
   // Run summary.
-  std::string status = "ok";               ///< "ok" or "failed"
   std::string failure;                     ///< cause when failed
   Failure failure_kind = Failure::None;    ///< its kind (registry's failure table)
   double failure_time = 0;
@@ -65,7 +64,9 @@ struct Trajectory {
   EigenStats eigen;  ///< eigenfactor methods only
 
   size_t size() const { return t.size(); }
-  bool failed() const { return status != "ok"; }
+  bool failed() const { return failure_kind != Failure::None; }
+  /// "ok" or "failed", as every output writes it.
+  std::string status() const { return failed() ? "failed" : "ok"; }
   std::string method() const { return methodName(run.method); }
   std::string integrator() const { return integratorName(run.integrator); }
 };

@@ -11,7 +11,7 @@
 #include "io/scene.hpp"
 #include "io/scene_json.hpp"
 #include "solver/model.hpp"
-#include "solver/run.hpp"
+#include "solver/run_spec.hpp"
 
 namespace em::test {
 

@@ -43,9 +43,7 @@ TEST_CASE("an unknown method or a bad threshold is refused before any run", "[co
 TEST_CASE("a failed reference is said in the table", "[comparison]") {
   Trajectory ref;
   ref.run = referenceRun();
-  ref.status = "failed";
-  ref.failure = "Simbody: step size underflow";
-  ref.failure_time = 0.25;
+  markFailed(ref, 0.25, Failure::Engine, "Simbody: step size underflow");
   CompareOptions o;
   o.methods = {};
   const ComparisonResult r = compareRuns(ref, ref, {}, o);

@@ -66,9 +66,7 @@ TEST_CASE("other run settings, a failure or a short run break the bounds", "[gat
   CHECK_FALSE(other.passed);
   CHECK_THAT(other.checks[0].note, Catch::Contains("other in-house integrator settings"));
   Trajectory failed = test::turning(Method::Classical, 1e-4, 0, 1.0);
-  failed.status = "failed";
-  failed.failure = "blow-up";
-  failed.failure_time = 1.0;
+  markFailed(failed, 1.0, Failure::BlowUp, "blow-up");
   const Tolerances t = loadTolerances(writeTemp("tol_one.json", tolerances(1)));
   CHECK_THAT(evaluateGate(synthetic(failed), t).checks[0].note, Catch::Contains("failed at t = 1 s: blow-up"));
   const Trajectory shorter = test::turning(Method::Classical, 1e-4, 0, 1.0);

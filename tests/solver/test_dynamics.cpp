@@ -58,9 +58,9 @@ TEST_CASE("lambda dot and Omega equal finite differences of a numerical eigendec
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
   REQUIRE(dyn.rhs(0, y.data(), dy.data()));
   const int N = m.nu;
-  const Eigen::Map<const RowMatrix> C0(y.data() + dyn.offsetC(), N, N);
-  const Eigen::Map<const RowMatrix> Cdot(dy.data() + dyn.offsetC(), N, N);
-  const Eigen::Map<const Eigen::VectorXd> ldot(dy.data() + dyn.offsetLambda(), N);
+  const Eigen::Map<const RowMatrix> C0(y.data() + dyn.offsetExtra(), N, N);
+  const Eigen::Map<const RowMatrix> Cdot(dy.data() + dyn.offsetExtra(), N, N);
+  const Eigen::Map<const Eigen::VectorXd> ldot(dy.data() + dyn.offsetExtra() + N * N, N);
   const double h = 1e-6, kFdRel = 1e-6;
   const Eigen::VectorXd qdot = dy.head(m.nq);
   RowMatrix Cp, Cm;
@@ -129,7 +129,7 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
   for (Method meth : {Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
     const Trajectory t = simulate(m, rk4(meth, 1.0));
     INFO(methodName(meth));
-    CHECK(t.status == "ok");
+    CHECK(t.status() == "ok");
     CHECK(maxAngleDiff(t, c) <= 1e-6);
   }
 }
@@ -137,7 +137,7 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
 TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classical runs", "[dynamics][failure]") {
   const Model m = sphereOnBall();
   const Trajectory e = simulate(m, rk4(Method::Eigen, 0.5));
-  CHECK(e.status == "failed");
+  CHECK(e.status() == "failed");
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
   CHECK(e.failure_kind == Failure::EigenGap);
@@ -145,7 +145,7 @@ TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classic
   CHECK(e.failure_cond_A >= 1.0);
   CHECK(e.failure_cond_A < 100);
   const Trajectory c = simulate(m, rk4(Method::Classical, 0.5));
-  CHECK(c.status == "ok");
+  CHECK(c.status() == "ok");
   CHECK(c.size() == 51);
 }
 
@@ -207,7 +207,7 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
   {
     Dynamics dyn(m, Method::Eigen);
     Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
-    y[dyn.offsetLambda()] = -0.1;
+    y[dyn.offsetExtra() + m.nu * m.nu] = -0.1;  // lambda_0 (ExtraState::CLambda: C, then lambda)
     const Status st = dyn.rhs(0, y.data(), dy.data());
     CHECK_FALSE(st);
     CHECK_THAT(st.cause, Catch::Contains("lambda_0") && Catch::Contains("<= 0"));
@@ -217,7 +217,7 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
     RunSpec s = rk4(Method::Classical, 2.0);
     s.options.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
     const Trajectory t = simulate(m, s);
-    CHECK(t.status == "failed");
+    CHECK(t.status() == "failed");
     CHECK_THAT(t.failure, Catch::Contains("blow-up"));
     CHECK(t.failure_kind == Failure::BlowUp);
     CHECK(std::isfinite(t.failure_cond_A));
@@ -231,11 +231,11 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
   // 2.1 s (C no longer orthogonal, Jacobi cannot converge); classical runs on.
   const Model m = test::loadData("chain20.json");
   const Trajectory c = simulate(m, rk4(Method::Classical, 2.5));
-  CHECK(c.status == "ok");
+  CHECK(c.status() == "ok");
   for (Method meth : {Method::Eigen, Method::EigenJacobi}) {
     const Trajectory t = simulate(m, rk4(meth, 2.5));
     INFO(methodName(meth) << ": " << t.failure);
-    CHECK(t.status == "failed");
+    CHECK(t.status() == "failed");
     CHECK_FALSE(t.failure.empty());
     CHECK(t.failure_time > 0.5);
     CHECK(t.failure_time < 2.5);
@@ -253,11 +253,11 @@ TEST_CASE("adaptive runs retry a step whose trial stage fails, while a failure a
   const Model stiff = loadScene(test::sourcePath("data/scenes/extreme/stiff_springs_damped.json")).model;
   RunSpec s = test::runSpec(Method::Eigen, Integrator::RK8PD, 0.05, 1e-10);
   const Trajectory retried = simulate(stiff, s);
-  CHECK(retried.status == "ok");
+  CHECK(retried.status() == "ok");
   CHECK(retried.step_retries >= 1);
   s.options.retry_failed_steps = false;
   const Trajectory stopped = simulate(stiff, s);
-  CHECK(stopped.status == "failed");
+  CHECK(stopped.status() == "failed");
   CHECK(stopped.failure_kind == Failure::NonPositiveEigenvalue);
   CHECK(stopped.step_retries == 0);
   // Equal eigenvalues at t = 0: no smaller step helps, the cause is kept.
@@ -280,7 +280,7 @@ TEST_CASE("at rk4's second stage the eigenfactors miss A(q) by O(h squared), u' 
     for (double h : {1e-3, 5e-4}) {
       for (int refine : {0, 2}) {
         MethodOptions opt;
-        opt.refine = refine;
+        opt.params["refine"] = refine;
         Dynamics dyn(m, Method::EigenJacobi, opt);
         const Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0());
         Eigen::VectorXd k1(dyn.size()), k2(dyn.size());
@@ -289,8 +289,8 @@ TEST_CASE("at rk4's second stage the eigenfactors miss A(q) by O(h squared), u' 
         REQUIRE(dyn.rhs(0.5 * h, y2.data(), k2.data()).ok);
         const Eigen::MatrixXd& A = dyn.workspace().A;  // A(q) at the stage's q
         const Eigen::VectorXd exact = A.llt().solve(dyn.workspace().B);
-        const Eigen::Map<const RowMatrix> C(y2.data() + dyn.offsetC(), N, N);
-        const Eigen::Map<const Eigen::VectorXd> lambda(y2.data() + dyn.offsetLambda(), N);
+        const Eigen::Map<const RowMatrix> C(y2.data() + dyn.offsetExtra(), N, N);
+        const Eigen::Map<const Eigen::VectorXd> lambda(y2.data() + dyn.offsetExtra() + N * N, N);
         const double dA = (C.transpose() * lambda.asDiagonal() * C - A).norm() / A.norm();
         const double du = (k2.segment(m.nq, N) - exact).norm() / exact.norm();
         INFO(scene << " h " << h << " refine " << refine << ": |dA|/|A| " << dA << ", |du'|/|u'| " << du);

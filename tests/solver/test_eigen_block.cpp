@@ -16,13 +16,13 @@ namespace {
 
 MethodOptions withDelta(double delta) {
   MethodOptions o;
-  o.block_gap_rel = delta;
+  o.params["block_gap"] = delta;
   return o;
 }
 
 RunSpec blockRun(Method method, double t_end, double delta) {
   RunSpec s = test::runSpec(method, Integrator::RK4, t_end, 1e-3);
-  s.options.block_gap_rel = delta;
+  s.options.params["block_gap"] = delta;
   return s;
 }
 
@@ -156,7 +156,7 @@ TEST_CASE("with no clusters eigen-block is eigen: pendulum5 over 1 s", "[identit
   const Model m = test::loadData("pendulum5.json");
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 1e-9));
-  REQUIRE(b.status == "ok");
+  REQUIRE(b.status() == "ok");
   double dq = 0;
   for (size_t k = 0; k < e.size(); ++k) dq = std::max(dq, (e.q[k] - b.q[k]).cwiseAbs().maxCoeff());
   CHECK(dq <= 1e-14);
@@ -172,9 +172,9 @@ TEST_CASE("through tree_mixed's near-crossing eigen-block's Omega stays bounded 
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 3.0, 3e-2));
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
-  CHECK(e.status == "failed");
+  CHECK(e.status() == "failed");
   CHECK(e.eigen.max_abs_Omega > 1e5);
-  REQUIRE(b.status == "ok");
+  REQUIRE(b.status() == "ok");
   CHECK(b.eigen.max_abs_Omega < 100);
   CHECK(b.eigen.block_merges > 0);
   CHECK(maxPoseDiff(b, c) < 1e-6);
@@ -189,7 +189,7 @@ TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
     const Trajectory b = simulate(m, blockRun(method, 10.0, 3e-2));
     INFO(methodName(method));
-    CHECK(b.status == "ok");
+    CHECK(b.status() == "ok");
   }
 }
 
@@ -203,10 +203,10 @@ TEST_CASE("a published quadruped whose identical legs repeat eigenvalues stops e
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 3e-2));
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
-  CHECK(e.status == "failed");
+  CHECK(e.status() == "failed");
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("gap"));
-  REQUIRE(b.status == "ok");
+  REQUIRE(b.status() == "ok");
   CHECK(maxPoseDiff(b, c) < 1e-9);
 }
 
@@ -228,10 +228,10 @@ TEST_CASE("with two residual corrections eigen-block follows classical on chain2
   const double d0 = maxQDiff(simulate(m, plain));
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
     RunSpec refined = blockRun(method, 2.0, 3e-2);
-    refined.options.refine = 2;
+    refined.options.params["refine"] = 2;
     const Trajectory b = simulate(m, refined);
     INFO(methodName(method) << ": " << maxQDiff(b) << " rad against " << d0 << " unrefined");
-    REQUIRE(b.status == "ok");
+    REQUIRE(b.status() == "ok");
     CHECK(maxQDiff(b) <= kRefinedRad);
     CHECK(maxQDiff(b) <= 1e-3 * d0);
   }
@@ -243,13 +243,13 @@ TEST_CASE("residual corrections do not carry eigen through tree_mixed's crossing
   // (measured at 1.18 s), where eigen-block with the same corrections finishes.
   const Model m = test::loadData("tree_mixed.json");
   RunSpec e = test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3);
-  e.options.refine = 2;
+  e.options.params["refine"] = 2;
   const Trajectory te = simulate(m, e);
-  CHECK(te.status == "failed");
+  CHECK(te.status() == "failed");
   CHECK(te.failure_kind == Failure::RefinementDiverged);
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
-  b.options.refine = 2;
-  CHECK(simulate(m, b).status == "ok");
+  b.options.params["refine"] = 2;
+  CHECK(simulate(m, b).status() == "ok");
 }
 
 TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-block with two corrections follows classical", "[eigenblock][refine][urdf]") {
@@ -263,14 +263,14 @@ TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-b
   urdf.balance_inertia = true;
   const Model m = loadScene(test::sourcePath("data/robots/allegro_right_hand.urdf"), urdf).model;
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
-  CHECK(e.status == "failed");
+  CHECK(e.status() == "failed");
   CHECK(e.failure_time == 0.0);
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
   const double plain = maxPoseDiff(simulate(m, b), c);
-  b.options.refine = 2;
+  b.options.params["refine"] = 2;
   const Trajectory refined = simulate(m, b);
-  REQUIRE(refined.status == "ok");
+  REQUIRE(refined.status() == "ok");
   INFO("max pose difference to classical: " << maxPoseDiff(refined, c) << " refined, " << plain << " plain");
   CHECK(maxPoseDiff(refined, c) < kWithClassical);
   CHECK(plain > 100 * kWithClassical);

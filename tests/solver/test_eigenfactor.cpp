@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "solver/eigenfactor.hpp"
+#include "solver/eigenfactor_ops.hpp"
 
 using namespace em;
 

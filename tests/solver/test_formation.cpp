@@ -8,6 +8,7 @@
 #include <new>
 
 #include "solver/dynamics.hpp"
+#include "solver/dense_oracles.hpp"
 #include "solver/formation.hpp"
 #include "support.hpp"
 
@@ -57,11 +58,10 @@ Workspace formAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd
 }
 
 // The same with the dense oracles' K and K_T formed too.
-Workspace formDenseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+std::pair<Workspace, test::DenseK> formDenseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Workspace ws = formAt(m, q, u, true);
-  formK(m, ws);
-  formKT(m, ws);
-  return ws;
+  test::DenseK dk = test::formDenseK(m, ws);
+  return {std::move(ws), std::move(dk)};
 }
 
 template <class F>
@@ -139,9 +139,9 @@ TEST_CASE("planar double pendulum of point masses matches the textbook equations
 
 TEST_CASE("barycentric K equals the naive triple sum", "[identity][formation]") {
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    const Workspace ws = formDenseAt(m, q, u);
-    const Eigen::MatrixXd Kn = naiveK(m, ws);
-    CHECK((ws.K - Kn).cwiseAbs().maxCoeff() <= kRoundoff * Kn.cwiseAbs().maxCoeff());
+    const auto [ws, dk] = formDenseAt(m, q, u);
+    const Eigen::MatrixXd Kn = test::naiveK(m, ws);
+    CHECK((dk.K - Kn).cwiseAbs().maxCoeff() <= kRoundoff * Kn.cwiseAbs().maxCoeff());
   });
 }
 
@@ -149,8 +149,8 @@ TEST_CASE("A from subtree sums equals the dense PT T K TT P of eq. 2", "[identit
   // Two evaluations of eq. (2): O(n depth) 3-vector products against the
   // dense T K T^T sweeps and 3x3 block projections; both sum O(n) terms.
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    const Workspace ws = formDenseAt(m, q, u);
-    const Eigen::MatrixXd dense = denseA(m, ws);
+    const auto [ws, dk] = formDenseAt(m, q, u);
+    const Eigen::MatrixXd dense = test::denseA(m, dk);
     CHECK((ws.A - dense).cwiseAbs().maxCoeff() <= kRoundoff * dense.cwiseAbs().maxCoeff());
     CHECK(ws.A == ws.A.transpose());  // filled symmetrically, exactly
   });
@@ -158,8 +158,8 @@ TEST_CASE("A from subtree sums equals the dense PT T K TT P of eq. 2", "[identit
 
 TEST_CASE("A' from subtree rates equals the dense one from K' and K_T", "[identity][formation]") {
   forEachState([](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    Workspace ws = formDenseAt(m, q, u);
-    const Eigen::MatrixXd dense = denseAdot(m, ws);
+    const auto [ws, dk] = formDenseAt(m, q, u);
+    const Eigen::MatrixXd dense = test::denseAdot(m, ws, dk);
     CHECK((ws.Adot - dense).cwiseAbs().maxCoeff() <= kRoundoff * std::max(dense.cwiseAbs().maxCoeff(), 1.0));
     CHECK(ws.Adot == ws.Adot.transpose());
   });
@@ -170,12 +170,12 @@ TEST_CASE("the O(n) product K x equals the dense one", "[identity][formation]") 
   std::mt19937 rng(7);
   std::normal_distribution<double> gauss;
   forEachState([&](const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    Workspace ws = formDenseAt(m, q, u);
+    auto [ws, dk] = formDenseAt(m, q, u);
     const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(3 * m.n(), [&] { return gauss(rng); });
     Eigen::VectorXd Kx(3 * m.n());
     multiplyK(m, x, ws, Kx);
-    const Eigen::VectorXd dense = ws.K * x;
-    CHECK((Kx - dense).cwiseAbs().maxCoeff() <= kRoundoff * ws.K.cwiseAbs().maxCoeff() * x.cwiseAbs().maxCoeff());
+    const Eigen::VectorXd dense = dk.K * x;
+    CHECK((Kx - dense).cwiseAbs().maxCoeff() <= kRoundoff * dk.K.cwiseAbs().maxCoeff() * x.cwiseAbs().maxCoeff());
   });
 }
 
@@ -244,9 +244,9 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
     for (const MethodInfo& row : methodTable()) {  // every in-house method of the registry
       if (row.engine != Engine::InHouse) continue;
       const Method method = row.id;
-      for (int refine : {0, 2}) {  // with and without residual corrections (MethodOptions::refine)
+      for (int refine : {0, 2}) {  // with and without residual corrections (the option "refine")
         MethodOptions opt;
-        opt.refine = refine;
+        opt.params["refine"] = refine;
         Dynamics dyn(m, method, opt);
         Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
         REQUIRE(dyn.rhs(0, y.data(), dy.data()));  // warm-up

@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "solver/dynamics.hpp"
-#include "solver/run.hpp"
+#include "solver/run_spec.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -24,8 +24,12 @@ TEST_CASE("every method and integrator round-trips through its name - unknown na
 }
 
 TEST_CASE("the registry's properties are what each method does", "[registry][dynamics]") {
-  // correctsAfterStep and the diagnostics follow the row, and the engines' defaults run on their engine.
+  // The state layout, correctsAfterStep and the diagnostics follow the row, and
+  // the engines' defaults run on their engine.
   const Model m = test::loadData("pendulum5.json");
+  const int N = m.nu;
+  const Eigen::MatrixXd A = equationsAtStart(m).A;
+  const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues();
   for (const MethodInfo& row : methodTable()) {
     if (row.engine != Engine::InHouse) {
       CHECK_THROWS_AS(Dynamics(m, row.id), std::invalid_argument);
@@ -33,17 +37,46 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
     }
     Dynamics dyn(m, row.id);
     INFO(row.name);
-    // eigen-block carries C and a full D, and re-clusters after every step whatever its correction.
-    const bool block = row.make == makeEigenBlock;
-    CHECK(dyn.correctsAfterStep() == (block || row.correction != Correction::None));
+    CHECK(dyn.size() == m.nq + m.nu + extraStateSize(row.extra, N));
+    // eigen-block re-clusters after every step whatever its correction.
+    CHECK(dyn.correctsAfterStep() == (row.extra == ExtraState::CD || row.correction != Correction::None));
     CHECK(dyn.eigenfactor() == row.eigenfactor);
-    const int extra = block ? 2 * m.nu * m.nu : row.eigenfactor ? m.nu * m.nu + m.nu : 0;
-    CHECK(dyn.size() == m.nq + m.nu + extra);
+    if (row.extra == ExtraState::None) continue;
+    // The layout the row names: C (orthogonal) first, then lambda or D holding A's eigenvalues.
+    const Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0());
+    const Eigen::Map<const RowMatrix> C(y.data() + dyn.offsetExtra(), N, N);
+    CHECK((C * C.transpose() - Eigen::MatrixXd::Identity(N, N)).norm() < 1e-13);  // eigensolver round-off
+    Eigen::VectorXd held = row.extra == ExtraState::CLambda
+                               ? Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(y.data() + dyn.offsetExtra() + N * N, N))
+                               : Eigen::VectorXd(Eigen::Map<const Eigen::MatrixXd>(y.data() + dyn.offsetExtra() + N * N, N, N).diagonal());
+    // Both layouts hold them ascending (the eigensolver's order, eigen-block's clusters sorted).
+    CHECK((held - eigenvalues).cwiseAbs().maxCoeff() < 1e-13 * eigenvalues.maxCoeff());
+    CHECK((C.transpose() * held.asDiagonal() * C - A).norm() < 1e-13 * A.norm());
   }
-  for (Engine e : {Engine::InHouse, Engine::Simbody}) CHECK(info(defaultIntegrator(e)).engine == e);
+  for (Engine e : {Engine::InHouse, Engine::Simbody}) {
+    CHECK(info(defaultIntegrator(e)).engine == e);
+    CHECK(info(adaptiveIntegrator(e)).engine == e);
+    CHECK_FALSE(info(adaptiveIntegrator(e)).fixed_step);
+  }
+  for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function or its GSL stepper
+    if (i.engine == Engine::InHouse) CHECK((i.fixed_step ? i.step != nullptr : i.gsl != nullptr));
   CHECK_THROWS_WITH(requireCompatible(Method::Simbody, Integrator::RK4), Catch::Contains("rk4") && Catch::Contains("simbody"));
   CHECK_THROWS_AS(requireCompatible(Method::Classical, Integrator::CPodes), std::invalid_argument);
   CHECK_NOTHROW(requireCompatible(Method::Classical, Integrator::BSIMP));
+}
+
+TEST_CASE("a method's own options are columns of its row: set, defaulted, or refused by name", "[registry]") {
+  const MethodInfo& block = info(Method::EigenBlock);
+  MethodOptions o;
+  CHECK(block.param("block_gap", o) == 3e-2);  // the row's fallback
+  CHECK(block.param("refine", o) == 0);        // the paper's u'
+  o.params["block_gap"] = 0.1;
+  CHECK(block.param("block_gap", o) == 0.1);
+  CHECK_FALSE(info(Method::Eigen).takes("block_gap"));
+  CHECK_THROWS_AS(info(Method::Classical).param("refine", o), std::logic_error);
+  std::vector<std::string> names;
+  for (const MethodParam& p : methodParams()) names.emplace_back(p.name);
+  CHECK(names == std::vector<std::string>{"refine", "block_gap"});  // once each, in table order
 }
 
 TEST_CASE("run settings: whole multiples within round-off - bad values name their field", "[registry][integrate]") {

@@ -1,0 +1,184 @@
+#include "app/cli.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "compare/progress.hpp"
+#include "compare/provenance.hpp"
+#include "compare/report.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv.hpp"
+#include "solver/text.hpp"
+
+namespace em::cli {
+
+namespace {
+int g_exit = 0;
+}  // namespace
+
+int exitCode() { return g_exit; }
+
+void guarded(const std::function<int()>& body) {
+  try {
+    g_exit = body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "eigenmass: error: %s\n", e.what());
+    g_exit = 2;
+  }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A file can be created in `dir` (checked by creating and removing one).
+bool writableFolder(const fs::path& dir) {
+  std::string probe = (dir.empty() ? fs::path(".") : dir) / ".eigenmass-probe-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) return false;
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return true;
+}
+
+}  // namespace
+
+void prepareFolder(const std::string& option, const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !writableFolder(dir)) throw std::runtime_error(option + " " + dir + ": cannot write into this folder");
+}
+
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  for (const std::string& in : inputs)
+    if (fs::equivalent(path, in, ec))
+      throw std::runtime_error(option + " " + path + ": is an input file; refusing to overwrite it");
+  if (fs::is_directory(path, ec)) throw std::runtime_error(option + " " + path + ": is a folder, not a file");
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty()) prepareFolder(option, dir.string());
+  else if (!writableFolder(dir)) throw std::runtime_error(option + " " + path + ": cannot write into the current folder");
+}
+
+void writeTrajectory(const Trajectory& tr, const std::string& path) {
+  writeCsv(tr, path);
+  const RunSpec& r = tr.run;
+  nlohmann::json meta = {{"format", "eigenmass-trajectory-meta/1"},
+                         {"csv", fs::path(path).filename().string()},
+                         {"scene", tr.scene},
+                         {"method", tr.method()},
+                         {"integrator", tr.integrator()},
+                         {r.fixedStep() ? "dt" : "tolerance", r.setting()},
+                         {"t_end", r.t_end},
+                         {"output_dt", r.output_dt},
+                         {"status", tr.status()},
+                         {"failure", tr.failed() ? failureJson(tr.failure_time, tr.failure_kind, tr.failure, tr.failure_cond_A)
+                                                 : nlohmann::json(nullptr)},
+                         {"steps", tr.steps},
+                         {"rhs_evals", tr.rhs_evals},
+                         {"run_time_s", tr.run_time_s},
+                         {"provenance", provenance()}};
+  writeAtomic(path + ".json", "trajectory metadata", [&](std::ostream& out) { out << meta.dump(2) << "\n"; });
+}
+
+CLI::Validator positiveFinite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "expected a number, got '" + text + "'";
+        if (!std::isfinite(x) || !(x > 0)) return "must be a finite number > 0, got " + text;
+        return "";
+      },
+      "> 0");
+}
+
+Grid RunArgs::asked(const CLI::App& cmd) const {
+  Grid g;
+  if (cmd.count("--t-end")) g.t_end = t_end;
+  if (cmd.count("--output-dt")) g.output_dt = output_dt;
+  return g;
+}
+
+void RunArgs::applyTo(MethodOptions& options) const {
+  if (allow_long_run) options.max_steps = HUGE_VAL;
+  options.params = params;
+  options.retry_failed_steps = !no_step_retry;
+}
+
+namespace {
+
+// "--block-gap" for the option "block_gap".
+std::string optionName(const MethodParam& p) {
+  std::string flag = std::string("--") + p.name;
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
+// A method option's CLI validator: a whole number in [min, max], or a finite number in (min, max].
+CLI::Validator paramValidator(const MethodParam& p) {
+  const double lo = p.min, hi = p.max;
+  const bool whole = p.whole;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(x)) return "expected a number, got '" + text + "'";
+        if (whole && (x != std::floor(x) || x < lo || x > hi))
+          return "must be a whole number from " + gnum(lo) + " to " + gnum(hi) + ", got " + text;
+        if (!whole && !(x > lo && x <= hi)) return "must be in (" + gnum(lo) + ", " + gnum(hi) + "], got " + text;
+        return "";
+      },
+      whole ? "INT in [" + gnum(lo) + " - " + gnum(hi) + "]" : "in (" + gnum(lo) + ", " + gnum(hi) + "]");
+}
+
+}  // namespace
+
+void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help) {
+  cmd->add_option("--t-end", g.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
+  cmd->add_option("--output-dt", g.output_dt, output_dt_help + "; default: the scene's simulate.output_dt")
+      ->check(positiveFinite());
+  cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+  cmd->add_flag("--no-step-retry", g.no_step_retry,
+                "Adaptive integrators: end the run when the right-hand side fails at a trial stage (default: retry the "
+                "step at a quarter of its size)");
+  for (const MethodParam& p : methodParams()) {
+    double& value = g.params[p.name] = p.fallback;
+    cmd->add_option(optionName(p), value, p.help)->check(paramValidator(p))->capture_default_str();
+  }
+  auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
+                                    "Show the progress of runs longer than 2 s even when stderr is not a terminal");
+  auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },
+                                     "Never show the progress of long runs (default: on a terminal only)");
+  on->excludes(off);
+}
+
+void addSceneArg(CLI::App* cmd, SceneArg& s) {
+  cmd->add_option("scene", s.path, "Scene file: eigenmass-scene/1 JSON, or a URDF robot (.urdf; docs/urdf.md)")->required();
+  cmd->add_flag("--balance-inertia", s.urdf.balance_inertia,
+                "URDF: set principal moments that violate the triangle inequality to their mean (MuJoCo's balanceinertia), "
+                "noted in the outputs; refused otherwise");
+  cmd->add_option("--lock-joint", s.urdf.lock_joints,
+                  "URDF: hold this joint at zero, merged like a fixed joint (repeatable or comma-separated)")
+      ->delimiter(',');
+}
+
+void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }
+
+CLI::Validator methodValidator() { return CLI::IsMember(methodNames()); }
+CLI::Validator integratorValidator() { return CLI::IsMember(integratorNames()); }
+CLI::Validator integratorValidator(Engine engine) { return CLI::IsMember(integratorNames(engine)); }
+
+std::string helpWithNames(const std::string& text, const std::vector<std::string>& names) {
+  return text + ": " + joined(names);
+}
+
+}  // namespace em::cli

@@ -1,0 +1,85 @@
+#pragma once
+/// The `eigenmass` CLI: one file per subcommand (cmd_*.cpp) and what they
+/// share. Names offered on the command line come from the registry, so
+/// `--help` lists exactly what runs.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "compare/engines.hpp"
+#include "solver/trajectory.hpp"
+
+namespace em::cli {
+
+void addEquations(CLI::App& app);
+void addSimulate(CLI::App& app);
+void addCompare(CLI::App& app);
+void addPrecision(CLI::App& app);
+void addImport(CLI::App& app);
+void addCrossCheck(CLI::App& app);
+void addExtreme(CLI::App& app);
+void addSweep(CLI::App& app);
+/// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
+int exitCode();
+
+/// Run a subcommand body: an exception ends in one line on stderr and exit
+/// status 2, never a crash; otherwise the body's status is the exit status.
+void guarded(const std::function<int()>& body);
+
+/// Make ready to write `path` before any computation: its folder exists and
+/// takes a file, and it is none of `inputs` (never overwrite an input).
+/// Throws one line naming `option` and the path otherwise.
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs);
+/// The same for a folder that will receive files.
+void prepareFolder(const std::string& option, const std::string& dir);
+
+/// Progress on stderr: "running <what> ...".
+void progress(const std::string& what);
+
+/// Write a trajectory as CSV and, beside it, `<path>.json`: the run that made
+/// it (RunSpec), its status and failure, and the provenance.
+void writeTrajectory(const Trajectory& tr, const std::string& path);
+
+/// The scene a subcommand reads: its path and, for a URDF, the import options.
+struct SceneArg {
+  std::string path;
+  UrdfOptions urdf;
+  Scene load() const { return loadScene(path, urdf); }
+};
+/// The positional `scene`, --balance-inertia and --lock-joint.
+void addSceneArg(CLI::App* cmd, SceneArg& s);
+
+/// A finite number > 0 (every step, tolerance, time and threshold option).
+CLI::Validator positiveFinite();
+
+/// What every running subcommand takes: the output grid, the step budget,
+/// the retry switch and the methods' own options (the registry rows' params).
+struct RunArgs {
+  double t_end = 0, output_dt = 0;
+  bool allow_long_run = false;
+  bool no_step_retry = false;
+  std::map<std::string, double> params;  ///< every method option by name, at its row's fallback unless given
+  /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
+  Grid asked(const CLI::App& cmd) const;
+  /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps);
+  /// --no-step-retry ends an adaptive run at a failed trial stage; each
+  /// method option (--refine, --block-gap, ...) goes to MethodOptions::params.
+  void applyTo(MethodOptions& options) const;
+  void applyTo(RunSpec& spec) const { applyTo(spec.options); }
+};
+/// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --no-step-retry, one option per
+/// method option of the registry (methodParams()), --progress, --no-progress.
+void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help);
+
+/// Validators fed from the registry: a method name; an integrator name (of one engine).
+CLI::Validator methodValidator();
+CLI::Validator integratorValidator();
+CLI::Validator integratorValidator(Engine engine);
+
+/// "Methods: classical, eigen, ...": a help text followed by the registry's names.
+std::string helpWithNames(const std::string& text, const std::vector<std::string>& names);
+
+}  // namespace em::cli

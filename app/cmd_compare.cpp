@@ -1,0 +1,152 @@
+// `eigenmass compare`: several methods side by side against a reference, a
+// JSON report, optionally CSVs and the CI gate.
+#include <cstdio>
+#include <memory>
+
+#include "app/cli.hpp"
+#include "compare/comparison.hpp"
+#include "compare/gate.hpp"
+#include "compare/report.hpp"
+
+namespace em::cli {
+
+namespace {
+
+struct CompareArgs {
+  SceneArg scene;
+  std::string out, csv_dir, gate;
+  std::string reference = methodName(Method::Simbody), reference_integrator;
+  std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
+  std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
+  std::vector<std::string> methods = methodNames();
+  RunArgs run;
+  CompareOptions opt;
+};
+
+// The options as given on the command line, resolved against the registry.
+CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
+  CompareOptions o = a.opt;
+  o.methods.clear();
+  for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  const double reference_tol = o.reference.tol;
+  o.reference = referenceRun(parseMethod(a.reference));
+  o.reference.tol = reference_tol;
+  if (!a.reference_integrator.empty()) o.reference.integrator = parseIntegrator(a.reference_integrator);
+  // --tol alone selects an adaptive integrator for the in-house methods.
+  o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
+                                                                          : parseIntegrator(a.integrator);
+  o.simbody.integrator = parseIntegrator(a.simbody_integrator);
+  o.grid = a.run.asked(cmd);
+  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.reference}) a.run.applyTo(*s);
+  return o;
+}
+
+void writeCsvs(const ComparisonResult& r, const std::string& dir) {
+  writeTrajectory(r.reference, dir + "/reference.csv");
+  for (const Trajectory& t : r.runs) writeTrajectory(t, dir + "/" + t.method() + ".csv");
+}
+
+// Every run failed, the reference included: nothing was compared.
+bool nothingRan(const ComparisonResult& r) {
+  if (!r.reference.failed()) return false;
+  for (const Trajectory& t : r.runs)
+    if (!t.failed()) return false;
+  return true;
+}
+
+int gateVerdict(const GateResult& g, const std::string& file) {
+  if (g.passed) {
+    std::printf("gate passed: %zu checks (%s)\n", g.checks.size(), file.c_str());
+    return 0;
+  }
+  std::fputs(brokenChecks(g).c_str(), stdout);
+  return 1;
+}
+
+int runCompare(const CompareArgs& a, const CLI::App& cmd) {
+  // Bad input and unwritable outputs fail here, before any simulation.
+  const Scene scene = a.scene.load();
+  checkInitialState(scene);
+  const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
+  const std::vector<std::string> inputs = {a.scene.path, a.gate};
+  const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
+  prepareOutput("--out", out, inputs);
+  if (!a.csv_dir.empty()) prepareFolder("--csv-dir", a.csv_dir);
+  const ComparisonResult r = runComparison(scene, resolve(a, cmd), progress);
+  nlohmann::json gate = nullptr;
+  GateResult g;
+  if (!a.gate.empty()) {
+    g = evaluateGate(r, tol);
+    gate = gateJson(g);
+  }
+  const Model& m = scene.model;
+  if (!a.csv_dir.empty()) writeCsvs(r, a.csv_dir);
+  writeJsonAtomic(makeReport(r, gate), out);
+  std::printf("%s: %d bodies, %d speeds, t_end %g s, output every %g s\n", m.name.c_str(), m.n(), m.nu, r.t_end,
+              r.output_dt);
+  std::fputs(summaryTable(r).c_str(), stdout);
+  std::printf("report: %s\n", out.c_str());
+  if (nothingRan(r)) {
+    std::printf("every run failed, the reference included: nothing was compared\n");
+    return 1;
+  }
+  return a.gate.empty() ? 0 : gateVerdict(g, a.gate);
+}
+
+void addRunOptions(CLI::App* cmd, CompareArgs& a) {
+  CompareOptions& o = a.opt;
+  cmd->add_option("--integrator", a.integrator, helpWithNames("Integrator of the in-house methods", integratorNames(Engine::InHouse)))
+      ->check(integratorValidator(Engine::InHouse))
+      ->capture_default_str();
+  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")
+                 ->check(positiveFinite())
+                 ->capture_default_str();
+  auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")
+                  ->check(positiveFinite())
+                  ->capture_default_str();
+  dt->excludes(tol);
+  cmd->add_option("--simbody-integrator", a.simbody_integrator,
+                  helpWithNames("Integrator of the compared simbody method", integratorNames(Engine::Simbody)))
+      ->check(integratorValidator(Engine::Simbody))
+      ->capture_default_str();
+  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")
+      ->check(positiveFinite())
+      ->capture_default_str();
+  addRunOptions(cmd, a.run, "Common output grid (s)");
+}
+
+void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
+  cmd->add_option("--reference", a.reference, "Reference engine: simbody or classical (in-house)")
+      ->check(CLI::IsMember({methodName(Method::Simbody), methodName(Method::Classical)}))
+      ->capture_default_str();
+  cmd->add_option("--reference-integrator", a.reference_integrator,
+                  "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)")
+      ->check(integratorValidator());
+  cmd->add_option("--reference-tol", a.opt.reference.tol, "Tolerance (accuracy) of the reference; its horizon run uses 1/100 of it")
+      ->check(positiveFinite())
+      ->capture_default_str();
+}
+
+}  // namespace
+
+void addCompare(CLI::App& app) {
+  auto* cmd = app.add_subcommand("compare", "Run several methods side by side against a reference and write a JSON report");
+  auto a = std::make_shared<CompareArgs>();
+  addSceneArg(cmd, a->scene);
+  cmd->add_option("--methods", a->methods, helpWithNames("Methods to compare, comma-separated", methodNames()))
+      ->delimiter(',')
+      ->check(methodValidator())
+      ->capture_default_str();
+  addReferenceOptions(cmd, *a);
+  addRunOptions(cmd, *a);
+  cmd->add_option("--thresholds", a->opt.thresholds, "Pose-error thresholds of the divergence times (rad), comma-separated")
+      ->delimiter(',')
+      ->check(positiveFinite())
+      ->capture_default_str();
+  cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
+  cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");
+  cmd->add_option("--gate", a->gate, "Tolerance file (data/tolerances.json): exit 1 and list the broken bounds if any");
+  cmd->callback([cmd, a] { guarded([&] { return runCompare(*a, *cmd); }); });
+}
+
+}  // namespace em::cli

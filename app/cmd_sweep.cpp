@@ -1,0 +1,83 @@
+// `eigenmass sweep PLAN`: run a plan's cases on local worker processes (or
+// one case, or list one command per case for GNU parallel or Slurm), then
+// merge every case's result into one CSV and the tables (docs/sweep.md).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <thread>
+
+#include "app/cli.hpp"
+#include "sweep/sweep.hpp"
+
+namespace em::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SweepArgs {
+  std::string plan, results, merge, one_case;
+  int jobs = 0;
+  bool list = false;
+};
+
+int mergeInto(const Plan& plan, const std::string& dir) {
+  std::vector<std::string> missing;
+  const std::vector<CaseRecord> records = collectRecords(plan, dir, missing);
+  std::fputs(writeMerged(plan, dir, records).c_str(), stdout);
+  std::printf("merged: %s, %s\n", (fs::path(dir) / (plan.name + ".csv")).string().c_str(),
+              (fs::path(dir) / (plan.name + ".md")).string().c_str());
+  if (missing.empty()) return 0;
+  std::fprintf(stderr, "sweep: %zu of %zu cases have no result in %s (first: %s)\n", missing.size(),
+               missing.size() + records.size(), dir.c_str(), missing[0].c_str());
+  return 1;
+}
+
+int runOneCase(const Plan& plan, const std::string& name, const std::string& dir) {
+  for (const SweepCase& c : planCases(plan))
+    if (c.name == name) {
+      std::printf("%s: %s\n", c.name.c_str(), runCase(plan, c, dir) ? "done" : "already has a result");
+      return 0;
+    }
+  throw std::invalid_argument("--case " + name + ": not a case of " + plan.file + " (--list names them)");
+}
+
+int runSweepCommand(const SweepArgs& a) {
+  const Plan plan = loadPlan(a.plan);
+  if (a.list + !a.merge.empty() + !a.one_case.empty() > 1)
+    throw std::invalid_argument("--list, --merge and --case: give at most one");
+  if (!a.merge.empty() && !a.results.empty()) throw std::invalid_argument("--merge DIR reads DIR: give no --results");
+  const std::string dir = !a.merge.empty() ? a.merge : a.results.empty() ? "results/" + plan.name : a.results;
+  if (!a.merge.empty()) {
+    if (!fs::is_directory(dir)) throw std::invalid_argument("--merge " + dir + ": no such folder");
+    return mergeInto(plan, dir);
+  }
+  if (a.list) {
+    for (const std::string& line : listCommands(plan, a.plan, dir)) std::printf("%s\n", line.c_str());
+    return 0;
+  }
+  prepareFolder("--results", dir);
+  if (!a.one_case.empty()) return runOneCase(plan, a.one_case, dir);
+  const int jobs = a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int errors = runSweep(plan, dir, jobs);
+  const int merged = mergeInto(plan, dir);
+  if (errors) std::fprintf(stderr, "sweep: %d cases could not be run (their causes above)\n", errors);
+  return errors || merged ? 1 : 0;
+}
+
+}  // namespace
+
+void addSweep(CLI::App& app) {
+  auto* cmd = app.add_subcommand("sweep", "Run a plan's cases (scenes x methods x integrators x settings), resumably, "
+                                          "and merge them: error against run time, cost against size (docs/sweep.md)");
+  auto a = std::make_shared<SweepArgs>();
+  cmd->add_option("plan", a->plan, "Plan file (eigenmass-plan/1; data/plans/)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/");
+  cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core")->check(CLI::Range(1, 1024));
+  cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop");
+  cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop");
+  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop");
+  cmd->callback([a] { guarded([&] { return runSweepCommand(*a); }); });
+}
+
+}  // namespace em::cli

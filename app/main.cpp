@@ -1,0 +1,39 @@
+// The `eigenmass` command-line tool: equations, simulate, compare, precision, import, crosscheck,
+// extreme, sweep.
+// One exit-code scheme: 0 ok, 1 a run failed or the gate broke, 2 bad input
+// or options (CLI11's own parse errors included), 130/143 interrupted.
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "app/cli.hpp"
+#include "compare/provenance.hpp"
+#include "io/atomic_file.hpp"
+
+int main(int argc, char** argv) {
+  em::setCommandLine(argc, argv);
+  em::installInterruptCleanup();
+  CLI::App app{"eigenmass: cross-validation harness for rigid multibody dynamics", "eigenmass"};
+  app.set_version_flag("--version", em::versionText());
+  app.require_subcommand(1);
+  em::cli::addEquations(app);
+  em::cli::addSimulate(app);
+  em::cli::addCompare(app);
+  em::cli::addPrecision(app);
+  em::cli::addImport(app);
+  em::cli::addCrossCheck(app);
+  em::cli::addExtreme(app);
+  em::cli::addSweep(app);
+  if (argc < 2) {
+    std::fputs(app.help().c_str(), stderr);
+    return 2;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::fprintf(stderr, "eigenmass: error: %s (see --help)\n", e.what());
+    return 2;
+  }
+  return em::cli::exitCode();
+}

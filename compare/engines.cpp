@@ -1,0 +1,94 @@
+#include "compare/engines.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "compare/progress.hpp"
+#include "reference/simbody_reference.hpp"
+#include "solver/dynamics.hpp"
+#include "solver/formation.hpp"
+#include "solver/integrate.hpp"
+
+namespace em {
+
+RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid) {
+  spec.t_end = grid.t_end.value_or(scene.t_end);
+  spec.output_dt = grid.output_dt.value_or(scene.output_dt);
+  return spec;
+}
+
+RunSpec referenceRun(Method method) {
+  RunSpec s;
+  s.method = method;
+  s.integrator = adaptiveIntegrator(info(method).engine);
+  s.tol = kReferenceTol;
+  return s;
+}
+
+Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
+  return tolerance_given ? adaptiveIntegrator(engine) : defaultIntegrator(engine);
+}
+
+Trajectory runMethod(const Model& m, const RunSpec& spec) {
+  ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
+  const SampleObserver observe = [&meter](double t) { meter(t); };
+  switch (spec.engine()) {
+    case Engine::InHouse: return simulate(m, spec, observe);
+    case Engine::Simbody: return SimbodyReference(m).simulate(spec, observe);
+  }
+  throw std::logic_error("runMethod: an engine without a runner");
+}
+
+namespace {
+
+// Reorder internal-order results to the source's order and add eigenvalues.
+Equations toFileOrder(const Model& m, const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const Eigen::VectorXd& udot,
+                      double kinetic, double potential) {
+  const std::vector<int> p = m.uFilePermutation();
+  Equations e;
+  e.nq = m.nq;
+  e.nu = m.nu;
+  e.A.resize(m.nu, m.nu);
+  e.B.resize(m.nu);
+  e.udot.resize(m.nu);
+  for (int i = 0; i < m.nu; ++i) {
+    e.B[i] = B[p[i]];
+    e.udot[i] = udot[p[i]];
+    for (int j = 0; j < m.nu; ++j) e.A(i, j) = A(p[i], p[j]);
+  }
+  e.eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.A, Eigen::EigenvaluesOnly).eigenvalues();
+  e.kinetic = kinetic;
+  e.potential = potential;
+  return e;
+}
+
+}  // namespace
+
+void checkInitialState(const Scene& scene) {
+  const Model& m = scene.model;
+  const Workspace ws = equationsAtStart(m);
+  if (!ws.A.allFinite() || !ws.B.allFinite() || !std::isfinite(ws.energy()))
+    throw std::runtime_error(scene.source.file + ": the equations at t = 0 are not finite (A, B or the energy): a mass, "
+                             "inertia or offset too large for double precision");
+  const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
+  if (llt.info() != Eigen::Success)
+    throw std::runtime_error(scene.source.file + ": mass matrix A is not positive definite at t = 0" +
+                             gimbalLockHint(m, m.q0().data()));
+}
+
+Equations inhouseEquations(const Model& m) {
+  const Workspace ws = equationsAtStart(m);
+  const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
+  if (llt.info() != Eigen::Success)
+    throw std::runtime_error("mass matrix A is not positive definite at the initial state" + gimbalLockHint(m, m.q0().data()));
+  return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
+}
+
+Equations simbodyEquations(const Model& m) {
+  SimbodyReference ref(m);
+  const Eigen::MatrixXd A = ref.massMatrix();
+  const Eigen::VectorXd B = ref.rhs(), udot = ref.udot();
+  return toFileOrder(m, A, B, udot, ref.kineticEnergy(), ref.potentialEnergy());
+}
+
+}  // namespace em

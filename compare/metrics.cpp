@@ -1,0 +1,141 @@
+#include "compare/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace em {
+
+double energyScale(const Trajectory& ref) {
+  double T = 0;  // non-finite samples (a blown-up reference) carry no scale
+  for (double k : ref.kinetic)
+    if (std::isfinite(k)) T = std::max(T, k);
+  if (T > 0) return T;
+  if (!ref.energy.empty() && std::isfinite(ref.energy[0]) && ref.energy[0] != 0) return std::abs(ref.energy[0]);
+  return 1.0;
+}
+
+namespace {
+
+// Angle coordinates: every coordinate but the ball quaternions (compared by pose).
+std::vector<int> angleCoordinates(const Trajectory& run, const Trajectory& ref) {
+  std::vector<int> idx;
+  if (run.q_names != ref.q_names) return idx;
+  for (size_t i = 0; i < run.q_names.size(); ++i) {
+    // A ball's 4 coordinates are named b.q0..q3; find balls by their speeds count.
+    const std::string body = run.q_names[i].substr(0, run.q_names[i].rfind('.'));
+    const auto nq = std::count_if(run.q_names.begin(), run.q_names.end(),
+                                  [&](const std::string& n) { return n.rfind(body + ".", 0) == 0; });
+    const auto nu = std::count_if(run.u_names.begin(), run.u_names.end(),
+                                  [&](const std::string& n) { return n.rfind(body + ".", 0) == 0; });
+    if (nq == nu) idx.push_back(static_cast<int>(i));
+  }
+  return idx;
+}
+
+template <class F>
+Peak peakOf(const std::vector<double>& t, size_t n, F&& value) {
+  Peak p;  // {0, 0} for an empty series
+  for (size_t k = 0; k < n; ++k) {
+    const double v = value(k);
+    if (k == 0 || v > p.value || std::isnan(v)) { p.value = v; p.t = t[k]; }
+    if (std::isnan(v)) break;  // NaN is the worst value: keep its time
+  }
+  return p;
+}
+
+Peak peakOf(const std::vector<double>& t, const std::vector<double>& v) {
+  return peakOf(t, v.size(), [&](size_t k) { return v[k]; });
+}
+
+}  // namespace
+
+ErrorSeries errorSeries(const Trajectory& run, const Trajectory& ref, double energy_scale) {
+  ErrorSeries s;
+  const size_t n = std::min(run.size(), ref.size());
+  const std::vector<int> angles = angleCoordinates(run, ref);
+  for (size_t k = 0; k < n; ++k) {
+    double rot = 0, pos = 0, crd = 0;
+    for (size_t b = 0; b < run.poses[k].size(); ++b) {
+      const Pose &p = run.poses[k][b], &r = ref.poses[k][b];
+      rot = std::max(rot, rotationAngleBetween(quatToMatrix(r.quat), quatToMatrix(p.quat)));
+      pos = std::max(pos, (p.p - r.p).norm());
+    }
+    for (int i : angles) crd = std::max(crd, std::abs(run.q[k][i] - ref.q[k][i]));
+    s.t.push_back(run.t[k]);
+    s.pose_rad.push_back(rot);
+    s.position_m.push_back(pos);
+    if (!angles.empty()) s.coord_rad.push_back(crd);
+    // The energy balance: what the dampers took is not an error (docs/theory.md §5).
+    s.energy_rel.push_back(std::abs(run.energy[k] + run.dissipated[k] - run.energy[0]) / energy_scale);
+  }
+  return s;
+}
+
+std::optional<double> firstExceedance(const std::vector<double>& t, const std::vector<double>& err, double threshold) {
+  for (size_t k = 0; k < err.size(); ++k)
+    if (!(err[k] <= threshold)) return t[k];  // NaN counts as exceeded
+  return std::nullopt;
+}
+
+std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const Trajectory& tight,
+                                                    const std::vector<double>& thresholds) {
+  const ErrorSeries s = errorSeries(ref, tight, energyScale(ref));
+  std::vector<std::optional<double>> h;
+  for (double th : thresholds) h.push_back(firstExceedance(s.t, s.pose_rad, th));
+  return h;
+}
+
+MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
+                         const std::vector<std::optional<double>>& horizon, double energy_scale) {
+  MethodMetrics m;
+  m.run = run.run;
+  m.status = run.status();
+  m.failure = run.failure;
+  m.failure_kind = run.failure_kind;
+  m.failure_cond_A = run.failure_cond_A;
+  if (run.failed()) m.failure_time = run.failure_time;
+  m.run_time_s = run.run_time_s;
+  m.steps = run.steps;
+  m.rhs_evals = run.rhs_evals;
+  m.step_retries = run.step_retries;
+  m.series = errorSeries(run, ref, energy_scale);
+  const ErrorSeries& s = m.series;
+  m.pose = peakOf(s.t, s.pose_rad);
+  m.position = peakOf(s.t, s.position_m);
+  m.coords_shared = !s.coord_rad.empty();
+  if (m.coords_shared) m.coord = peakOf(s.t, s.coord_rad);
+  m.energy = peakOf(s.t, s.energy_rel);
+  m.energy_error_final = s.energy_rel.empty() ? 0 : s.energy_rel.back();
+  m.dissipated_final = run.dissipated.empty() ? 0 : run.dissipated.back();
+  for (size_t i = 0; i < thresholds.size(); ++i) {
+    auto first = firstExceedance(s.t, s.pose_rad, thresholds[i]);
+    auto first_q = m.coords_shared ? firstExceedance(s.t, s.coord_rad, thresholds[i]) : std::nullopt;
+    // A run that stopped before crossing has no solution after its failure time.
+    if (run.failed() && !first) first = run.failure_time;
+    if (run.failed() && m.coords_shared && !first_q) first_q = run.failure_time;
+    m.divergence_time_s.push_back(first);
+    m.coord_divergence_time_s.push_back(first_q);
+    m.divergence_meaningful.push_back(first && (!horizon[i] || *first < *horizon[i]));
+  }
+  if (!run.diag.empty()) {
+    m.has_diagnostics = true;
+    const auto& d = run.diag;
+    const size_t n = d.size();
+    m.orth_err = peakOf(run.t, n, [&](size_t k) { return d[k].orth_err; });
+    m.offdiag_rel = peakOf(run.t, n, [&](size_t k) { return d[k].offdiag_rel; });
+    m.max_Omega = peakOf(run.t, n, [&](size_t k) { return d[k].max_Omega; });
+    m.inv_err = peakOf(run.t, n, [&](size_t k) { return d[k].inv_err; });
+    m.eigen = run.eigen;
+  }
+  return m;
+}
+
+std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) {
+  if (m.status != "ok") return "failed";
+  const ErrorSeries& s = m.series;
+  for (size_t k = 0; k < s.t.size() && (!horizon || s.t[k] < *horizon); ++k)
+    if (!(s.pose_rad[k] <= kWrongRad)) return "wrong";  // NaN counts as beyond
+  return "ok";
+}
+
+}  // namespace em

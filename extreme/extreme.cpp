@@ -1,0 +1,213 @@
+#include "extreme/extreme.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+
+#include "compare/report.hpp"
+#include "io/json_input.hpp"
+#include "solver/formation.hpp"
+
+namespace em {
+
+using json = nlohmann::json;
+
+std::string ExtremeSetting::key() const { return std::string(integratorName(integrator)) + ":" + gnum(value); }
+
+std::string ExtremeSetting::label() const {
+  return std::string(integratorName(integrator)) + (info(integrator).fixed_step ? " dt " : " tol ") + gnum(value);
+}
+
+ExtremeSetting parseSetting(const std::string& text) {
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) throw std::invalid_argument("'" + printable(text, 40) + "': expected integrator:value (rk4:1e-3)");
+  ExtremeSetting s;
+  s.integrator = parseIntegrator(text.substr(0, colon));
+  if (info(s.integrator).engine != Engine::InHouse)
+    throw std::invalid_argument("'" + text.substr(0, colon) + "' is not an in-house integrator (" +
+                                joined(integratorNames(Engine::InHouse)) + ")");
+  size_t used = 0;
+  const std::string number = text.substr(colon + 1);
+  try {
+    s.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != number.size() || !std::isfinite(s.value) || !(s.value > 0))
+    throw std::invalid_argument("'" + printable(text, 40) + "': the step or tolerance must be a finite number > 0");
+  return s;
+}
+
+std::vector<ExtremeSetting> defaultSettings() {
+  // The in-house engine's default fixed step and its reference run (the registry's engine table).
+  const RunSpec reference = referenceRun(Method::Classical);
+  return {{defaultIntegrator(Engine::InHouse), RunSpec().dt}, {reference.integrator, reference.tol}};
+}
+
+namespace {
+
+// x-extreme: {"runs": ["rk4:1e-3", ...], "reference_tol": 1e-10}; anything else is refused.
+void readExtremeKeys(const json& x, ExtremeCase& c) {
+  const std::string at = "x-extreme";
+  if (!x.is_object()) throw InputError(at, "expected an object");
+  for (auto it = x.begin(); it != x.end(); ++it) {
+    const std::string path = jsonPath(at, it.key());
+    if (it.key() == "runs") {
+      if (!it->is_array() || it->empty()) throw InputError(path, "expected a non-empty list of \"integrator:value\"");
+      c.settings.clear();
+      for (size_t i = 0; i < it->size(); ++i) {
+        if (!(*it)[i].is_string()) throw InputError(jsonPath(path, i), "expected a string \"integrator:value\"");
+        try {
+          c.settings.push_back(parseSetting((*it)[i].get<std::string>()));
+        } catch (const std::invalid_argument& e) {
+          throw InputError(jsonPath(path, i), e.what());
+        }
+      }
+    } else if (it.key() == "reference_tol") {
+      if (!it->is_number() || !(it->get<double>() > 0)) throw InputError(path, "must be a number > 0");
+      c.reference_tol = it->get<double>();
+    } else {
+      throw InputError(path, "unknown key (runs, reference_tol)");
+    }
+  }
+}
+
+void readCaseKeys(const std::string& path, ExtremeCase& c) {
+  const json doc = parseJsonStrict(readFile(path, "scene"));
+  try {
+    if (doc.contains("x-why")) {
+      if (!doc["x-why"].is_string()) throw InputError("x-why", "expected a string");
+      c.why = doc["x-why"].get<std::string>();
+    }
+    if (doc.contains("x-extreme")) readExtremeKeys(doc["x-extreme"], c);
+  } catch (const InputError& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+ExtremeCase loadExtremeCase(const std::string& path, const UrdfOptions& urdf) {
+  ExtremeCase c;
+  c.scene = loadScene(path, urdf);
+  checkInitialState(c.scene);
+  c.path = path;
+  c.settings = defaultSettings();
+  if (c.scene.source.format != "urdf") readCaseKeys(path, c);
+  return c;
+}
+
+namespace {
+
+// The first drift diagnostic of an eigenfactor run above kDriftBound.
+void firstDrift(const Trajectory& tr, ExtremeEntry& e) {
+  for (size_t k = 0; k < tr.diag.size(); ++k) {
+    const SampleDiagnostics& d = tr.diag[k];
+    const std::pair<const char*, double> moved[] = {
+        {"orth_err", d.orth_err}, {"offdiag_rel", d.offdiag_rel}, {"inv_err", d.inv_err}};
+    for (const auto& [name, value] : moved)
+      if (!(value <= kDriftBound)) {  // NaN counts as moved
+        e.first_drift = name;
+        e.first_drift_t = tr.t[k];
+        return;
+      }
+  }
+}
+
+ExtremeEntry entryOf(const MethodMetrics& m, const Trajectory& tr, const std::vector<double>& thresholds) {
+  ExtremeEntry e;
+  e.method = m.name();
+  e.outcome = m.outcome;
+  e.failure_kind = m.failure_kind;
+  e.failure_time = m.failure_time;
+  e.failure = m.failure;
+  e.failure_cond_A = m.failure_cond_A;
+  for (size_t i = 0; i < thresholds.size(); ++i) {
+    if (thresholds[i] == 1e-3) e.diverged_1e3 = m.divergence_time_s[i];
+    if (thresholds[i] == kWrongRad) e.wrong_at = m.divergence_time_s[i];
+  }
+  e.max_pose = m.pose.value;
+  e.max_energy = m.energy.value;
+  e.run_time_s = m.run_time_s;
+  e.steps = m.steps;
+  e.rhs_evals = m.rhs_evals;
+  e.step_retries = m.step_retries;
+  e.eigenfactor = info(m.run.method).eigenfactor;
+  e.eigen = tr.eigen;
+  if (e.eigenfactor) firstDrift(tr, e);
+  return e;
+}
+
+}  // namespace
+
+ExtremeRun summarizeRun(const ComparisonResult& r, const ExtremeSetting& s) {
+  ExtremeRun run;
+  run.setting = s;
+  run.reference_tol = r.reference.run.tol;
+  run.t_end = r.t_end;
+  run.reference_status = r.reference.status();
+  run.reference_failure = r.reference.failure;
+  run.horizon_wrong = referenceHorizon(r.reference, r.tight, {kWrongRad})[0];
+  for (size_t i = 0; i < r.metrics.size(); ++i) run.entries.push_back(entryOf(r.metrics[i], r.runs[i], r.options.thresholds));
+  return run;
+}
+
+namespace {
+
+CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const ExtremeOptions& opt) {
+  CompareOptions o;
+  o.methods = opt.methods;
+  o.inhouse.integrator = s.integrator;
+  (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
+  if (c.reference_tol) o.reference.tol = *c.reference_tol;
+  for (RunSpec* spec : {&o.inhouse, &o.simbody, &o.reference}) spec->options = opt.options;
+  o.grid = opt.grid;
+  o.thresholds = {1e-3, kWrongRad};
+  return o;
+}
+
+void describeScene(const Scene& scene, ExtremeCaseResult& out) {
+  const Model& m = scene.model;
+  const Workspace ws = equationsAtStart(m);
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(ws.A, Eigen::EigenvaluesOnly).eigenvalues();
+  out.lambda_min0 = lambda[0];
+  out.lambda_max0 = lambda[lambda.size() - 1];
+  out.cond_A0 = conditionNumber(ws.A);
+  out.nu = m.nu;
+}
+
+}  // namespace
+
+void checkExtremeCase(const ExtremeCase& c, const ExtremeOptions& opt) {
+  for (const ExtremeSetting& s : c.settings) {
+    try {
+      checkComparisonOptions(c.scene, optionsFor(c, s, opt));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(c.path + ": under " + s.key() + ": " + e.what());
+    }
+  }
+}
+
+ExtremeCaseResult runExtremeCase(const ExtremeCase& c, const ExtremeOptions& opt, void (*progress)(const std::string&)) {
+  ExtremeCaseResult out;
+  out.name = c.scene.model.name;
+  out.file = c.path;
+  out.why = c.why;
+  out.source = c.scene.source;
+  describeScene(c.scene, out);
+  // One reference for every setting: only the in-house settings differ.
+  const ReferenceRuns reference = runReference(c.scene, optionsFor(c, c.settings.front(), opt), progress);
+  for (const ExtremeSetting& s : c.settings) {
+    if (progress) progress(out.name + " under " + s.label());
+    const ComparisonResult r = runComparison(c.scene, optionsFor(c, s, opt), reference, progress);
+    ExtremeRun run = summarizeRun(r, s);
+    run.report = (std::filesystem::path(opt.out_dir) / (out.name + "." + integratorName(s.integrator) + "-" + gnum(s.value) +
+                                                    ".report.json")).string();
+    writeJsonAtomic(makeReport(r), run.report);
+    out.runs.push_back(std::move(run));
+  }
+  return out;
+}
+
+}  // namespace em

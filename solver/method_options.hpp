@@ -1,0 +1,33 @@
+#pragma once
+/// What every in-house method is told beside its own row (solver/registry.hpp):
+/// numerical-failure thresholds shared by all, and the values of the options a
+/// method's row declares (MethodInfo::params) that the user set.
+#include <map>
+#include <string>
+
+namespace em {
+
+struct MethodOptions {
+  double jacobi_tol = 1e-13;  ///< stop when off(C A C^T) <= tol ||A||_F
+  int jacobi_max_sweeps = 50;
+  double gap_floor_rel = 1e-12;  ///< fail when min |lambda_i - lambda_j| < floor * max lambda
+  /// Values of the rows' own options (MethodInfo::params) by name, as set by
+  /// the user (CLI, plan); an absent one takes its row's default
+  /// (MethodInfo::param).
+  std::map<std::string, double> params;
+  double blowup_speed = 1e6;     ///< fail when max |u| exceeds this (rad/s): the run has blown up
+  /// Fail when max/min squared Cholesky pivot, a lower bound on cond(A), exceeds
+  /// 1/eps: u' then has no reliable digit (gimbal lock, extreme mass ratios).
+  double max_pivot_ratio = 4.5e15;
+  /// Refuse a fixed-step run of more steps than this before it starts (a
+  /// mistyped dt); the CLI's --allow-long-run lifts it.
+  double max_steps = 1e8;
+  /// Adaptive integrators: when the right-hand side fails at a trial stage (a
+  /// state the step may never accept: lambda <= 0, a gap below the floor, A
+  /// singular), retry the step at a quarter of its size instead of ending the
+  /// run; it ends only when the step collapses (step-underflow, with the
+  /// evaluation's cause). Accepted states are never retried.
+  bool retry_failed_steps = true;
+};
+
+}  // namespace em

@@ -1,0 +1,56 @@
+#include "solver/run_spec.hpp"
+
+#include <cmath>
+
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+// Quotients of settings count as whole within this relative round-off.
+constexpr double kWholeRel = 1e-9;
+
+void requirePositive(const char* field, double x) {
+  if (!std::isfinite(x)) throw SettingError(field, "must be a finite number, got " + gnum(x));
+  if (!(x > 0)) throw SettingError(field, "must be > 0, got " + gnum(x));
+}
+
+// round(a / b) when a / b is whole within round-off, else -1.
+long wholeQuotient(double a, double b) {
+  const double r = a / b;
+  const double n = std::nearbyint(r);
+  if (!(n >= 1) || !(std::abs(r - n) <= kWholeRel * r) || n > 9.0e18) return -1;
+  return static_cast<long>(n);
+}
+
+}  // namespace
+
+long outputIntervals(double t_end, double output_dt) {
+  requirePositive("t_end", t_end);
+  requirePositive("output_dt", output_dt);
+  const long n = wholeQuotient(t_end, output_dt);
+  if (n < 1) throw SettingError("t_end", gnum(t_end) + " must be a whole multiple of output_dt " + gnum(output_dt));
+  return n;
+}
+
+long stepsPerOutput(double output_dt, double dt) {
+  requirePositive("dt", dt);
+  const long n = wholeQuotient(output_dt, dt);
+  if (n < 1) throw SettingError("dt", "does not fit: output_dt must be a whole multiple of dt (" + gnum(output_dt) +
+                                          " / " + gnum(dt) + ")");
+  return n;
+}
+
+void checkRunSpec(const RunSpec& s) {
+  requireCompatible(s.method, s.integrator);
+  const long intervals = outputIntervals(s.t_end, s.output_dt);
+  if (!s.fixedStep()) return requirePositive("tol", s.tol);
+  const double steps = double(intervals) * double(stepsPerOutput(s.output_dt, s.dt));
+  if (steps > s.options.max_steps)
+    throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + gnum(steps, 3) +
+                                 " steps, more than the budget of " + gnum(s.options.max_steps, 3) +
+                                 " (--allow-long-run goes ahead)");
+}
+
+}  // namespace em

@@ -1,0 +1,53 @@
+#pragma once
+/// What one run is (RunSpec: engine and method, integrator and its step or
+/// tolerance, output grid, thresholds), carried by the trajectory it makes,
+/// and the checks every engine shares (settings, the output grid).
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "solver/method_options.hpp"
+#include "solver/registry.hpp"
+
+namespace em {
+
+/// One run, fully resolved (no "0 means the scene's"): what made a trajectory.
+struct RunSpec {
+  Method method = Method::Classical;
+  Integrator integrator = Integrator::RK4;
+  double dt = 1e-3;        ///< fixed step (fixed-step integrators)
+  double tol = 1e-10;      ///< absolute and relative tolerance (adaptive; Simbody: accuracy)
+  double t_end = 10.0;
+  double output_dt = 0.01;
+  bool diagnostics = true; ///< eigenfactor drift at every output time
+  MethodOptions options;
+
+  Engine engine() const { return info(method).engine; }
+  bool fixedStep() const { return info(integrator).fixed_step; }
+  /// dt or tol, whichever the integrator uses.
+  double setting() const { return fixedStep() ? dt : tol; }
+};
+
+/// A run setting that cannot be used; `field` names it (t_end, output_dt, dt, tol).
+struct SettingError : std::invalid_argument {
+  SettingError(const std::string& field, const std::string& what)
+      : std::invalid_argument(field + " " + what), field(field) {}
+  std::string field;
+};
+
+/// Throws SettingError (or std::invalid_argument for a method and integrator
+/// of different engines) unless `s` can be run as it stands.
+void checkRunSpec(const RunSpec& s);
+
+/// Number of output intervals: t_end / output_dt, a whole number within
+/// round-off. Throws SettingError otherwise.
+long outputIntervals(double t_end, double output_dt);
+
+/// Told the time of every output sample as a run records it (progress
+/// display); may be empty. Its cost counts as sampling, not integration.
+using SampleObserver = std::function<void(double t)>;
+
+/// Fixed steps per output interval: output_dt / dt, whole within round-off.
+long stepsPerOutput(double output_dt, double dt);
+
+}  // namespace em

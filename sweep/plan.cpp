@@ -1,0 +1,269 @@
+#include "sweep/plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "io/json_input.hpp"
+#include "solver/text.hpp"
+
+namespace em {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TableRow {
+  PlanTable id;
+  const char* name;
+};
+const TableRow kTables[] = {{PlanTable::WorkPrecision, "work-precision"},
+                            {PlanTable::CostVsSize, "cost-vs-size"},
+                            {PlanTable::Runs, "runs"},
+                            {PlanTable::Trajectories, "trajectories"}};
+
+double positiveNumber(const json& v, const std::string& path) {
+  if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
+    throw InputError(path, "must be a finite number > 0");
+  return v.get<double>();
+}
+
+std::string stringAt(const json& v, const std::string& path) {
+  if (!v.is_string()) throw InputError(path, "expected a string");
+  return v.get<std::string>();
+}
+
+json arrayAt(const json& v, const std::string& path) {
+  if (!v.is_array() || v.empty()) throw InputError(path, "expected a non-empty list");
+  return v;
+}
+
+// Every key of `obj` is one of `known` (or starts with "x-": notes for people).
+void onlyKeys(const json& obj, const std::string& path, const std::vector<std::string>& known) {
+  if (!obj.is_object()) throw InputError(path.empty() ? "(document)" : path, "expected an object");
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (it.key().rfind("x-", 0) == 0 || std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError(jsonPath(path, it.key()), "unknown key (" + list + ")");
+  }
+}
+
+Method methodAt(const json& v, const std::string& path) {
+  Method m;
+  const std::string name = stringAt(v, path);
+  if (!findMethod(name, m)) throw InputError(path, "unknown method '" + printable(name, 40) + "' (" + joined(methodNames()) + ")");
+  return m;
+}
+
+Integrator integratorAt(const json& v, const std::string& path) {
+  Integrator i;
+  const std::string name = stringAt(v, path);
+  if (!findIntegrator(name, i))
+    throw InputError(path, "unknown integrator '" + printable(name, 40) + "' (" + joined(integratorNames()) + ")");
+  return i;
+}
+
+// "reference" and "reference_check": {"method", "integrator", "tolerance" | "dt"}.
+RunSpec runAt(const json& v, const std::string& path) {
+  onlyKeys(v, path, {"method", "integrator", "tolerance", "dt"});
+  RunSpec s;
+  if (!v.contains("method")) throw InputError(jsonPath(path, "method"), "missing");
+  s.method = methodAt(v["method"], jsonPath(path, "method"));
+  s.integrator = v.contains("integrator") ? integratorAt(v["integrator"], jsonPath(path, "integrator"))
+                                          : defaultIntegrator(info(s.method).engine);
+  try {
+    requireCompatible(s.method, s.integrator);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(jsonPath(path, "integrator"), e.what());
+  }
+  const char* key = s.fixedStep() ? "dt" : "tolerance";
+  if (!v.contains(key)) throw InputError(jsonPath(path, key), std::string("missing (") + integratorName(s.integrator) + " takes a " + key + ")");
+  (s.fixedStep() ? s.dt : s.tol) = positiveNumber(v[key], jsonPath(path, key));
+  return s;
+}
+
+PlanLine lineAt(const json& v, const std::string& path) {
+  onlyKeys(v, path, {"methods", "integrator", "dt", "tolerance"});
+  PlanLine line;
+  const std::string mpath = jsonPath(path, "methods");
+  const json methods = arrayAt(v.contains("methods") ? v["methods"] : json(), mpath);
+  for (size_t i = 0; i < methods.size(); ++i) line.methods.push_back(methodAt(methods[i], jsonPath(mpath, i)));
+  if (!v.contains("integrator")) throw InputError(jsonPath(path, "integrator"), "missing");
+  line.integrator = integratorAt(v["integrator"], jsonPath(path, "integrator"));
+  for (size_t i = 0; i < line.methods.size(); ++i) {
+    try {
+      requireCompatible(line.methods[i], line.integrator);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(jsonPath(mpath, i), e.what());
+    }
+  }
+  const std::string key = info(line.integrator).fixed_step ? "dt" : "tolerance";
+  const std::string other = key == "dt" ? "tolerance" : "dt";
+  if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(line.integrator)) + " takes " + key);
+  const std::string spath = jsonPath(path, key);
+  const json settings = arrayAt(v.contains(key) ? v[key] : json(), spath);
+  for (size_t i = 0; i < settings.size(); ++i) line.settings.push_back(positiveNumber(settings[i], jsonPath(spath, i)));
+  return line;
+}
+
+std::vector<std::string> scenesAt(const json& v, const std::string& plan_file) {
+  const json list = arrayAt(v, "scenes");
+  std::vector<std::string> out;
+  std::set<std::string> stems;
+  const fs::path base = fs::path(plan_file).parent_path();
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string at = jsonPath("scenes", i);
+    const fs::path p = base / stringAt(list[i], at);
+    if (!fs::is_regular_file(p)) throw InputError(at, "no such file: " + p.string());
+    if (!stems.insert(p.stem().string()).second) throw InputError(at, "a second scene named '" + p.stem().string() + "'");
+    out.push_back(p.lexically_normal().string());
+  }
+  return out;
+}
+
+std::vector<PlanTable> tablesAt(const json& v) {
+  std::vector<PlanTable> out;
+  if (!v.is_array()) throw InputError("tables", "expected a list");
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string name = stringAt(v[i], jsonPath("tables", i));
+    const auto* row = std::find_if(std::begin(kTables), std::end(kTables), [&](const TableRow& r) { return name == r.name; });
+    if (row == std::end(kTables))
+      throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (work-precision, cost-vs-size, runs, trajectories)");
+    out.push_back(row->id);
+  }
+  return out;
+}
+
+// A whole number from lo to hi at `key`; `why` ends the error.
+int wholeNumberAt(const json& v, const std::string& key, int lo, int hi, const std::string& why) {
+  if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
+    throw InputError(key, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + " (" + why + ")");
+  return v.get<int>();
+}
+
+// The methods' own options (the registry rows' params) at their keys.
+void readMethodParams(const json& doc, MethodOptions& options) {
+  for (const MethodParam& m : methodParams()) {
+    if (!doc.contains(m.name)) continue;
+    const json& v = doc[m.name];
+    if (m.whole) {
+      options.params[m.name] = wholeNumberAt(v, m.name, int(m.min), int(m.max), "a method option");
+      continue;
+    }
+    const double x = positiveNumber(v, m.name);
+    if (!(x > m.min && x <= m.max))
+      throw InputError(m.name, "must be in (" + gnum(m.min) + ", " + gnum(m.max) + "], got " + gnum(x));
+    options.params[m.name] = x;
+  }
+}
+
+void readPlanKeys(const json& doc, Plan& p) {
+  std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
+                                   "reference", "reference_check", "lines", "tables", "max_steps"};
+  for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
+  onlyKeys(doc, "", keys);
+  if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
+    throw InputError("format", "expected \"eigenmass-plan/1\"");
+  p.name = stringAt(doc.value("name", json()), "name");
+  if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
+    throw InputError("name", "must be a non-empty file-name stem (no '/', '\\' or space)");
+  if (doc.contains("description")) p.description = stringAt(doc["description"], "description");
+  p.scenes = scenesAt(doc.value("scenes", json()), p.file);
+  p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
+  if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
+  if (doc.contains("repeats")) p.repeats = wholeNumberAt(doc["repeats"], "repeats", 3, 100, "timings are medians");
+  if (doc.contains("reference")) p.reference = runAt(doc["reference"], "reference");
+  if (doc.contains("reference_check")) {
+    if (!p.reference) throw InputError("reference_check", "needs a reference to check");
+    p.reference_check = runAt(doc["reference_check"], "reference_check");
+  }
+  const json lines = arrayAt(doc.value("lines", json()), "lines");
+  for (size_t i = 0; i < lines.size(); ++i) p.lines.push_back(lineAt(lines[i], jsonPath("lines", i)));
+  if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
+  if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
+  if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
+  readMethodParams(doc, p.options);
+}
+
+// Every run of the plan on its grid: a setting that cannot run is refused
+// with the key that gave it, before anything runs.
+void checkPlanRuns(const Plan& p) {
+  std::vector<SweepCase> cases = planCases(p);
+  std::set<std::string> names;
+  for (const SweepCase& c : cases) {
+    if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
+    try {
+      checkRunSpec(c.spec);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
+                       c.name + ": " + e.what());
+    }
+  }
+}
+
+}  // namespace
+
+const char* planTableName(PlanTable t) {
+  for (const TableRow& r : kTables)
+    if (r.id == t) return r.name;
+  return "?";
+}
+
+bool Plan::hasTable(PlanTable t) const { return std::find(tables.begin(), tables.end(), t) != tables.end(); }
+
+Plan loadPlan(const std::string& path) {
+  Plan p;
+  p.file = path;
+  try {
+    readPlanKeys(parseJsonStrict(readFile(path, "plan")), p);
+    checkPlanRuns(p);
+  } catch (const InputError& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  return p;
+}
+
+namespace {
+
+SweepCase makeCase(const Plan& p, size_t scene, CaseRole role, RunSpec spec) {
+  SweepCase c;
+  c.role = role;
+  c.scene = scene;
+  c.scene_name = fs::path(p.scenes[scene]).stem().string();
+  spec.t_end = p.t_end;
+  spec.output_dt = p.output_dt;
+  spec.diagnostics = false;  // errors and cost only
+  spec.options = p.options;
+  c.spec = spec;
+  if (role == CaseRole::Reference) c.name = c.scene_name + ".reference";
+  else if (role == CaseRole::Check) c.name = c.scene_name + ".check";
+  else
+    c.name = c.scene_name + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
+  return c;
+}
+
+}  // namespace
+
+std::vector<SweepCase> planCases(const Plan& p) {
+  std::vector<SweepCase> cases;
+  for (size_t s = 0; s < p.scenes.size(); ++s) {
+    if (p.reference) cases.push_back(makeCase(p, s, CaseRole::Reference, *p.reference));
+    if (p.reference_check) cases.push_back(makeCase(p, s, CaseRole::Check, *p.reference_check));
+  }
+  for (size_t s = 0; s < p.scenes.size(); ++s)
+    for (const PlanLine& line : p.lines)
+      for (Method m : line.methods)
+        for (double setting : line.settings) {
+          RunSpec spec;
+          spec.method = m;
+          spec.integrator = line.integrator;
+          (spec.fixedStep() ? spec.dt : spec.tol) = setting;
+          cases.push_back(makeCase(p, s, CaseRole::Run, spec));
+        }
+  return cases;
+}
+
+}  // namespace em

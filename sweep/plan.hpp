@@ -1,0 +1,59 @@
+#pragma once
+/// A sweep plan (`eigenmass-plan/1`, docs/sweep.md): scenes x methods x
+/// integrators x steps or tolerances, the horizon, the reference and the
+/// number of repeats; and the cases it expands to, each with a stable name
+/// that is also its result file's.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compare/engines.hpp"
+
+namespace em {
+
+/// One line of a plan: these methods under one integrator at each setting.
+struct PlanLine {
+  std::vector<Method> methods;
+  Integrator integrator = Integrator::RK4;
+  std::vector<double> settings;  ///< dt (fixed-step integrators) or tolerances
+};
+
+/// The tables a plan's merged results carry (docs/sweep.md).
+enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories };
+const char* planTableName(PlanTable t);
+
+struct Plan {
+  std::string name, description, file;
+  std::vector<std::string> scenes;  ///< paths, resolved against the plan's folder
+  double t_end = 5, output_dt = 0.01;
+  int repeats = 3;                  ///< timing: median of this many runs (>= 3)
+  std::optional<RunSpec> reference;        ///< errors against it (absent: cost only)
+  std::optional<RunSpec> reference_check;  ///< the reference's own check (another engine)
+  std::vector<PlanLine> lines;
+  std::vector<PlanTable> tables;
+  MethodOptions options;  ///< of every run (the plan's "max_steps" and "refine")
+
+  bool hasTable(PlanTable t) const;
+};
+
+/// Read and check a plan. Throws one line naming the file and the key
+/// ("plan.json: lines[0].dt[2]: must be a finite number > 0").
+Plan loadPlan(const std::string& path);
+
+/// What a case is.
+enum class CaseRole { Reference, Check, Run };
+
+/// One case: a scene and a run of one method, or the scene's reference or its check.
+struct SweepCase {
+  CaseRole role = CaseRole::Run;
+  size_t scene = 0;  ///< index into Plan::scenes
+  std::string scene_name;  ///< the scene file's stem (unique within a plan)
+  RunSpec spec;            ///< on the plan's grid
+  std::string name;        ///< "pendulum5.classical.rk4.1e-2": result file stem, --case argument
+};
+
+/// Every case of a plan, references and checks first (in scene order), then
+/// the runs in plan order: scene, line, method, setting.
+std::vector<SweepCase> planCases(const Plan& plan);
+
+}  // namespace em

@@ -1,0 +1,273 @@
+#include "sweep/sweep.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+
+#include "compare/progress.hpp"
+#include "compare/provenance.hpp"
+#include "compare/report.hpp"
+#include "io/csv.hpp"
+#include "io/digest.hpp"
+#include "io/json_input.hpp"
+#include "io/trajectory_json.hpp"
+
+namespace em {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string caseFile(const std::string& dir, const SweepCase& c) { return (fs::path(dir) / (c.name + ".json")).string(); }
+std::string caseCsv(const std::string& dir, const SweepCase& c) { return (fs::path(dir) / (c.name + ".csv")).string(); }
+
+namespace {
+
+json specKey(const RunSpec& s) {
+  return {{"method", methodName(s.method)}, {"integrator", integratorName(s.integrator)}, {"setting", s.setting()}};
+}
+
+// What a result file must have been made from to count for this plan: the
+// scene's bytes, the grid, the run, the reference, the repeats.
+json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha256) {
+  json key = {{"case", c.name},
+              {"scene_sha256", scene_sha256},
+              {"t_end", plan.t_end},
+              {"output_dt", plan.output_dt},
+              {"repeats", c.role == CaseRole::Run ? plan.repeats : 1},
+              {"max_steps", plan.options.max_steps},
+              {"run", specKey(c.spec)},
+              {"reference", plan.reference ? specKey(*plan.reference) : json()}};
+  // A method option only when set away from its fallback: older results stay valid.
+  for (const MethodParam& m : methodParams()) {
+    const auto set = plan.options.params.find(m.name);
+    if (set != plan.options.params.end() && set->second != m.fallback)
+      key[m.name] = m.whole ? json(static_cast<long>(set->second)) : json(set->second);
+  }
+  return key;
+}
+
+json readJsonFile(const std::string& path) { return parseJsonStrict(readFile(path, "case result")); }
+
+// The file exists: it must have the key; throws naming it otherwise.
+void checkKey(const std::string& path, const json& key) {
+  json doc;
+  try {
+    doc = readJsonFile(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": unreadable case result (" + e.what() + "); remove it to run the case again");
+  }
+  if (!doc.is_object() || doc.value("key", json()) != key)
+    throw std::runtime_error(path + ": made by another plan, scene file or version (key differs: " +
+                             doc.value("key", json()).dump() + " vs " + key.dump() +
+                             "); use another --results folder or remove the file");
+}
+
+SweepCase referenceCase(const Plan& plan, const SweepCase& c) {
+  for (const SweepCase& r : planCases(plan))
+    if (r.role == CaseRole::Reference && r.scene == c.scene) return r;
+  throw std::logic_error("no reference case");
+}
+
+// The scene's reference run: read from its case file, or run and written now.
+Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scene, const std::string& dir) {
+  const SweepCase r = referenceCase(plan, c);
+  const std::string path = caseFile(dir, r);
+  if (!fs::exists(path)) runCase(plan, r, dir);
+  checkKey(path, caseKey(plan, r, scene.source.sha256));
+  return trajectoryFromJson(readJsonFile(path).at("trajectory"), r.spec, path);
+}
+
+CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
+  static const char* kRoles[] = {"reference", "check", "run"};
+  CaseRecord rec;
+  rec.name = c.name;
+  rec.role = kRoles[static_cast<int>(c.role)];
+  rec.scene = c.scene_name;
+  rec.method = methodName(c.spec.method);
+  rec.integrator = integratorName(c.spec.integrator);
+  rec.setting_kind = c.spec.fixedStep() ? "dt" : "tolerance";
+  rec.setting = c.spec.setting();
+  rec.nu = scene.model.nu;
+  return rec;
+}
+
+// Status, errors (against `ref` when given) and cost of the first repeat.
+void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref) {
+  rec.status = run.status();
+  rec.failure = run.failure;
+  rec.failure_kind = failureName(run.failure_kind);
+  if (run.failed()) rec.failure_time = run.failure_time;
+  rec.steps = run.steps;
+  rec.rhs_evals = run.rhs_evals;
+  if (info(run.run.method).eigenfactor) rec.eigen = run.eigen;
+  const Trajectory& against = ref ? *ref : run;
+  const MethodMetrics m = compareRun(run, against, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, energyScale(against));
+  rec.has_error = ref != nullptr;
+  rec.max_pose = m.pose.value;
+  rec.max_coord = m.coords_shared ? m.coord.value : NAN;
+  rec.max_energy = m.energy.value;
+  if (!ref) return;
+  rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
+  if (m.coords_shared) rec.coord_1e3 = m.coord_divergence_time_s[0], rec.coord_1e1 = m.coord_divergence_time_s[1];
+}
+
+bool sameEnd(const Trajectory& a, const Trajectory& b) {
+  return a.size() == b.size() && a.failure_kind == b.failure_kind && (a.size() == 0 || (a.q.back() == b.q.back() && a.u.back() == b.u.back()));
+}
+
+}  // namespace
+
+namespace {
+
+// The case's file exists and has the key of this plan and scene bytes (throws if it has another).
+bool doneWith(const Plan& plan, const SweepCase& c, const std::string& dir, const std::string& scene_sha256) {
+  const std::string path = caseFile(dir, c);
+  if (!fs::exists(path)) return false;
+  checkKey(path, caseKey(plan, c, scene_sha256));
+  return true;
+}
+
+}  // namespace
+
+bool caseDone(const Plan& plan, const SweepCase& c, const std::string& dir) {
+  // The key needs only the scene file's hash: no need to build its model.
+  return doneWith(plan, c, dir, sha256Hex(readFile(plan.scenes[c.scene], "scene")));
+}
+
+bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
+  const Scene scene = loadScene(plan.scenes[c.scene]);
+  if (doneWith(plan, c, dir, scene.source.sha256)) return false;
+  CaseRecord rec = baseRecord(c, scene);
+  json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene.source.sha256)}};
+  const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;
+  std::optional<Trajectory> ref;
+  if (plan.reference && c.role != CaseRole::Reference) ref = loadReference(plan, c, scene, dir);
+  Trajectory first = runMethod(scene.model, c.spec);
+  rec.cpu_s.push_back(first.run_time_s);
+  for (int k = 1; k < repeats; ++k) {
+    const Trajectory again = runMethod(scene.model, c.spec);
+    rec.cpu_s.push_back(again.run_time_s);
+    rec.repeats_identical = rec.repeats_identical && sameEnd(first, again);
+  }
+  measure(rec, first, ref ? &*ref : nullptr);
+  if (c.role == CaseRole::Reference) doc["trajectory"] = trajectoryJson(first);
+  if (c.role == CaseRole::Run && plan.hasTable(PlanTable::Trajectories)) writeCsv(first, caseCsv(dir, c));
+  doc["result"] = caseRecordJson(rec);
+  doc["provenance"] = provenance();
+  writeJsonAtomic(doc, caseFile(dir, c));
+  return true;
+}
+
+std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_path, const std::string& dir) {
+  auto quoted = [](const std::string& s) {
+    std::string q = "'";
+    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+  };
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const std::string program = ec ? "eigenmass" : exe.string();
+  std::vector<std::string> out;
+  for (const SweepCase& c : planCases(plan))
+    out.push_back(quoted(program) + " sweep " + quoted(fs::absolute(plan_path).string()) + " --case " + quoted(c.name) +
+                  " --results " + quoted(fs::absolute(dir).string()));
+  return out;
+}
+
+namespace {
+
+// Cases done / total, elapsed, time left: a line every kProgressLineS once the
+// sweep has run kProgressAfterS, at the end, and at once for every failed case.
+class SweepProgress {
+ public:
+  SweepProgress(size_t total, size_t done) : total_(total), done_(done), start_done_(done) {}
+  void finished(const std::string& what) {
+    ++done_;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    const double left = elapsed / static_cast<double>(done_ - start_done_) * static_cast<double>(total_ - done_);
+    const bool quiet = elapsed < kProgressAfterS || elapsed - last_line_ < kProgressLineS;
+    if (what.empty() && quiet && done_ < total_) return;
+    last_line_ = elapsed;
+    std::fprintf(stderr, "sweep: %zu / %zu cases, elapsed %.0f s, ETA %.0f s%s%s\n", done_, total_, elapsed, left,
+                 what.empty() ? "" : ": ", what.c_str());
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  size_t total_, done_, start_done_;
+  Clock::time_point start_ = Clock::now();
+  double last_line_ = 0;  ///< elapsed s at the last line
+};
+
+// Run one case in a child process: its CPU clock is its own, a crash is its own.
+pid_t startCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("cannot start a worker process");
+  if (pid > 0) return pid;
+  int code = 0;
+  try {
+    setProgressMode(ProgressMode::Off);
+    runCase(plan, c, dir);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sweep: case %s: %s\n", c.name.c_str(), e.what());
+    code = 1;
+  }
+  std::fflush(nullptr);
+  _exit(code);
+}
+
+// What the finished case's file says, for the progress line ("" when it ran to the end).
+std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus) {
+  if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (see above)";
+  const CaseRecord r = readCaseRecord(readJsonFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
+  if (r.status == "ok") return "";
+  return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";
+}
+
+// Run `todo` on `jobs` worker processes; returns how many could not be run.
+int runPool(const Plan& plan, const std::vector<SweepCase>& todo, const std::string& dir, int jobs, SweepProgress& meter) {
+  std::map<pid_t, const SweepCase*> running;
+  size_t next = 0;
+  int errors = 0;
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < jobs) {
+      running[startCase(plan, todo[next], dir)] = &todo[next];
+      ++next;
+    }
+    int wstatus = 0;
+    const pid_t pid = waitpid(-1, &wstatus, 0);
+    if (pid < 0) throw std::runtime_error("lost a worker process");
+    const SweepCase* c = running.at(pid);
+    running.erase(pid);
+    if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) ++errors;
+    meter.finished(failureNote(*c, dir, wstatus));
+  }
+  return errors;
+}
+
+}  // namespace
+
+int runSweep(const Plan& plan, const std::string& dir, int jobs) {
+  const std::vector<SweepCase> cases = planCases(plan);
+  std::vector<SweepCase> references, runs;
+  for (const SweepCase& c : cases) {
+    if (caseDone(plan, c, dir)) continue;
+    (c.role == CaseRole::Reference ? references : runs).push_back(c);
+  }
+  SweepProgress meter(cases.size(), cases.size() - references.size() - runs.size());
+  if (references.size() + runs.size() < cases.size())
+    std::fprintf(stderr, "sweep: %zu of %zu cases already have a result in %s\n", cases.size() - references.size() - runs.size(),
+                 cases.size(), dir.c_str());
+  int errors = runPool(plan, references, dir, jobs, meter);
+  errors += runPool(plan, runs, dir, jobs, meter);
+  return errors;
+}
+
+}  // namespace em

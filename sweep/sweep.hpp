@@ -1,0 +1,94 @@
+#pragma once
+/// `eigenmass sweep` (docs/sweep.md): a plan's cases, each run on its own and
+/// written to its own result file (so a sweep resumes, and fans out over
+/// GNU parallel or a Slurm array as well as over local worker processes),
+/// then merged into one CSV and the tables of error against run time and of
+/// cost against size.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sweep/plan.hpp"
+
+namespace em {
+
+/// What one case's result file says (`eigenmass-sweep-case/1`).
+struct CaseRecord {
+  std::string name, role, scene, method, integrator;
+  std::string setting_kind;  ///< "dt" or "tolerance"
+  double setting = 0;
+  int nu = 0;
+  std::string status = "ok", failure_kind, failure;
+  std::optional<double> failure_time;
+  bool has_error = false;  ///< errors against the plan's reference
+  double max_pose = 0, max_coord = 0, max_energy = 0;
+  std::optional<double> pose_1e3, pose_1e1;    ///< first time beyond 1e-3 and 0.1 rad (pose)
+  std::optional<double> coord_1e3, coord_1e1;  ///< the same for the joint coordinates
+  std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
+  long steps = 0, rhs_evals = 0;
+  bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
+  /// Eigenfactor methods: smallest eigenvalue gap (eigen-block: between blocks), largest |Omega|,
+  /// Jacobi sweeps, eigen-block's merges and splits (absent for other methods).
+  std::optional<EigenStats> eigen;
+
+  double cpuMedian() const;
+  double cpuMin() const;
+  double cpuMax() const;
+};
+
+/// A case file's "result" and back; reading throws std::runtime_error naming `source`.
+nlohmann::json caseRecordJson(const CaseRecord& r);
+CaseRecord readCaseRecord(const nlohmann::json& j, const std::string& source);
+
+/// The file of a case's result, and of its trajectory CSV (plans with the trajectories table).
+std::string caseFile(const std::string& dir, const SweepCase& c);
+std::string caseCsv(const std::string& dir, const SweepCase& c);
+
+/// Run one case and write its result file (a reference case: with its
+/// trajectory; a run needing the reference reads it, or runs and writes it
+/// first when no other case has). A case whose file exists is not run again
+/// (true is returned when it ran); a file made by another plan or another
+/// scene file is refused, naming it.
+bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir);
+
+/// Whether `c` has a result file made from this plan and scene. Throws for a
+/// file made otherwise (another t_end, another scene content).
+bool caseDone(const Plan& plan, const SweepCase& c, const std::string& dir);
+
+/// Run every case not done yet on `jobs` worker processes (references
+/// first), with progress on stderr. Returns the number of cases that could
+/// not be run (their names and causes said on stderr).
+int runSweep(const Plan& plan, const std::string& dir, int jobs);
+
+/// One shell command per case (`eigenmass sweep PLAN --case NAME --results DIR`).
+std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_path, const std::string& dir);
+
+/// Merged results of every case file present; `missing` gets the cases without one.
+std::vector<CaseRecord> collectRecords(const Plan& plan, const std::string& dir, std::vector<std::string>& missing);
+
+/// The merged CSV: one row per case (timing columns last, named cpu_*).
+std::string mergedCsv(const std::vector<CaseRecord>& records);
+
+/// The tables of the plan (reference check, work-precision with the time to
+/// reach 1e-3 and 1e-6 rad and the observed orders, cost against size with
+/// fitted exponents) as Markdown.
+std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records);
+
+/// Write `<plan>.csv` and `<plan>.md` into `dir`; returns the Markdown.
+std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records);
+
+// Pieces of the tables, tested on their own.
+
+/// CPU time at which a line (points in setting order, coarse to fine) first
+/// reaches `target` error, interpolated log-log between the two points that
+/// bracket it; nullopt if no point reaches it; the first point's time if it
+/// already does (`at_first` set).
+std::optional<double> timeToReach(const std::vector<double>& cpu, const std::vector<double>& err, double target,
+                                  bool& at_first);
+
+/// Least-squares slope of log y against log x (nullopt for fewer than 2 points).
+std::optional<double> logSlope(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace em

@@ -1,0 +1,190 @@
+// The merged results of a sweep: the case records, the CSV and the tables
+// (docs/sweep.md, "Outputs").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "compare/report.hpp"
+#include "sweep/sweep.hpp"
+#include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
+
+namespace em {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+
+json eigenStatsJson(const EigenStats& e) {
+  return {{"min_gap", finiteOrNull(e.min_gap)}, {"max_abs_Omega", e.max_abs_Omega}, {"jacobi_sweeps", e.jacobi_sweeps},
+          {"block_merges", e.block_merges}, {"block_splits", e.block_splits}};
+}
+
+EigenStats eigenStatsFrom(const json& j) {
+  EigenStats e;
+  e.min_gap = numberFrom(j.at("min_gap"));
+  e.max_abs_Omega = j.at("max_abs_Omega").get<double>();
+  e.jacobi_sweeps = j.at("jacobi_sweeps").get<long>();
+  e.block_merges = j.at("block_merges").get<long>();
+  e.block_splits = j.at("block_splits").get<long>();
+  return e;
+}
+
+// min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits (blank for other methods).
+std::string eigenCells(const std::optional<EigenStats>& e) {
+  if (!e) return ",,,,";
+  return (std::isfinite(e->min_gap) ? gnum(e->min_gap, 17) : "") + "," + gnum(e->max_abs_Omega, 17) + "," +
+         std::to_string(e->jacobi_sweeps) + "," + std::to_string(e->block_merges) + "," + std::to_string(e->block_splits);
+}
+
+std::vector<double> sorted(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+}  // namespace
+
+double CaseRecord::cpuMedian() const {
+  const std::vector<double> s = sorted(cpu_s);
+  if (s.empty()) return NAN;
+  return s.size() % 2 ? s[s.size() / 2] : 0.5 * (s[s.size() / 2 - 1] + s[s.size() / 2]);
+}
+double CaseRecord::cpuMin() const { return cpu_s.empty() ? NAN : *std::min_element(cpu_s.begin(), cpu_s.end()); }
+double CaseRecord::cpuMax() const { return cpu_s.empty() ? NAN : *std::max_element(cpu_s.begin(), cpu_s.end()); }
+
+json caseRecordJson(const CaseRecord& r) {
+  return {{"name", r.name},         {"role", r.role},
+          {"scene", r.scene},       {"nu", r.nu},
+          {"method", r.method},     {"integrator", r.integrator},
+          {r.setting_kind, r.setting},
+          {"status", r.status},
+          {"failure", r.status == "ok" ? json() : json{{"t", orNull(r.failure_time)}, {"kind", r.failure_kind}, {"cause", r.failure}}},
+          {"errors_against_reference", r.has_error},
+          {"max_pose_error_rad", finiteOrNull(r.max_pose)},
+          {"max_coord_error_rad", finiteOrNull(r.max_coord)},
+          {"energy_error_max", finiteOrNull(r.max_energy)},
+          {"pose_beyond_1e-3_s", orNull(r.pose_1e3)},
+          {"pose_beyond_1e-1_s", orNull(r.pose_1e1)},
+          {"coord_beyond_1e-3_s", orNull(r.coord_1e3)},
+          {"coord_beyond_1e-1_s", orNull(r.coord_1e1)},
+          {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
+          {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
+          {"repeats_identical", r.repeats_identical},
+          {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()}};
+}
+
+CaseRecord readCaseRecord(const json& j, const std::string& source) {
+  CaseRecord r;
+  try {
+    r.name = j.at("name").get<std::string>();
+    r.role = j.at("role").get<std::string>();
+    r.scene = j.at("scene").get<std::string>();
+    r.nu = j.at("nu").get<int>();
+    r.method = j.at("method").get<std::string>();
+    r.integrator = j.at("integrator").get<std::string>();
+    r.setting_kind = j.contains("dt") ? "dt" : "tolerance";
+    r.setting = j.at(r.setting_kind).get<double>();
+    r.status = j.at("status").get<std::string>();
+    r.failure_kind = failureName(Failure::None);
+    if (r.status != "ok") {
+      const json& f = j.at("failure");
+      r.failure_kind = f.at("kind").get<std::string>();
+      r.failure = f.at("cause").get<std::string>();
+      r.failure_time = optionalFrom(f.at("t"));
+    }
+    r.has_error = j.at("errors_against_reference").get<bool>();
+    r.max_pose = numberFrom(j.at("max_pose_error_rad"));
+    r.max_coord = numberFrom(j.at("max_coord_error_rad"));
+    r.max_energy = numberFrom(j.at("energy_error_max"));
+    r.pose_1e3 = optionalFrom(j.at("pose_beyond_1e-3_s"));
+    r.pose_1e1 = optionalFrom(j.at("pose_beyond_1e-1_s"));
+    r.coord_1e3 = optionalFrom(j.at("coord_beyond_1e-3_s"));
+    r.coord_1e1 = optionalFrom(j.at("coord_beyond_1e-1_s"));
+    r.cpu_s = j.at("cpu_s").get<std::vector<double>>();
+    r.steps = j.at("steps").get<long>();
+    r.rhs_evals = j.at("rhs_evals").get<long>();
+    r.repeats_identical = j.at("repeats_identical").get<bool>();
+    if (j.contains("eigen") && !j["eigen"].is_null()) r.eigen = eigenStatsFrom(j["eigen"]);  // absent in files of d178fb4
+  } catch (const std::exception& e) {
+    throw std::runtime_error(source + ": not a case result this version wrote (" + e.what() + ")");
+  }
+  return r;
+}
+
+std::vector<CaseRecord> collectRecords(const Plan& plan, const std::string& dir, std::vector<std::string>& missing) {
+  std::vector<CaseRecord> out;
+  for (const SweepCase& c : planCases(plan)) {
+    const std::string path = caseFile(dir, c);
+    if (!fs::exists(path)) {
+      missing.push_back(c.name);
+      continue;
+    }
+    if (!caseDone(plan, c, dir)) throw std::logic_error("case file vanished: " + path);
+    out.push_back(readCaseRecord(parseJsonStrict(readFile(path, "case result")).at("result"), path));
+  }
+  return out;
+}
+
+std::string mergedCsv(const std::vector<CaseRecord>& records) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "scene,nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
+       "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
+       "min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
+  auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
+  auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
+  for (const CaseRecord& r : records) {
+    o << r.scene << ',' << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
+      << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
+      << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
+      << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
+      << (r.repeats_identical ? "true" : "false") << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
+      << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
+      << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';
+  }
+  return o.str();
+}
+
+std::optional<double> timeToReach(const std::vector<double>& cpu, const std::vector<double>& err, double target,
+                                  bool& at_first) {
+  at_first = false;
+  for (size_t k = 0; k < err.size(); ++k) {
+    if (!(err[k] <= target)) continue;
+    if (k == 0) {
+      at_first = true;
+      return cpu[0];
+    }
+    const double e0 = err[k - 1], e1 = err[k];
+    if (!(std::isfinite(e0) && e0 > target && e1 > 0 && cpu[k - 1] > 0 && cpu[k] > 0)) return cpu[k];
+    const double w = std::log(e0 / target) / std::log(e0 / e1);
+    return std::exp(std::log(cpu[k - 1]) + w * (std::log(cpu[k]) - std::log(cpu[k - 1])));
+  }
+  return std::nullopt;
+}
+
+std::optional<double> logSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() < 2 || x.size() != y.size()) return std::nullopt;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (size_t k = 0; k < x.size(); ++k) {
+    const double lx = std::log(x[k]), ly = std::log(y[k]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  const double d = n * sxx - sx * sx;
+  if (!(std::fabs(d) > 0)) return std::nullopt;
+  return (n * sxy - sx * sy) / d;
+}
+
+std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records) {
+  const std::string csv = mergedCsv(records), md = sweepTables(plan, records);
+  writeAtomic((fs::path(dir) / (plan.name + ".csv")).string(), "merged CSV", [&](std::ostream& o) { o << csv; });
+  writeAtomic((fs::path(dir) / (plan.name + ".md")).string(), "tables", [&](std::ostream& o) { o << md; });
+  return md;
+}
+
+}  // namespace em

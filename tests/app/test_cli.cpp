@@ -1,0 +1,291 @@
+// The CLI as a user runs it: exit codes, one-line errors, JSON and CSV outputs.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "support.hpp"
+
+namespace {
+
+struct Run {
+  int status;
+  std::string out;
+};
+
+// Run the built eigenmass with arguments; stdout (and stderr if asked) captured.
+Run eigenmass(const std::string& args, bool with_stderr = false) {
+  const std::string cmd = std::string(EM_BINARY_DIR) + "/bin/eigenmass " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int st = pclose(p);
+  return {WEXITSTATUS(st), out};
+}
+
+std::string scene(const std::string& name) { return em::test::sourcePath("data/scenes/" + name); }
+
+}  // namespace
+
+TEST_CASE("equations prints A B udot energy and eigenvalues and the simbody engine agrees", "[cli][crosscheck]") {
+  const Run a = eigenmass("equations " + scene("pendulum5.json"));
+  const Run b = eigenmass("equations " + scene("pendulum5.json") + " --engine simbody");
+  REQUIRE(a.status == 0);
+  REQUIRE(b.status == 0);
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  CHECK(ja["nq"] == 7);
+  CHECK(ja["nu"] == 7);
+  CHECK(ja["A"].size() == 7);
+  CHECK(ja["A"][0].size() == 7);
+  CHECK(ja["energy"]["total"].get<double>() == Approx(-96.927410600287).epsilon(1e-13));
+  double amax = 0, diff = 0;
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j) {
+      amax = std::max(amax, std::abs(jb["A"][i][j].get<double>()));
+      diff = std::max(diff, std::abs(ja["A"][i][j].get<double>() - jb["A"][i][j].get<double>()));
+    }
+  CHECK(diff <= 1e-12 * amax);
+  for (int i = 0; i < 7; ++i)
+    CHECK(ja["eigenvalues"][i].get<double>() == Approx(jb["eigenvalues"][i].get<double>()).epsilon(1e-12));
+}
+
+TEST_CASE("a malformed scene is one line on stderr and exit status 2", "[cli][scene]") {
+  const std::string bad = em::test::sourcePath("tests/scenes/malformed/zero_axis.json");
+  const Run r = eigenmass("equations " + bad, true);
+  CHECK(r.status == 2);
+  CHECK(r.out == "eigenmass: error: " + bad + ": bodies[1].joint.axis: zero axis\n");
+}
+
+TEST_CASE("a run over 2 s shows its progress on stderr when asked and only then", "[cli][progress]") {
+  // 400 s of pendulum5 at rk4 dt 1e-3 take ~3 s of CPU here: past the 2 s
+  // after which progress shows. stderr is a pipe here, not a terminal.
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_progress.csv";
+  const std::string run = "simulate " + scene("pendulum5.json") + " --t-end 400 --out " + out;
+  const Run asked = eigenmass(run + " --progress", true);
+  CHECK(asked.status == 0);
+  CHECK(asked.out.find("pendulum5 classical/rk4: t = ") != std::string::npos);
+  CHECK(asked.out.find(" / 400 s, elapsed ") != std::string::npos);
+  CHECK(asked.out.find(", ETA ") != std::string::npos);
+  const Run quiet = eigenmass(run, true);
+  CHECK(quiet.status == 0);
+  CHECK(quiet.out.find("ETA") == std::string::npos);
+  CHECK(eigenmass(run + " --progress --no-progress", true).status == 2);
+}
+
+TEST_CASE("simulate writes the CSV it names and reports the energy drift", "[cli]") {
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_sim/chain02.csv";
+  std::filesystem::remove_all(std::string(EM_BINARY_DIR) + "/cli_sim");
+  const Run r = eigenmass("simulate " + scene("chain02.json") + " --method eigen-jacobi --t-end 0.2 --out " + out);
+  CHECK(r.status == 0);
+  CHECK(r.out.find("status ok") != std::string::npos);
+  CHECK(r.out.find("max |E(t) + W_diss(t) - E(0)|") != std::string::npos);
+  std::ifstream in(out);
+  std::string header;
+  std::getline(in, header);
+  CHECK(header.rfind("t,link1.q0,link1.q1,link1.q2,link2.q0,link1.u0", 0) == 0);
+  int rows = 0;
+  for (std::string line; std::getline(in, line);) ++rows;
+  CHECK(rows == 21);
+}
+
+TEST_CASE("bad options are one-line errors - --help documents defaults", "[cli]") {
+  const Run r = eigenmass("simulate " + scene("chain02.json") + " --dt 0.003 --t-end 1", true);
+  CHECK(r.status == 2);
+  CHECK(r.out.find("output_dt must be a whole multiple of dt") != std::string::npos);
+  const Run h = eigenmass("simulate --help");
+  CHECK(h.status == 0);
+  CHECK(h.out.find("--dt") != std::string::npos);
+  CHECK(h.out.find("0.001") != std::string::npos);
+}
+
+TEST_CASE("compare writes the report and prints the table - a broken gate exits 1", "[cli][comparison]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_compare";
+  std::filesystem::remove_all(dir);
+  const std::string base = "compare " + scene("chain02.json") + " --t-end 0.3 --methods classical,eigen";
+  const Run r = eigenmass(base + " --out " + dir + "/r.json --csv-dir " + dir + "/csv");
+  CHECK(r.status == 0);
+  CHECK(r.out.find("eigen ") != std::string::npos);
+  std::ifstream in(dir + "/r.json");
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["format"] == "eigenmass-report/1");
+  CHECK(j["methods"].size() == 2);
+  CHECK(std::filesystem::exists(dir + "/csv/eigen.csv"));
+  CHECK(std::filesystem::exists(dir + "/csv/reference.csv"));
+  // A tolerance file with an impossible bound for this scene.
+  const std::string tol = dir + "/tol.json";
+  std::ofstream(tol) << R"({"format": "eigenmass-tolerances/1", "scenes": {"chain02": {"horizon_s": 0.3,
+    "inhouse": {"integrator": "rk4", "dt": 0.001},
+    "methods": {"classical": {"max_pose_error_rad": {"value": 1e-30, "reason": "impossible"}}}}}})";
+  const Run g = eigenmass(base + " --out " + dir + "/g.json --gate " + tol);
+  CHECK(g.status == 1);
+  CHECK(g.out.find("gate broken: classical max_pose_error_rad") != std::string::npos);
+  std::ifstream gin(dir + "/g.json");
+  CHECK(nlohmann::json::parse(gin)["gate"]["passed"] == false);
+}
+
+TEST_CASE("compare --refine records the corrections per eigenfactor method and says so under the table", "[cli][comparison][refine]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_refine";
+  std::filesystem::remove_all(dir);
+  const Run r = eigenmass("compare " + scene("chain02.json") + " --t-end 0.3 --methods classical,eigen,eigen-block --refine 2 --out " +
+                          dir + "/r.json");
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("eigenfactor methods: 2 residual correction(s) per evaluation (--refine)") != std::string::npos);
+  std::ifstream in(dir + "/r.json");
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["methods"][0].contains("refine") == false);  // classical: nothing to correct
+  CHECK(j["methods"][1]["refine"] == 2);
+  CHECK(j["methods"][2]["refine"] == 2);
+  CHECK(j["methods"][2]["block_gap"] == 3e-2);
+}
+
+TEST_CASE("an interrupted compare leaves no report and no temporary", "[cli][comparison]") {
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_interrupted.json";
+  std::filesystem::remove(out);
+  // pendulum5 over 10 s takes several seconds; SIGINT after one.
+  const std::string cmd = "timeout -s INT 1 " + std::string(EM_BINARY_DIR) + "/bin/eigenmass compare " +
+                          scene("pendulum5.json") + " --out " + out + " >/dev/null 2>&1";
+  const int st = std::system(cmd.c_str());
+  CHECK(WEXITSTATUS(st) != 0);
+  CHECK_FALSE(std::filesystem::exists(out));
+  CHECK_FALSE(em::test::temporaryLeft(out));
+}
+
+TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {
+  const std::string bad = em::test::sourcePath("tests/scenes/malformed/cycle.json");
+  const Run r = eigenmass("compare " + bad + " --out /tmp/never.json", true);
+  CHECK(r.status == 2);
+  CHECK(r.out.find("bodies[0].parent: cycle") != std::string::npos);
+  CHECK(r.out.find("running") == std::string::npos);
+}
+
+TEST_CASE("hostile command lines end in one line on stderr and exit status 2 before any run", "[cli][hostile]") {
+  const std::string s = scene("chain02.json");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"simulate " + s + " --t-end -1", "--t-end: must be a finite number > 0, got -1"},
+      {"simulate " + s + " --t-end 0", "--t-end: must be a finite number > 0, got 0"},
+      {"simulate " + s + " --t-end nan", "--t-end: must be a finite number > 0, got nan"},
+      {"simulate " + s + " --t-end inf", "--t-end: must be a finite number > 0, got inf"},
+      {"compare " + s + " --output-dt -1", "--output-dt: must be a finite number > 0"},
+      {"precision " + s + " --settings 1e-3,0", "--settings: must be a finite number > 0, got 0"},
+      {"simulate " + s + " --dt abc", "--dt: expected a number, got 'abc'"},
+      {"simulate " + s + " --block-gap nan", "--block-gap: expected a number, got 'nan'"},
+      {"compare " + s + " --block-gap 2", "--block-gap: must be in (0, 1], got 2"},
+      {"compare " + s + " --refine 11", "--refine: must be a whole number from 0 to 10, got 11"},
+      {"compare " + s + " --refine 1.5", "--refine: must be a whole number from 0 to 10, got 1.5"},
+      {"simulate " + s + " --dt 1e-12 --t-end 10", "is 1e+13 steps, more than the budget of 1e+08 (--allow-long-run"},
+      {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
+      {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
+      {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},
+      {"simulate " + s + " --method newton", "--method: newton not in {classical,eigen,"},
+      {"compare " + s + " --simbody-integrator rk4", "--simbody-integrator: rk4 not in {rkmerson,rk3,cpodes}"},
+      {"", "Usage: eigenmass"},
+  };
+  for (const auto& [args, phrase] : cases) {
+    const Run r = eigenmass(args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK(r.out.find(phrase) != std::string::npos);
+    CHECK(r.out.find("running") == std::string::npos);  // refused before any run
+    if (!args.empty()) CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  }
+}
+
+TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming the file", "[cli][hostile]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_hostile";
+  std::filesystem::create_directories(dir);
+  auto base = nlohmann::json::parse(std::ifstream(scene("chain02.json")));
+  auto write = [&](const std::string& name, const nlohmann::json& j) {
+    std::ofstream(dir + "/" + name) << j.dump();
+    return dir + "/" + name;
+  };
+  nlohmann::json heavy = base;
+  heavy["bodies"][0]["mass"] = 1e308;
+  const std::string h = write("heavy.json", heavy);
+  for (const char* cmd : {"equations ", "simulate ", "compare "}) {
+    const Run e = eigenmass(std::string(cmd) + h, true);
+    INFO(cmd << e.out);
+    CHECK(e.status == 2);
+    CHECK(e.out.find(h + ": the equations at t = 0 are not finite") != std::string::npos);
+  }
+  nlohmann::json locked = base;
+  locked["bodies"][0]["joint"]["q0"] = {0.1, M_PI / 2, 0.3};
+  locked["bodies"][0]["joint"]["in_body"] = {0, 0, 0};
+  locked["bodies"][1]["mass"] = 1e-9;
+  const Run l = eigenmass("equations " + write("locked.json", locked), true);
+  CHECK(l.status == 2);
+  CHECK(l.out.find("(gimbal lock: body 'link1' q1 = 1.5708 rad)") != std::string::npos);
+}
+
+TEST_CASE("the version flag and a trajectory's sidecar say how it was produced", "[cli][provenance]") {
+  const Run v = eigenmass("--version");
+  CHECK(v.status == 0);
+  CHECK(v.out.rfind("eigenmass ", 0) == 0);
+  CHECK(v.out.find("Simbody") != std::string::npos);
+  const std::string out = std::string(EM_BINARY_DIR) + "/cli_sidecar/chain02.csv";
+  const Run r = eigenmass("simulate " + scene("chain02.json") + " --t-end 0.1 --out " + out);
+  REQUIRE(r.status == 0);
+  const auto meta = nlohmann::json::parse(std::ifstream(out + ".json"));
+  CHECK(meta["status"] == "ok");
+  CHECK(meta["method"] == "classical");
+  CHECK(meta["dt"] == 1e-3);
+  for (const char* k : {"command_line", "eigenmass_version", "git_commit", "libraries", "compiler", "flags", "cpu", "cores",
+                        "date_utc"})
+    CHECK(meta["provenance"].contains(k));
+  CHECK(meta["provenance"]["command_line"].get<std::string>().find("simulate") != std::string::npos);
+}
+
+TEST_CASE("import writes the URDF as a scene that loads back, never over its input", "[cli][urdf]") {
+  namespace fs = std::filesystem;
+  const std::string urdf = em::test::sourcePath("data/robots/z1.urdf");
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_import";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string out = (dir / "z1.json").string();
+  const Run r = eigenmass("import " + urdf + " --out " + out, true);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("7 moving bodies"));
+  const em::Scene back = em::loadScene(out);
+  CHECK(back.model.qNames().front() == "joint1.q0");
+  std::ifstream in(out);
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["x-source"]["format"] == "urdf");
+  CHECK(j["x-source"]["sha256"].get<std::string>().size() == 64);
+  CHECK(j["bodies"][0]["x-urdf-joint"] == "joint1");
+  // The input is never overwritten; a JSON scene is no URDF to import.
+  const Run self = eigenmass("import " + urdf + " --out " + urdf, true);
+  CHECK(self.status == 2);
+  CHECK_THAT(self.out, Catch::Contains("--out"));
+  CHECK(eigenmass("import " + scene("pendulum5.json")).status == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("URDF options are refused for a JSON scene - a URDF report records the import notes", "[cli][urdf]") {
+  const Run r = eigenmass("equations " + scene("pendulum5.json") + " --balance-inertia", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--balance-inertia: applies to URDF files only"));
+  const std::string hand = em::test::sourcePath("data/robots/allegro_right_hand.urdf");
+  const Run refused = eigenmass("equations " + hand, true);
+  CHECK(refused.status == 2);
+  CHECK_THAT(refused.out, Catch::Contains("link 'link_3.0'") && Catch::Contains("triangle inequality"));
+  const std::string out = (std::filesystem::temp_directory_path() / "eigenmass_test_hand.report.json").string();
+  const Run c = eigenmass("compare " + hand + " --balance-inertia --t-end 0.05 --methods classical --out " + out);
+  REQUIRE(c.status == 0);
+  std::ifstream in(out);
+  const auto j = nlohmann::json::parse(in);
+  CHECK(j["scene"]["format"] == "urdf");
+  CHECK(j["scene"]["import_notes"].size() == 4);
+  std::filesystem::remove(out);
+}
+
+TEST_CASE("crosscheck passes on a published arm and names its engines", "[cli][urdf][crosscheck]") {
+  const Run r = eigenmass("crosscheck " + em::test::sourcePath("data/robots/ur5.urdf") + " --states 5");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("simbody") && Catch::Contains("mujoco") && Catch::Contains("within 1e-07"));
+}

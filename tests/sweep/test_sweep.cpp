@@ -1,0 +1,193 @@
+// Sweeps: the plan format and its one-line errors, the cases a plan expands
+// to, the pieces of the tables, and the command run both ways (local worker
+// processes, GNU parallel over --list) giving the same merged results.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "sweep/sweep.hpp"
+#include "support.hpp"
+
+using namespace em;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kDir = std::string(EM_BINARY_DIR) + "/sweep-tests";
+
+json smallPlan() {
+  return {{"format", "eigenmass-plan/1"},
+          {"name", "small"},
+          {"scenes", {test::sourcePath("data/scenes/pendulum5.json"), test::sourcePath("data/scenes/chain02.json")}},
+          {"t_end", 0.5},
+          {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
+          {"lines", {{{"methods", {"classical", "eigen"}}, {"integrator", "rk4"}, {"dt", {1e-2, 5e-3}}},
+                     {{"methods", {"simbody"}}, {"integrator", "rkmerson"}, {"tolerance", {1e-6}}}}},
+          {"tables", {"work-precision"}}};
+}
+
+std::string writePlan(const json& plan, const std::string& name) {
+  fs::create_directories(kDir);
+  const std::string path = kDir + "/" + name;
+  std::ofstream(path) << plan.dump(1);
+  return path;
+}
+
+// The one-line error loadPlan gives for `plan` ("" if it loads).
+std::string planError(const json& plan) {
+  try {
+    loadPlan(writePlan(plan, "bad.json"));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+int shell(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
+
+std::string eigenmass() { return std::string(EM_BINARY_DIR) + "/bin/eigenmass"; }
+
+// The merged CSV's rows with the timing columns (cpu_*) dropped.
+std::vector<std::vector<std::string>> withoutTimings(const std::string& csv_path) {
+  std::ifstream in(csv_path);
+  std::vector<std::vector<std::string>> rows;
+  std::vector<bool> keep;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells, kept;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (line.back() == ',') cells.push_back("");
+    if (keep.empty())
+      for (const std::string& c : cells) keep.push_back(c.rfind("cpu_", 0) != 0);
+    for (size_t i = 0; i < cells.size() && i < keep.size(); ++i)
+      if (keep[i]) kept.push_back(cells[i]);
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST_CASE("a plan expands to its references first, then scene x line x method x setting, with stable names", "[sweep]") {
+  const Plan p = loadPlan(writePlan(smallPlan(), "small.json"));
+  const std::vector<SweepCase> cases = planCases(p);
+  REQUIRE(cases.size() == 2 + 2 * (2 * 2 + 1));
+  CHECK(cases[0].name == "pendulum5.reference");
+  CHECK(cases[1].name == "chain02.reference");
+  CHECK(cases[2].name == "pendulum5.classical.rk4.0.01");
+  CHECK(cases[3].name == "pendulum5.classical.rk4.0.005");
+  CHECK(cases[4].name == "pendulum5.eigen.rk4.0.01");
+  CHECK(cases[6].name == "pendulum5.simbody.rkmerson.1e-06");
+  CHECK(cases[7].scene_name == "chain02");
+  for (const SweepCase& c : cases) {
+    CHECK(c.spec.t_end == 0.5);
+    CHECK(c.spec.output_dt == 0.01);
+  }
+  CHECK(p.repeats == 3);
+}
+
+TEST_CASE("a bad plan is refused in one line naming the file and the key", "[sweep][hostile]") {
+  json p = smallPlan();
+  p["lines"][0]["dt"][1] = -1;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: lines[0].dt[1]: must be a finite number > 0"));
+  p = smallPlan();
+  p["lines"][1]["methods"][0] = "classical";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: lines[1].methods[0]:"));
+  p = smallPlan();
+  p["lines"][0]["tolerance"] = {1e-6};
+  CHECK_THAT(planError(p), Catch::Contains("lines[0].tolerance: rk4 takes dt"));
+  p = smallPlan();
+  p["repeats"] = 2;
+  CHECK_THAT(planError(p), Catch::Contains("repeats: must be a whole number from 3"));
+  p = smallPlan();
+  p["scenes"][1] = "no-such.json";
+  CHECK_THAT(planError(p), Catch::Contains("scenes[1]: no such file"));
+  p = smallPlan();
+  p["scenes"][1] = p["scenes"][0];
+  CHECK_THAT(planError(p), Catch::Contains("scenes[1]: a second scene named 'pendulum5'"));
+  p = smallPlan();
+  p["t_ned"] = 1;
+  CHECK_THAT(planError(p), Catch::Contains("t_ned: unknown key"));
+  p = smallPlan();
+  p["lines"][0]["dt"][0] = 3e-3;  // does not divide the 0.01 s output grid
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: lines: pendulum5.classical.rk4.0.003:"));
+  p = smallPlan();
+  p.erase("reference");
+  CHECK_THAT(planError(p), Catch::Contains("tables: work-precision needs a reference"));
+  p = smallPlan();
+  p["refine"] = 1.5;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  p["refine"] = 11;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  CHECK(planError(smallPlan()).empty());
+}
+
+TEST_CASE("time to reach an error is interpolated log-log between the bracketing points", "[sweep]") {
+  bool at_first = false;
+  const std::vector<double> cpu = {1, 2, 4}, err = {1e-2, 1e-4, 1e-6};
+  CHECK(timeToReach(cpu, err, 1e-3, at_first).value() == Approx(std::sqrt(2.0)).epsilon(1e-14));
+  CHECK_FALSE(at_first);
+  CHECK(timeToReach(cpu, err, 1e-1, at_first).value() == 1);
+  CHECK(at_first);
+  CHECK_FALSE(timeToReach(cpu, err, 1e-7, at_first));
+  // A failed point (infinite error) is never interpolated across.
+  CHECK(timeToReach({1, 2}, {INFINITY, 1e-4}, 1e-3, at_first).value() == 2);
+}
+
+TEST_CASE("the log-log slope of a power law is its exponent", "[sweep]") {
+  const std::vector<double> dt = {1e-2, 5e-3, 2.5e-3, 1.25e-3};
+  std::vector<double> err;
+  for (double h : dt) err.push_back(3 * std::pow(h, 4));
+  CHECK(logSlope(dt, err).value() == Approx(4).epsilon(1e-12));
+  CHECK_FALSE(logSlope({1}, {1}));
+}
+
+TEST_CASE("sweep in process and through GNU parallel give the same merged results, classical rk4 shows order 4",
+          "[sweep][cli]") {
+  const std::string plan = test::sourcePath("data/plans/order-check.json");
+  const std::string a = kDir + "/inprocess", b = kDir + "/parallel";
+  fs::remove_all(a);
+  fs::remove_all(b);
+  REQUIRE(shell(eigenmass() + " sweep " + plan + " --results " + a + " -j 2 >/dev/null 2>&1") == 0);
+  REQUIRE(shell("command -v parallel >/dev/null") == 0);  // Debian's `parallel` (./run installs it)
+  REQUIRE(shell(eigenmass() + " sweep " + plan + " --list --results " + b + " | parallel --will-cite -j 2 >/dev/null") == 0);
+  REQUIRE(shell(eigenmass() + " sweep " + plan + " --merge " + b + " >/dev/null") == 0);
+  const auto ra = withoutTimings(a + "/order-check.csv"), rb = withoutTimings(b + "/order-check.csv");
+  REQUIRE(ra.size() == 1 + 12);
+  CHECK(ra == rb);
+  // Observed order of classical rk4 from the merged CSV: max coordinate error against dt.
+  std::vector<double> dt, err;
+  for (const auto& row : ra)
+    if (row[3] == "classical" && row[4] == "rk4") dt.push_back(std::stod(row[6])), err.push_back(std::stod(row[11]));
+  REQUIRE(dt.size() == 4);
+  const double order = logSlope(dt, err).value();
+  INFO("observed order " << order);
+  CHECK(std::fabs(order - 4) <= 0.3);
+}
+
+TEST_CASE("a sweep resumes without rerunning a case, and refuses a result made by another plan", "[sweep][cli]") {
+  json p = smallPlan();
+  p["t_end"] = 0.1;
+  p["lines"] = {{{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-2}}}};
+  const std::string plan = writePlan(p, "resume.json"), dir = kDir + "/resume";
+  fs::remove_all(dir);
+  REQUIRE(shell(eigenmass() + " sweep " + plan + " --results " + dir + " -j 1 >/dev/null 2>&1") == 0);
+  const std::string one = dir + "/pendulum5.classical.rk4.0.01.json";
+  const auto written = fs::last_write_time(one);
+  REQUIRE(shell(eigenmass() + " sweep " + plan + " --results " + dir + " -j 1 >/dev/null 2>&1") == 0);
+  CHECK(fs::last_write_time(one) == written);
+  p["t_end"] = 0.2;
+  const std::string other = writePlan(p, "resume2.json");
+  const std::string err = kDir + "/resume.err";
+  CHECK(shell(eigenmass() + " sweep " + other + " --results " + dir + " >/dev/null 2>" + err) == 2);
+  std::ifstream in(err);
+  std::string line;
+  std::getline(in, line);
+  CHECK_THAT(line, Catch::Contains("reference.json: made by another plan"));
+  CHECK(fs::last_write_time(one) == written);
+}
