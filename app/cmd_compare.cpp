@@ -98,7 +98,7 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
   cmd->add_option("--integrator", a.integrator, helpWithNames("Integrator of the in-house methods", integratorNames(Engine::InHouse)))
       ->check(integratorValidator(Engine::InHouse))
       ->capture_default_str();
-  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of rk4 for the in-house methods (s)")
+  auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of the in-house methods' fixed-step integrator (s)")
                  ->check(positiveFinite())
                  ->capture_default_str();
   auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")

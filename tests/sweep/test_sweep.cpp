@@ -124,6 +124,11 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
   p["refine"] = 11;
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  p = smallPlan();  // every row option is a plan key under its name, checked by its row's range
+  p["block_gap"] = 2;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: block_gap: must be in (0, 1], got 2"));
+  p["block_gap"] = 0.1;
+  CHECK(planError(p).empty());
   CHECK(planError(smallPlan()).empty());
 }
 
