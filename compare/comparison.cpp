@@ -106,6 +106,9 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   r.nq = m.nq;
   r.nu = m.nu;
   r.bodies = m.n();
+  LyapunovOptions lo;
+  lo.t_end = r.t_end;
+  r.lyapunov = lyapunovExponent(m, lo);
   return r;
 }
 
@@ -166,6 +169,10 @@ std::string summaryTable(const ComparisonResult& r) {
   tableHeader(o, r.options.thresholds);
   for (const MethodMetrics& m : r.metrics) tableRow(o, m);
   referenceLine(o, r);
+  if (r.lyapunov && std::isfinite(r.lyapunov->per_s))
+    o << "reference motion: maximal Lyapunov exponent " << gnum(r.lyapunov->per_s, 3) << " +- "
+      << gnum(r.lyapunov->uncertainty_per_s, 2) << " /s over " << gnum(r.lyapunov->t_stop)
+      << " s (an error grows e-fold every " << gnum(1 / r.lyapunov->per_s, 3) << " s when > 0)\n";
   for (const MethodMetrics& m : r.metrics) {
     const MethodInfo& row = info(m.run.method);
     if (row.takes("refine") && row.param("refine", m.run.options) > 0) {

@@ -7,6 +7,7 @@
 
 #include "compare/metrics.hpp"
 #include "compare/engines.hpp"
+#include "compare/lyapunov.hpp"
 
 namespace em {
 
@@ -36,7 +37,9 @@ struct ComparisonResult {
   MethodMetrics reference_metrics;             ///< the reference's own energy error and cost
   std::vector<Trajectory> runs;                ///< per method, in options.methods order
   std::vector<MethodMetrics> metrics;
-
+  /// The reference motion's maximal Lyapunov exponent over the grid (compare/lyapunov.hpp);
+  /// absent where no comparison command asked for it (the gallery).
+  std::optional<Lyapunov> lyapunov;
 };
 
 /// Throws for settings that cannot run (SettingError, a method named twice,

@@ -17,6 +17,17 @@ using json = nlohmann::json;
 
 json peak(const Peak& p) { return {{"value", finiteOrNull(p.value)}, {"t", p.t}}; }
 
+// How the exponent was measured, with its windows (docs/report-format.md).
+json lyapunovJson(const std::optional<Lyapunov>& l) {
+  if (!l) return nullptr;
+  const LyapunovOptions o;
+  json windows = json::array();
+  for (double w : l->windows) windows.push_back(finiteOrNull(w));
+  return {{"method", "Benettin twin: classical rk4, separation d0 in (q, u) renormalized every renorm_s"},
+          {"dt", o.dt}, {"d0", o.d0}, {"renorm_s", o.renorm_s}, {"window_s", o.window_s},
+          {"t_s", l->t_stop}, {"completed", l->ok}, {"windows_per_s", windows}};
+}
+
 json perThreshold(const std::vector<double>& th, const std::vector<std::optional<double>>& v) {
   json o = json::object();
   for (size_t i = 0; i < th.size(); ++i) o[thresholdKey(th[i])] = orNull(v[i]);
@@ -149,7 +160,10 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"run_time_s", r.reference.run_time_s},
             {"steps", r.reference.steps},
             {"rhs_evals", r.reference.rhs_evals},
-            {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)}}},
+            {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)},
+            {"lyapunov_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->per_s) : json(nullptr)},
+            {"lyapunov_uncertainty_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->uncertainty_per_s) : json(nullptr)},
+            {"lyapunov", lyapunovJson(r.lyapunov)}}},
           {"methods", methods},
           {"series", series},
           {"gate", gate},

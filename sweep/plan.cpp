@@ -160,9 +160,34 @@ void readMethodParams(const json& doc, MethodOptions& options) {
   }
 }
 
+// "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}}.
+Ensemble ensembleAt(const json& v) {
+  onlyKeys(v, "ensemble", {"count", "seed", "perturb"});
+  Ensemble e;
+  if (!v.contains("count")) throw InputError("ensemble.count", "missing");
+  e.count = wholeNumberAt(v["count"], "ensemble.count", 1, 100000, "members per scene");
+  if (v.contains("seed")) e.seed = static_cast<std::uint64_t>(wholeNumberAt(v["seed"], "ensemble.seed", 0, 2147483647, "the draws' seed"));
+  if (!v.contains("perturb")) throw InputError("ensemble.perturb", "missing");
+  const json& p = v["perturb"];
+  onlyKeys(p, "ensemble.perturb", {"q", "u"});
+  const auto sigma = [&](const char* key) {
+    if (!p.contains(key)) return 0.0;
+    const json& x = p[key];
+    const std::string at = std::string("ensemble.perturb.") + key;
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0)
+      throw InputError(at, "must be a finite number >= 0");
+    return x.get<double>();
+  };
+  e.sigma_q = sigma("q");
+  e.sigma_u = sigma("u");
+  if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
+    throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");
+  return e;
+}
+
 void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
-                                   "reference", "reference_check", "lines", "tables", "max_steps"};
+                                   "reference", "reference_check", "lines", "tables", "max_steps", "ensemble"};
   for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
   onlyKeys(doc, "", keys);
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
@@ -174,7 +199,11 @@ void readPlanKeys(const json& doc, Plan& p) {
   p.scenes = scenesAt(doc.value("scenes", json()), p.file);
   p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
-  if (doc.contains("repeats")) p.repeats = wholeNumberAt(doc["repeats"], "repeats", 3, 100, "timings are medians");
+  if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"]);
+  // An ensemble reads divergence, not timing: it may run each case once.
+  if (doc.contains("repeats"))
+    p.repeats = p.ensemble ? wholeNumberAt(doc["repeats"], "repeats", 1, 100, "an ensemble may time each case once")
+                           : wholeNumberAt(doc["repeats"], "repeats", 3, 100, "timings are medians");
   if (doc.contains("reference")) p.reference = runAt(doc["reference"], "reference");
   if (doc.contains("reference_check")) {
     if (!p.reference) throw InputError("reference_check", "needs a reference to check");
@@ -228,20 +257,28 @@ Plan loadPlan(const std::string& path) {
 
 namespace {
 
-SweepCase makeCase(const Plan& p, size_t scene, CaseRole role, RunSpec spec) {
+// "m007": a member's part of its case names, wide enough for the plan's count.
+std::string memberTag(const Plan& p, int member) {
+  const int width = std::max(3, static_cast<int>(std::to_string(p.ensemble->count - 1).size()));
+  std::string digits = std::to_string(member);
+  return "m" + std::string(width - std::min<int>(width, digits.size()), '0') + digits;
+}
+
+SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSpec spec) {
   SweepCase c;
   c.role = role;
   c.scene = scene;
+  c.member = member;
   c.scene_name = fs::path(p.scenes[scene]).stem().string();
+  const std::string stem = p.ensemble ? c.scene_name + "." + memberTag(p, member) : c.scene_name;
   spec.t_end = p.t_end;
   spec.output_dt = p.output_dt;
   spec.diagnostics = false;  // errors and cost only
   spec.options = p.options;
   c.spec = spec;
-  if (role == CaseRole::Reference) c.name = c.scene_name + ".reference";
-  else if (role == CaseRole::Check) c.name = c.scene_name + ".check";
-  else
-    c.name = c.scene_name + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
+  if (role == CaseRole::Reference) c.name = stem + ".reference";
+  else if (role == CaseRole::Check) c.name = stem + ".check";
+  else c.name = stem + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
   return c;
 }
 
@@ -249,20 +286,23 @@ SweepCase makeCase(const Plan& p, size_t scene, CaseRole role, RunSpec spec) {
 
 std::vector<SweepCase> planCases(const Plan& p) {
   std::vector<SweepCase> cases;
-  for (size_t s = 0; s < p.scenes.size(); ++s) {
-    if (p.reference) cases.push_back(makeCase(p, s, CaseRole::Reference, *p.reference));
-    if (p.reference_check) cases.push_back(makeCase(p, s, CaseRole::Check, *p.reference_check));
-  }
+  const int members = p.ensemble ? p.ensemble->count : 1;
   for (size_t s = 0; s < p.scenes.size(); ++s)
-    for (const PlanLine& line : p.lines)
-      for (Method m : line.methods)
-        for (double setting : line.settings) {
-          RunSpec spec;
-          spec.method = m;
-          spec.integrator = line.integrator;
-          (spec.fixedStep() ? spec.dt : spec.tol) = setting;
-          cases.push_back(makeCase(p, s, CaseRole::Run, spec));
-        }
+    for (int k = 0; k < members; ++k) {
+      if (p.reference) cases.push_back(makeCase(p, s, k, CaseRole::Reference, *p.reference));
+      if (p.reference_check) cases.push_back(makeCase(p, s, k, CaseRole::Check, *p.reference_check));
+    }
+  for (size_t s = 0; s < p.scenes.size(); ++s)
+    for (int k = 0; k < members; ++k)
+      for (const PlanLine& line : p.lines)
+        for (Method m : line.methods)
+          for (double setting : line.settings) {
+            RunSpec spec;
+            spec.method = m;
+            spec.integrator = line.integrator;
+            (spec.fixedStep() ? spec.dt : spec.tol) = setting;
+            cases.push_back(makeCase(p, s, k, CaseRole::Run, spec));
+          }
   return cases;
 }
 

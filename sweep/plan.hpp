@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compare/engines.hpp"
+#include "sweep/ensemble.hpp"
 
 namespace em {
 
@@ -31,7 +32,8 @@ struct Plan {
   std::optional<RunSpec> reference_check;  ///< the reference's own check (another engine)
   std::vector<PlanLine> lines;
   std::vector<PlanTable> tables;
-  MethodOptions options;  ///< of every run (the plan's "max_steps" and "refine")
+  MethodOptions options;  ///< of every run (the plan's "max_steps" and the methods' options)
+  std::optional<Ensemble> ensemble;  ///< members of every scene (absent: the scene alone)
 
   bool hasTable(PlanTable t) const;
 };
@@ -48,12 +50,13 @@ struct SweepCase {
   CaseRole role = CaseRole::Run;
   size_t scene = 0;  ///< index into Plan::scenes
   std::string scene_name;  ///< the scene file's stem (unique within a plan)
+  int member = 0;          ///< ensemble member (0: the scene itself)
   RunSpec spec;            ///< on the plan's grid
-  std::string name;        ///< "pendulum5.classical.rk4.1e-2": result file stem, --case argument
+  std::string name;        ///< "pendulum5.classical.rk4.1e-2" ("pendulum5.m007.classical..." in an ensemble): result file stem, --case argument
 };
 
-/// Every case of a plan, references and checks first (in scene order), then
-/// the runs in plan order: scene, line, method, setting.
+/// Every case of a plan, references and checks first (in scene and member
+/// order), then the runs in plan order: scene, member, line, method, setting.
 std::vector<SweepCase> planCases(const Plan& plan);
 
 }  // namespace em

@@ -10,6 +10,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "compare/lyapunov.hpp"
 #include "compare/progress.hpp"
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
@@ -43,6 +44,11 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
               {"max_steps", plan.options.max_steps},
               {"run", specKey(c.spec)},
               {"reference", plan.reference ? specKey(*plan.reference) : json()}};
+  if (plan.ensemble) {  // absent without one: older results stay valid
+    const Ensemble& e = *plan.ensemble;
+    key["ensemble"] = {{"count", e.count}, {"seed", e.seed}, {"q", e.sigma_q}, {"u", e.sigma_u}};
+    key["member"] = c.member;
+  }
   // A method option only when set away from its fallback: older results stay valid.
   for (const MethodParam& m : methodParams()) {
     const auto set = plan.options.params.find(m.name);
@@ -70,11 +76,11 @@ void checkKey(const std::string& path, const json& key) {
 
 SweepCase referenceCase(const Plan& plan, const SweepCase& c) {
   for (const SweepCase& r : planCases(plan))
-    if (r.role == CaseRole::Reference && r.scene == c.scene) return r;
+    if (r.role == CaseRole::Reference && r.scene == c.scene && r.member == c.member) return r;
   throw std::logic_error("no reference case");
 }
 
-// The scene's reference run: read from its case file, or run and written now.
+// The scene's (the member's) reference run: read from its case file, or run and written now.
 Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scene, const std::string& dir) {
   const SweepCase r = referenceCase(plan, c);
   const std::string path = caseFile(dir, r);
@@ -94,11 +100,13 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
   rec.setting_kind = c.spec.fixedStep() ? "dt" : "tolerance";
   rec.setting = c.spec.setting();
   rec.nu = scene.model.nu;
+  rec.member = c.member;
   return rec;
 }
 
-// Status, errors (against `ref` when given) and cost of the first repeat.
-void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref) {
+// Status, errors (against `ref` when given) and cost of the first repeat;
+// the early error level up to t0.
+void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref, double t0) {
   rec.status = run.status();
   rec.failure = run.failure;
   rec.failure_kind = failureName(run.failure_kind);
@@ -114,7 +122,22 @@ void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref) {
   rec.max_energy = m.energy.value;
   if (!ref) return;
   rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
+  double early = 0;
+  for (size_t i = 0; i < m.series.t.size() && m.series.t[i] <= t0 * (1 + 1e-12); ++i) early = std::max(early, m.series.pose_rad[i]);
+  rec.t0 = t0, rec.pose_by_t0 = early;
   if (m.coords_shared) rec.coord_1e3 = m.coord_divergence_time_s[0], rec.coord_1e1 = m.coord_divergence_time_s[1];
+}
+
+// A member's initial state as its case files record it: q0 and u0 in the scene's order, by name.
+json memberJson(const Model& m, int member) {
+  Eigen::VectorXd q, u;
+  m.qToFile(m.q0(), q);
+  m.uToFile(m.u0(), u);
+  json j = {{"index", member}, {"q0", json::object()}, {"u0", json::object()}};
+  const std::vector<std::string> qn = m.qNames(), un = m.uNames();
+  for (int i = 0; i < m.nq; ++i) j["q0"][qn[i]] = q[i];
+  for (int i = 0; i < m.nu; ++i) j["u0"][un[i]] = u[i];
+  return j;
 }
 
 bool sameEnd(const Trajectory& a, const Trajectory& b) {
@@ -145,17 +168,25 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   if (doneWith(plan, c, dir, scene.source.sha256)) return false;
   CaseRecord rec = baseRecord(c, scene);
   json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene.source.sha256)}};
+  const Model model = plan.ensemble ? ensembleMember(scene.model, *plan.ensemble, c.member) : scene.model;
+  if (plan.ensemble) doc["member"] = memberJson(model, c.member);
   const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;
   std::optional<Trajectory> ref;
   if (plan.reference && c.role != CaseRole::Reference) ref = loadReference(plan, c, scene, dir);
-  Trajectory first = runMethod(scene.model, c.spec);
+  Trajectory first = runMethod(model, c.spec);
   rec.cpu_s.push_back(first.run_time_s);
   for (int k = 1; k < repeats; ++k) {
-    const Trajectory again = runMethod(scene.model, c.spec);
+    const Trajectory again = runMethod(model, c.spec);
     rec.cpu_s.push_back(again.run_time_s);
     rec.repeats_identical = rec.repeats_identical && sameEnd(first, again);
   }
-  measure(rec, first, ref ? &*ref : nullptr);
+  measure(rec, first, ref ? &*ref : nullptr, plan.t_end / 10);
+  if (c.role == CaseRole::Reference) {  // the member's exponent, for the prediction of divergence times
+    LyapunovOptions lo;
+    lo.t_end = plan.t_end;
+    const Lyapunov l = lyapunovExponent(model, lo);
+    rec.lyapunov_per_s = l.per_s, rec.lyapunov_uncertainty_per_s = l.uncertainty_per_s;
+  }
   if (c.role == CaseRole::Reference) doc["trajectory"] = trajectoryJson(first);
   if (c.role == CaseRole::Run && plan.hasTable(PlanTable::Trajectories)) writeCsv(first, caseCsv(dir, c));
   doc["result"] = caseRecordJson(rec);

@@ -17,6 +17,7 @@ namespace em {
 /// What one case's result file says (`eigenmass-sweep-case/1`).
 struct CaseRecord {
   std::string name, role, scene, method, integrator;
+  int member = 0;            ///< ensemble member (0: the scene itself)
   std::string setting_kind;  ///< "dt" or "tolerance"
   double setting = 0;
   int nu = 0;
@@ -26,6 +27,10 @@ struct CaseRecord {
   double max_pose = 0, max_coord = 0, max_energy = 0;
   std::optional<double> pose_1e3, pose_1e1;    ///< first time beyond 1e-3 and 0.1 rad (pose)
   std::optional<double> coord_1e3, coord_1e1;  ///< the same for the joint coordinates
+  /// Runs: the largest pose error up to t0 = t_end / 10 (the early level the
+  /// Lyapunov prediction starts from). References: their motion's exponent.
+  std::optional<double> t0, pose_by_t0;
+  std::optional<double> lyapunov_per_s, lyapunov_uncertainty_per_s;
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
@@ -68,15 +73,48 @@ std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_
 /// Merged results of every case file present; `missing` gets the cases without one.
 std::vector<CaseRecord> collectRecords(const Plan& plan, const std::string& dir, std::vector<std::string>& missing);
 
-/// The merged CSV: one row per case (timing columns last, named cpu_*).
-std::string mergedCsv(const std::vector<CaseRecord>& records);
+/// The merged CSV: one row per case (timing columns last, named cpu_*); a
+/// plan with an ensemble adds the member after the scene.
+std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member = false);
+
+/// How the members of an ensemble crossed one threshold of one metric.
+struct Distribution {
+  int members = 0, diverged = 0, failed = 0;  ///< diverged: crossed (failures count, at their time)
+  std::optional<double> median, q1, q3, min, max;  ///< over the members that crossed
+};
+/// One row of `<plan>-ensemble.csv`: scene x method x integrator x setting x metric (pose, joint) x threshold.
+struct EnsembleRow {
+  std::string scene, method, integrator, setting_kind;  ///< method "reference-horizon": the check
+  double setting = 0;
+  std::string metric;  ///< "pose" or "joint"
+  double threshold = 0;
+  Distribution d;
+};
+/// The rows of the records' runs and checks, in plan order.
+std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records);
+std::string ensembleCsv(const std::vector<EnsembleRow>& rows);
+/// The same as a Markdown section of the tables page.
+std::string ensembleTable(const std::vector<EnsembleRow>& rows);
+
+/// One run's divergence time predicted from its early error and its
+/// member's Lyapunov exponent, t0 + ln(threshold / e(t0)) / lambda, beside the measured one.
+struct Prediction {
+  const CaseRecord* record = nullptr;
+  double threshold = 0, lambda = 0, e0 = 0;
+  std::optional<double> predicted, measured;  ///< predicted: none when lambda <= 0 or e(t0) is not below the threshold
+};
+/// For every run with an early error and a reference exponent, at 1e-3 and 0.1 rad (pose).
+std::vector<Prediction> predictions(const std::vector<CaseRecord>& records);
+std::string predictionCsv(const std::vector<Prediction>& rows);
+std::string predictionTable(const std::vector<Prediction>& rows);
 
 /// The tables of the plan (reference check, work-precision with the time to
 /// reach 1e-3 and 1e-6 rad and the observed orders, cost against size with
 /// fitted exponents) as Markdown.
 std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records);
 
-/// Write `<plan>.csv` and `<plan>.md` into `dir`; returns the Markdown.
+/// Write `<plan>.csv` and `<plan>.md` into `dir` (and `<plan>-ensemble.csv`
+/// for a plan with an ensemble); returns the Markdown.
 std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records);
 
 // Pieces of the tables, tested on their own.

@@ -58,7 +58,7 @@ double CaseRecord::cpuMin() const { return cpu_s.empty() ? NAN : *std::min_eleme
 double CaseRecord::cpuMax() const { return cpu_s.empty() ? NAN : *std::max_element(cpu_s.begin(), cpu_s.end()); }
 
 json caseRecordJson(const CaseRecord& r) {
-  return {{"name", r.name},         {"role", r.role},
+  return {{"name", r.name},         {"role", r.role},         {"member", r.member},
           {"scene", r.scene},       {"nu", r.nu},
           {"method", r.method},     {"integrator", r.integrator},
           {r.setting_kind, r.setting},
@@ -75,7 +75,11 @@ json caseRecordJson(const CaseRecord& r) {
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
           {"repeats_identical", r.repeats_identical},
-          {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()}};
+          {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()},
+          {"t0_s", orNull(r.t0)},
+          {"pose_error_by_t0_rad", orNull(r.pose_by_t0)},
+          {"lyapunov_per_s", orNull(r.lyapunov_per_s)},
+          {"lyapunov_uncertainty_per_s", orNull(r.lyapunov_uncertainty_per_s)}};
 }
 
 CaseRecord readCaseRecord(const json& j, const std::string& source) {
@@ -83,6 +87,7 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
   try {
     r.name = j.at("name").get<std::string>();
     r.role = j.at("role").get<std::string>();
+    r.member = j.value("member", 0);
     r.scene = j.at("scene").get<std::string>();
     r.nu = j.at("nu").get<int>();
     r.method = j.at("method").get<std::string>();
@@ -109,6 +114,10 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
     r.repeats_identical = j.at("repeats_identical").get<bool>();
+    r.t0 = optionalFrom(j.value("t0_s", json()));
+    r.pose_by_t0 = optionalFrom(j.value("pose_error_by_t0_rad", json()));
+    r.lyapunov_per_s = optionalFrom(j.value("lyapunov_per_s", json()));
+    r.lyapunov_uncertainty_per_s = optionalFrom(j.value("lyapunov_uncertainty_per_s", json()));
     if (j.contains("eigen") && !j["eigen"].is_null()) r.eigen = eigenStatsFrom(j["eigen"]);  // absent in files of d178fb4
   } catch (const std::exception& e) {
     throw std::runtime_error(source + ": not a case result this version wrote (" + e.what() + ")");
@@ -130,16 +139,18 @@ std::vector<CaseRecord> collectRecords(const Plan& plan, const std::string& dir,
   return out;
 }
 
-std::string mergedCsv(const std::vector<CaseRecord>& records) {
+std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) {
   std::ostringstream o;
   o.precision(17);
-  o << "scene,nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
+  o << (with_member ? "scene,member," : "scene,") << "nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
        "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
        "min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
   for (const CaseRecord& r : records) {
-    o << r.scene << ',' << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
+    o << r.scene << ',';
+    if (with_member) o << r.member << ',';
+    o << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
       << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
       << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
@@ -181,8 +192,19 @@ std::optional<double> logSlope(const std::vector<double>& x, const std::vector<d
 }
 
 std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records) {
-  const std::string csv = mergedCsv(records), md = sweepTables(plan, records);
+  const std::string csv = mergedCsv(records, plan.ensemble.has_value());
+  std::string md = sweepTables(plan, records);
   writeAtomic((fs::path(dir) / (plan.name + ".csv")).string(), "merged CSV", [&](std::ostream& o) { o << csv; });
+  if (plan.ensemble) {
+    const std::vector<EnsembleRow> rows = ensembleRows(records);
+    md += ensembleTable(rows);
+    const std::string ens = ensembleCsv(rows);
+    writeAtomic((fs::path(dir) / (plan.name + "-ensemble.csv")).string(), "ensemble CSV", [&](std::ostream& o) { o << ens; });
+    const std::vector<Prediction> predicted = predictions(records);
+    md += predictionTable(predicted);
+    const std::string pred = predictionCsv(predicted);
+    writeAtomic((fs::path(dir) / (plan.name + "-prediction.csv")).string(), "prediction CSV", [&](std::ostream& o) { o << pred; });
+  }
   writeAtomic((fs::path(dir) / (plan.name + ".md")).string(), "tables", [&](std::ostream& o) { o << md; });
   return md;
 }

@@ -1,0 +1,34 @@
+#pragma once
+/// The finite-time maximal Lyapunov exponent of a scene's motion (docs/theory.md
+/// §11): Benettin's renormalized twin. Why a chaotic scene's divergence times
+/// are what they are: an error e(t0) grows to theta at about
+/// t0 + ln(theta / e(t0)) / lambda.
+#include <vector>
+
+#include "solver/model.hpp"
+
+namespace em {
+
+struct LyapunovOptions {
+  double t_end = 10;      ///< horizon (s)
+  double dt = 1e-3;       ///< the twin pair's rk4 step (s)
+  double renorm_s = 0.1;  ///< the twin is pulled back to distance d0 this often (s)
+  double window_s = 1;    ///< the uncertainty is the spread of the exponent over windows this long (s)
+  double d0 = 1e-8;       ///< separation of the twin in the state (q, u), Euclidean
+};
+
+struct Lyapunov {
+  double per_s = 0;              ///< lambda over [0, t_end]: sum of ln(d / d0) / t_end
+  double uncertainty_per_s = 0;  ///< standard error of the window means (std / sqrt(windows))
+  std::vector<double> windows;   ///< lambda of each window (per s)
+  bool ok = true;                ///< false when a run of the pair failed (the exponent then covers [0, t_stop])
+  double t_stop = 0;             ///< where the pair stopped (t_end when ok)
+};
+
+/// The exponent of `m` from its initial state: the classical method under rk4
+/// carries the state and a twin displaced by d0 along a fixed direction of
+/// the speeds; every renorm_s the twin's separation d is measured over (q, u)
+/// and scaled back to d0 (quaternions re-normalized). Deterministic.
+Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o = {});
+
+}  // namespace em

@@ -1,0 +1,35 @@
+#pragma once
+/// Ensembles of a plan (docs/sweep.md, "ensemble"): members of each scene whose
+/// initial coordinates and speeds are perturbed reproducibly, each joint as its
+/// kind allows, so that a divergence time of a chaotic scene is read as a
+/// distribution; and the distributions the merge writes.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "solver/model.hpp"
+
+namespace em {
+
+/// The plan key "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}}.
+struct Ensemble {
+  int count = 1;           ///< members per scene; member 0 is the scene itself
+  std::uint64_t seed = 1;  ///< with the member's index, the one source of its draws
+  double sigma_q = 0;      ///< standard deviation of each angle (rad; a ball's rotation vector)
+  double sigma_u = 0;      ///< standard deviation of each speed (rad/s)
+};
+
+/// Member `k` of `m`'s ensemble. Member 0 is `m`. Member k > 0 draws standard
+/// normal numbers n from (seed, k) alone (SplitMix64 and Box–Muller: the same
+/// on every machine), body by body in file order: every angle q += sigma_q n;
+/// a ball's quaternion is turned by the rotation vector sigma_q (n1, n2, n3)
+/// applied in its body frame (it stays a unit quaternion); every speed
+/// u += sigma_u n.
+Model ensembleMember(const Model& m, const Ensemble& e, int k);
+
+/// Quantiles of `x` (sorted inside) by linear interpolation between order
+/// statistics (Hyndman–Fan type 7, numpy's default); nullopt for no values.
+std::optional<double> quantile(std::vector<double> x, double p);
+
+}  // namespace em

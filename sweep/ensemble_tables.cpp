@@ -1,0 +1,181 @@
+// The ensemble's distributions (docs/sweep.md, "ensemble"): for every scene x
+// method x integrator x setting x divergence metric x threshold, how many
+// members crossed, how many failed, and the quartiles of the crossing times
+// of those that did. A member that never crosses has no time: it is counted,
+// never given one. The reference horizon (the check against the reference)
+// gets the same rows under the method name "reference-horizon".
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "solver/text.hpp"
+#include "sweep/sweep.hpp"
+
+namespace em {
+
+namespace {
+
+using GroupKey = std::tuple<std::string, std::string, std::string, std::string, double>;  // scene, method, integrator, kind, setting
+
+struct Metric {
+  const char* name;
+  double threshold;
+  std::optional<double> CaseRecord::*time;
+  bool joint;  ///< joint coordinates: only where the engines share them
+};
+const Metric kMetrics[] = {{"pose", 1e-3, &CaseRecord::pose_1e3, false},
+                           {"pose", 1e-1, &CaseRecord::pose_1e1, false},
+                           {"joint", 1e-3, &CaseRecord::coord_1e3, true},
+                           {"joint", 1e-1, &CaseRecord::coord_1e1, true}};
+
+Distribution distributionOf(const std::vector<const CaseRecord*>& members, const Metric& metric) {
+  Distribution d;
+  std::vector<double> times;
+  for (const CaseRecord* r : members) {
+    ++d.members;
+    if (r->status != "ok") ++d.failed;
+    if (const std::optional<double>& t = r->*metric.time) times.push_back(*t);
+  }
+  d.diverged = static_cast<int>(times.size());
+  d.min = quantile(times, 0), d.q1 = quantile(times, 0.25), d.median = quantile(times, 0.5);
+  d.q3 = quantile(times, 0.75), d.max = quantile(times, 1);
+  return d;
+}
+
+}  // namespace
+
+std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records) {
+  std::map<GroupKey, std::vector<const CaseRecord*>> groups;
+  std::vector<GroupKey> order;  // first appearance: plan order
+  for (const CaseRecord& r : records) {
+    if (r.role == "reference" || !r.has_error) continue;
+    const GroupKey key{r.scene, r.role == "check" ? "reference-horizon" : r.method, r.integrator, r.setting_kind, r.setting};
+    auto& g = groups[key];
+    if (g.empty()) order.push_back(key);
+    g.push_back(&r);
+  }
+  std::vector<EnsembleRow> rows;
+  for (const GroupKey& key : order) {
+    const std::vector<const CaseRecord*>& members = groups[key];
+    const bool joint_shared = std::isfinite(members.front()->max_coord);
+    for (const Metric& metric : kMetrics) {
+      if (metric.joint && !joint_shared) continue;
+      EnsembleRow row;
+      std::tie(row.scene, row.method, row.integrator, row.setting_kind, row.setting) = key;
+      row.metric = metric.name;
+      row.threshold = metric.threshold;
+      row.d = distributionOf(members, metric);
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+std::string ensembleCsv(const std::vector<EnsembleRow>& rows) {
+  std::ostringstream o;
+  o << "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s\n";
+  auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
+  for (const EnsembleRow& r : rows)
+    o << r.scene << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ',' << gnum(r.setting, 17) << ','
+      << r.metric << ',' << gnum(r.threshold) << ',' << r.d.members << ',' << r.d.diverged << ',' << r.d.failed << ','
+      << opt(r.d.median) << ',' << opt(r.d.q1) << ',' << opt(r.d.q3) << ',' << opt(r.d.min) << ',' << opt(r.d.max) << '\n';
+  return o.str();
+}
+
+std::string ensembleTable(const std::vector<EnsembleRow>& rows) {
+  std::ostringstream o;
+  o << "## Ensemble: when the members cross each threshold\n\n"
+       "Times (s) at which each member's error against its own reference first exceeds the threshold: median "
+       "[quartiles] (min - max) over the members that crossed; `crossed` counts them, `failed` counts runs that "
+       "stopped (a failure counts as crossing at its time). `reference-horizon` is the reference's own check.\n\n"
+       "| scene | method | integrator | setting | metric | threshold | members | crossed | failed | median [q1, q3] | min - max |\n"
+       "|---|---|---|---:|---|---:|---:|---:|---:|---|---|\n";
+  auto t = [](const std::optional<double>& x) { return x ? gnum(*x, 3) : std::string("-"); };
+  for (const EnsembleRow& r : rows)
+    o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | " << r.metric
+      << " | " << gnum(r.threshold) << " | " << r.d.members << " | " << r.d.diverged << " | " << r.d.failed << " | "
+      << t(r.d.median) << " [" << t(r.d.q1) << ", " << t(r.d.q3) << "] | " << t(r.d.min) << " - " << t(r.d.max) << " |\n";
+  return o.str() + "\n";
+}
+
+}  // namespace em
+
+namespace em {
+
+namespace {
+
+// The member's reference exponent by (scene, member).
+std::map<std::pair<std::string, int>, double> exponents(const std::vector<CaseRecord>& records) {
+  std::map<std::pair<std::string, int>, double> out;
+  for (const CaseRecord& r : records)
+    if (r.role == "reference" && r.lyapunov_per_s) out[{r.scene, r.member}] = *r.lyapunov_per_s;
+  return out;
+}
+
+}  // namespace
+
+std::vector<Prediction> predictions(const std::vector<CaseRecord>& records) {
+  const auto lambda = exponents(records);
+  std::vector<Prediction> out;
+  for (const CaseRecord& r : records) {
+    if (r.role != "run" || !r.has_error || !r.t0 || !r.pose_by_t0) continue;
+    const auto l = lambda.find({r.scene, r.member});
+    if (l == lambda.end()) continue;
+    for (const auto& [threshold, measured] : {std::pair{1e-3, r.pose_1e3}, std::pair{1e-1, r.pose_1e1}}) {
+      Prediction p;
+      p.record = &r;
+      p.threshold = threshold;
+      p.lambda = l->second;
+      p.e0 = *r.pose_by_t0;
+      p.measured = measured;
+      if (p.lambda > 0 && p.e0 > 0 && p.e0 < threshold) p.predicted = *r.t0 + std::log(threshold / p.e0) / p.lambda;
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+std::string predictionCsv(const std::vector<Prediction>& rows) {
+  std::ostringstream o;
+  o << "scene,member,method,integrator,setting,threshold,t0_s,pose_error_by_t0_rad,lyapunov_per_s,predicted_s,measured_s,status\n";
+  auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
+  for (const Prediction& p : rows) {
+    const CaseRecord& r = *p.record;
+    o << r.scene << ',' << r.member << ',' << r.method << ',' << r.integrator << ',' << gnum(r.setting, 17) << ','
+      << gnum(p.threshold) << ',' << opt(r.t0) << ',' << gnum(p.e0, 17) << ',' << gnum(p.lambda, 17) << ','
+      << opt(p.predicted) << ',' << opt(p.measured) << ',' << r.status << '\n';
+  }
+  return o.str();
+}
+
+std::string predictionTable(const std::vector<Prediction>& rows) {
+  // Per method x integrator x setting x threshold: members with both times, and
+  // the quartiles of measured / predicted.
+  using Key = std::tuple<std::string, std::string, std::string, double, double>;
+  std::map<Key, std::vector<double>> ratios;
+  std::map<Key, int> members;
+  std::vector<Key> order;
+  for (const Prediction& p : rows) {
+    const Key k{p.record->scene, p.record->method, p.record->integrator, p.record->setting, p.threshold};
+    if (!members.count(k)) order.push_back(k);
+    ++members[k];
+    if (p.predicted && p.measured) ratios[k].push_back(*p.measured / *p.predicted);
+  }
+  std::ostringstream o;
+  o << "## Divergence times predicted from the Lyapunov exponent\n\n"
+       "Each member's time to exceed the threshold predicted as t0 + ln(threshold / e(t0)) / lambda, from its "
+       "largest pose error e(t0) up to t0 = t_end / 10 and its reference's exponent lambda; `both` counts members "
+       "with a prediction and a measured crossing; measured / predicted: median [quartiles].\n\n"
+       "| scene | method | integrator | setting | threshold | members | both | measured / predicted |\n"
+       "|---|---|---|---:|---:|---:|---:|---|\n";
+  auto t = [](const std::optional<double>& x) { return x ? gnum(*x, 3) : std::string("-"); };
+  for (const Key& k : order) {
+    const std::vector<double>& x = ratios[k];
+    o << "| " << std::get<0>(k) << " | " << std::get<1>(k) << " | " << std::get<2>(k) << " | " << gnum(std::get<3>(k))
+      << " | " << gnum(std::get<4>(k)) << " | " << members[k] << " | " << x.size() << " | " << t(quantile(x, 0.5)) << " ["
+      << t(quantile(x, 0.25)) << ", " << t(quantile(x, 0.75)) << "] |\n";
+  }
+  return o.str() + "\n";
+}
+
+}  // namespace em

@@ -1,0 +1,103 @@
+// Ensembles: members perturbed reproducibly as each joint's kind allows, and an
+// ensemble plan run through --list and GNU parallel, merged into the
+// distributions of divergence times (docs/sweep.md, "ensemble").
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "sweep/sweep.hpp"
+#include "support.hpp"
+
+using namespace em;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kDir = std::string(EM_BINARY_DIR) + "/ensemble-tests";
+
+int shell(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("member 0 is the scene, others are drawn reproducibly and stay valid for each joint kind", "[sweep][ensemble]") {
+  const Model m = test::loadData("tree_mixed.json");  // every joint kind, ball included
+  Ensemble e;
+  e.count = 400, e.seed = 5, e.sigma_q = 1e-2, e.sigma_u = 3e-2;
+  const Model zero = ensembleMember(m, e, 0);
+  CHECK(zero.q0() == m.q0());
+  CHECK(zero.u0() == m.u0());
+  CHECK(ensembleMember(m, e, 7).q0() == ensembleMember(m, e, 7).q0());  // the same draws, bit for bit
+  CHECK(ensembleMember(m, e, 7).q0() != ensembleMember(m, e, 8).q0());
+  Ensemble other = e;
+  other.seed = 6;
+  CHECK(ensembleMember(m, other, 7).u0() != ensembleMember(m, e, 7).u0());
+  // Over 399 members x 13 speeds the offsets have mean 0 (within 4 standard errors,
+  // sigma / sqrt(n)) and standard deviation sigma_u (within 10 %: its standard error is 2 %).
+  double sum = 0, sum2 = 0, n = 0;
+  for (int k = 1; k < e.count; ++k) {
+    const Model mk = ensembleMember(m, e, k);
+    const Eigen::VectorXd du = mk.u0() - m.u0();
+    for (int i = 0; i < du.size(); ++i) sum += du[i], sum2 += du[i] * du[i], n += 1;
+    for (const Body& b : mk.bodies)
+      if (b.joint.type == JointType::Ball) REQUIRE(std::abs(b.joint.q0.norm() - 1) < 1e-15);  // a unit quaternion
+  }
+  CHECK(std::abs(sum / n) < 4 * e.sigma_u / std::sqrt(n));
+  CHECK(std::abs(std::sqrt(sum2 / n) / e.sigma_u - 1) < 0.1);
+}
+
+TEST_CASE("quantiles interpolate between order statistics as numpy does", "[sweep][ensemble]") {
+  CHECK(*quantile({4, 1, 3, 2}, 0.5) == 2.5);
+  CHECK(*quantile({4, 1, 3, 2}, 0.25) == 1.75);  // numpy.quantile([1,2,3,4], 0.25) = 1.75
+  CHECK(*quantile({7}, 0.75) == 7);
+  CHECK_FALSE(quantile({}, 0.5));
+}
+
+TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row per method x setting x metric x threshold",
+          "[sweep][ensemble]") {
+  json plan = {{"format", "eigenmass-plan/1"},
+               {"name", "ens"},
+               {"scenes", {test::sourcePath("data/scenes/chain03.json")}},
+               {"t_end", 1},
+               {"repeats", 1},
+               {"ensemble", {{"count", 4}, {"seed", 3}, {"perturb", {{"q", 1e-3}, {"u", 1e-3}}}}},
+               {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
+               {"reference_check", {{"method", "simbody"}, {"integrator", "rkmerson"}, {"tolerance", 1e-11}}},
+               {"lines", {{{"methods", {"classical", "eigen"}}, {"integrator", "rk4"}, {"dt", {1e-2, 5e-3}}}}},
+               {"tables", {"runs"}}};
+  fs::remove_all(kDir);
+  fs::create_directories(kDir);
+  const std::string path = kDir + "/ens.json", dir = kDir + "/results";
+  std::ofstream(path) << plan.dump(1);
+  const std::string exe = std::string(EM_BINARY_DIR) + "/bin/eigenmass";
+  REQUIRE(shell(exe + " sweep " + path + " --list --results " + dir + " | parallel --will-cite -j 2 >/dev/null") == 0);
+  REQUIRE(shell(exe + " sweep " + path + " --merge " + dir + " >/dev/null") == 0);
+  const std::vector<std::string> rows = lines(dir + "/ens-ensemble.csv");
+  REQUIRE(!rows.empty());
+  CHECK(rows[0] == "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s");
+  // 2 methods x 2 steps and the reference horizon, x 2 metrics x 2 thresholds.
+  CHECK(rows.size() == 1 + (2 * 2 + 1) * 2 * 2);
+  for (size_t i = 1; i < rows.size(); ++i) CHECK(rows[i].find(",4,") != std::string::npos);  // members = count
+  // Each member's case files record its initial state; member 0's is the scene's.
+  const json m0 = json::parse(std::ifstream(dir + "/chain03.m000.reference.json"));
+  const json m2 = json::parse(std::ifstream(dir + "/chain03.m002.classical.rk4.0.005.json"));
+  const Model scene = test::loadData("chain03.json");
+  CHECK(m0.at("member").at("q0").at("link1.q0").get<double>() == scene.q0()[0]);
+  CHECK(m2.at("member").at("index") == 2);
+  CHECK(m2.at("member").at("q0").at("link1.q0").get<double>() != scene.q0()[0]);
+  // The reference records carry the member's Lyapunov exponent, the runs their early error.
+  CHECK(m0.at("result").at("lyapunov_per_s").is_number());
+  CHECK(m2.at("result").at("pose_error_by_t0_rad").get<double>() >= 0);
+  const std::vector<std::string> predicted = lines(dir + "/ens-prediction.csv");
+  CHECK(predicted.size() == 1 + 4 * 2 * 2 * 2);  // members x methods x steps x thresholds
+}
