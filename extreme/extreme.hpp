@@ -106,9 +106,11 @@ std::string diagnosis(const ExtremeEntry& e, const ExtremeCaseResult& c, const E
 /// The Markdown page: the table, then a paragraph per case.
 std::string extremeMarkdown(const std::vector<ExtremeCaseResult>& cases, const nlohmann::json& provenance);
 
-/// Compare outcomes and failure kinds with a summary recorded earlier: one
-/// line per difference (empty when every entry matches). Every case x setting
-/// x method run must be in `expected`, made with the same t_end.
+/// Compare with a summary recorded earlier (a snapshot of this code's own
+/// output, tests/extreme/expected.json): outcomes and failure kinds, classical's
+/// max pose error within 3x and failure times within 10 %; one line per
+/// difference (empty when every entry matches). Every case x setting x method
+/// run must be in `expected`, made with the same t_end.
 std::vector<std::string> checkExpected(const std::vector<ExtremeCaseResult>& cases, const nlohmann::json& expected);
 
 }  // namespace em

@@ -215,10 +215,31 @@ std::string extremeMarkdown(const std::vector<ExtremeCaseResult>& cases, const j
 
 namespace {
 
+// What the expected file (a snapshot of an earlier run) says of one method.
+struct ExpectedMethod {
+  std::string outcome, kind;
+  double max_pose = 0;
+  std::optional<double> failure_t;
+};
 struct Expected {
   double t_end = 0;
-  std::map<std::string, std::pair<std::string, std::string>> methods;  // name -> (outcome, kind)
+  std::map<std::string, ExpectedMethod> methods;  // by name
 };
+
+// Beyond the outcome and the failure kind, a few numbers are held to the
+// snapshot: classical's max pose error within a factor 3 (it is the accurate
+// method: a change there is a change of the physics or the reference) and
+// every failure time within 10 % (where each method breaks is the gallery's point).
+constexpr double kPoseFactor = 3, kFailureTimeRel = 0.1;
+
+std::string numbersDiffer(const ExtremeEntry& e, const ExpectedMethod& m) {
+  if (e.method == "classical" && m.max_pose > 1e-12 &&
+      !(e.max_pose <= kPoseFactor * m.max_pose && e.max_pose >= m.max_pose / kPoseFactor))
+    return "max pose error " + gnum(e.max_pose, 3) + " rad, expected " + gnum(m.max_pose, 3) + " (within " + gnum(kPoseFactor) + "x)";
+  if (e.failure_time && m.failure_t && std::abs(*e.failure_time - *m.failure_t) > kFailureTimeRel * *m.failure_t + 1e-9)
+    return "failed at " + gnum(*e.failure_time, 4) + " s, expected " + gnum(*m.failure_t, 4) + " s (within 10 %)";
+  return "";
+}
 
 std::map<std::string, Expected> expectedRuns(const json& expected) {
   std::map<std::string, Expected> out;
@@ -226,10 +247,13 @@ std::map<std::string, Expected> expectedRuns(const json& expected) {
     for (const json& r : c.at("runs")) {
       Expected& e = out[c.at("name").get<std::string>() + " " + r.at("setting").get<std::string>()];
       e.t_end = r.at("t_end").get<double>();
-      for (const json& m : r.at("methods"))
-        e.methods[m.at("name").get<std::string>()] = {
-            m.at("outcome").get<std::string>(),
-            m.at("failure").is_null() ? "none" : m.at("failure").at("kind").get<std::string>()};
+      for (const json& m : r.at("methods")) {
+        ExpectedMethod& x = e.methods[m.at("name").get<std::string>()];
+        x.outcome = m.at("outcome").get<std::string>();
+        x.kind = m.at("failure").is_null() ? "none" : m.at("failure").at("kind").get<std::string>();
+        x.max_pose = numberFrom(m.at("max_pose_error_rad"));
+        if (!m.at("failure").is_null()) x.failure_t = optionalFrom(m.at("failure").at("t"));
+      }
     }
   return out;
 }
@@ -256,9 +280,11 @@ std::vector<std::string> checkExpected(const std::vector<ExtremeCaseResult>& cas
         const std::string kind = failureName(e.failure_kind);
         if (m == it->second.methods.end())
           diff.push_back(key + " " + e.method + ": not in the expected file");
-        else if (m->second.first != e.outcome || m->second.second != kind)
-          diff.push_back(key + " " + e.method + ": " + e.outcome + " (" + kind + "), expected " + m->second.first + " (" +
-                         m->second.second + ")");
+        else if (m->second.outcome != e.outcome || m->second.kind != kind)
+          diff.push_back(key + " " + e.method + ": " + e.outcome + " (" + kind + "), expected " + m->second.outcome + " (" +
+                         m->second.kind + ")");
+        else if (const std::string d = numbersDiffer(e, m->second); !d.empty())
+          diff.push_back(key + " " + e.method + ": " + d);
       }
     }
   return diff;

@@ -57,7 +57,7 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
   if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   formQdot(model_, y, y + nq, dydt);
-  formEquations(model_, y, y + nq, ws_, f_->needsAdot());
+  formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA());
   EvalInfo local;
   Status s = f_->rates(t, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
   if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);
@@ -86,7 +86,10 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
   return f_->afterStep(t, ws_, y + offsetExtra(), info);
 }
 
-void Dynamics::kinematicsAt(const double* y) { formKinematics(model_, y, y + model_.nq, ws_); }
+void Dynamics::kinematicsAt(const double* y) {
+  formKinematics(model_, y, y + model_.nq, ws_);
+  formEnergies(model_, y, ws_);
+}
 
 double Dynamics::conditionAt(const double* y) {
   formKinematics(model_, y, y + model_.nq, ws_);
@@ -99,6 +102,7 @@ EigenDiagnostics Dynamics::diagnosticsAt(const double* y) {
   // A, A' and Omega at y, from a fresh evaluation.
   EvalInfo ev;
   const bool ok = rhs(0.0, y, scratch_.data(), &ev).ok;
+  if (!f_->needsA()) formA(model_, ws_);  // the drift is measured against A itself
   return f_->diagnostics(ws_, y + offsetExtra(), ok ? ev.max_Omega : std::numeric_limits<double>::infinity());
 }
 

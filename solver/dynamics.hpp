@@ -37,7 +37,7 @@ class Dynamics {
   /// After every accepted step: normalize quaternions, check for blow-up,
   /// apply the method's correction.
   Status afterStep(double t, double* y, StepInfo& info);
-  /// Form the kinematics and energies at y into the workspace (for output).
+  /// Form the kinematics and energies at y into the workspace (for output samples).
   void kinematicsAt(const double* y);
   /// cond(A) at y's q (conditionNumber; allocates: for the report of a failure).
   double conditionAt(const double* y);

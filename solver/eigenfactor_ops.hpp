@@ -81,23 +81,26 @@ EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<con
 /// The residuals r_k = B - A u'_k obey r_k+1 = (I - A H) r_k, which shrinks
 /// in the H-norm (r^T H r = r . du, free) exactly when every eigenvalue of
 /// H A lies in (0, 2), while the 2-norm may grow on the way when A is ill
-/// conditioned. Returns false when r^T H r grew (or went negative: H not
-/// positive definite) beyond rounding (eps of (|A u'| + |B|) |u'|): H no
-/// longer contracts and u' is not to be trusted. r, du: (N) scratch.
+/// conditioned. The residual is measured before every correction and once
+/// after the last (one more product A u' and application of H), so that a
+/// single correction is judged too. Returns false when a correction did not
+/// shrink r^T H r (or it went negative: H not positive definite), beyond
+/// rounding (eps of (|A u'| + |B|) |u'|): H no longer contracts and u' is not
+/// to be trusted. r, du: (N) scratch.
 template <class ApplyH>
 bool refineResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, int steps, ApplyH&& applyH,
                     Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du) {
   constexpr double kRounding = std::numeric_limits<double>::epsilon();
   double previous = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < steps; ++k) {
+  for (int k = 0; k <= steps && steps > 0; ++k) {
     r.noalias() = A * udot;
     const double floor = kRounding * (r.norm() + B.norm()) * udot.norm();
     r = B - r;
     applyH(r, du);
     const double rHr = r.dot(du);
-    if ((rHr > previous || rHr < 0) && std::abs(rHr) > floor) return false;
+    if ((!(rHr < previous) || rHr < 0) && std::abs(rHr) > floor) return false;
     previous = rHr;
-    udot += du;
+    if (k < steps) udot += du;  // after the last correction the residual is only measured
   }
   return true;
 }

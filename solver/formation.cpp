@@ -34,7 +34,6 @@ Workspace::Workspace(const Model& m) {
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
   // Outward recursion over the regular numbering (parents first); docs/theory.md §3.
   Axes Pj, Pdj;
-  ws.kinetic = 0;
   for (int i = 0; i < m.n(); ++i) {
     const Body& B = m.bodies[i];
     const int p = B.parent;
@@ -63,8 +62,13 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
     ws.vo[i] = v_o;
     ws.r[i] = ws.o[i] + ws.b[i];
     ws.v[i] = v_o + ws.omega[i].cross(ws.b[i]);
-    ws.kinetic += 0.5 * (B.mass * ws.v[i].squaredNorm() + ws.omega[i].dot(ws.J_w[i] * ws.omega[i]));
   }
+}
+
+void formEnergies(const Model& m, const double* q, Workspace& ws) {
+  ws.kinetic = 0;
+  for (int i = 0; i < m.n(); ++i)
+    ws.kinetic += 0.5 * (m.bodies[i].mass * ws.v[i].squaredNorm() + ws.omega[i].dot(ws.J_w[i] * ws.omega[i]));
   ws.potential = potentialEnergy(m, q, ws);
 }
 
@@ -250,10 +254,10 @@ void formAdot(const Model& m, Workspace& ws) {
   ws.Adot.triangularView<Eigen::StrictlyLower>() = ws.Adot.transpose();
 }
 
-void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot) {
+void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot, bool with_A) {
   formKinematics(m, q, u, ws);
   formSubtrees(m, ws);
-  formA(m, ws);
+  if (with_A) formA(m, ws);
   formB(m, q, u, ws);
   if (!with_Adot) return;
   formSubtreeRates(m, ws);
@@ -264,6 +268,7 @@ Workspace equationsAtStart(const Model& m) {
   Workspace ws(m);
   const Eigen::VectorXd q = m.q0(), u = m.u0();
   formEquations(m, q.data(), u.data(), ws);
+  formEnergies(m, q.data(), ws);
   return ws;
 }
 

@@ -49,8 +49,11 @@ struct Workspace {
   double energy() const { return kinetic + potential; }
 };
 
-/// Orientations, axes, positions, velocities, energies at (q, u).  // q: (nq), u: (nu)
+/// Orientations, axes, positions, velocities at (q, u).  // q: (nq), u: (nu)
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws);
+/// Kinetic and potential energy into ws.kinetic, ws.potential (needs
+/// formKinematics): where a sample or a check reads them, not in every evaluation.
+void formEnergies(const Model& m, const double* q, Workspace& ws);
 /// Subtree masses mu, barycentric s, K's diagonal blocks Kd, first moments S
 /// and composite inertias I_k, all O(n) bottom-up (needs formKinematics).
 void formSubtrees(const Model& m, Workspace& ws);
@@ -74,10 +77,11 @@ void formSubtreeRates(const Model& m, Workspace& ws);
 /// A' in O(n depth): formA's product rule (docs/theory.md §6; needs
 /// formSubtreeRates).  // -> ws.Adot (nu x nu)
 void formAdot(const Model& m, Workspace& ws);
-/// All of the above in order; A' only when asked.
+/// Kinematics, subtrees, A (unless with_A is false: a method that never reads
+/// A), B, and A' when asked; not the energies (formEnergies).
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws,
-                   bool with_Adot = false);
-/// A workspace holding the equations (A, B, energies) at the model's initial state (q0, u0).
+                   bool with_Adot = false, bool with_A = true);
+/// A workspace holding the equations (A, B) and the energies at the model's initial state (q0, u0).
 Workspace equationsAtStart(const Model& m);
 /// Total potential energy (gravity + springs) at q, using ws's CM positions.
 double potentialEnergy(const Model& m, const double* q, const Workspace& ws);

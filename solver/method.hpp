@@ -43,6 +43,9 @@ class MethodImpl {
   virtual ~MethodImpl() = default;
   /// Whether the evaluation needs A' formed (the eigenfactor rates do).
   virtual bool needsAdot() const { return false; }
+  /// Whether the evaluation reads A (classical factors it; the eigenfactor
+  /// methods only for residual corrections).
+  virtual bool needsA() const { return true; }
   /// The extra state at t = 0 from the formed A.  // x: (extraStateSize)
   virtual void initialize(const Workspace&, double* /*x*/) {}
   /// u' and the extra state's rates from the formed A, B (and A').  // udot: (nu), xdot: (extraStateSize)

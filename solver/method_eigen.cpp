@@ -21,6 +21,7 @@ class EigenMethod final : public MethodImpl {
   }
 
   bool needsAdot() const override { return true; }
+  bool needsA() const override { return refine_ > 0; }
   bool correctsAfterStep() const override { return correction_ != Correction::None; }
   bool hasDiagnostics() const override { return true; }
 

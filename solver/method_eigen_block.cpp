@@ -56,6 +56,7 @@ class EigenBlock final : public MethodImpl {
 
   // x = [C (N*N, row-major), D (N*N, column-major, block diagonal)] (ExtraState::CD).
   bool needsAdot() const override { return true; }
+  bool needsA() const override { return refine_ > 0; }
   bool correctsAfterStep() const override { return true; }  // re-clustering changes the state
   bool needsAAfterStep() const override { return correction_ != Correction::None; }  // only Jacobi reads A
   bool hasDiagnostics() const override { return true; }

@@ -59,6 +59,7 @@ TEST_CASE("A B udot energies and poses agree with Simbody at random states of ev
     for (int k = 0; k <= kStates; ++k) {
       INFO(name << " state " << k);
       formEquations(m, q.data(), u.data(), ws);
+      formEnergies(m, q.data(), ws);
       ref.setState(q, u);
       const Eigen::MatrixXd A = ref.massMatrix();
       const Eigen::VectorXd B = ref.rhs(), udot = ref.udot();
@@ -99,6 +100,7 @@ TEST_CASE("a balls u is the angular velocity in the parent frame in Simbody too"
   u.head<3>() = Vec3(0.3, -1.1, 0.7);
   ref.setState(q, u);
   formKinematics(m, q.data(), u.data(), ws);
+  formEnergies(m, q.data(), ws);
   CHECK((ws.omega[0] - Vec3(0.3, -1.1, 0.7)).norm() < 1e-15);
   CHECK(std::abs(ref.kineticEnergy() - ws.kinetic) < 1e-13);
 }

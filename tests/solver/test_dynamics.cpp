@@ -287,8 +287,10 @@ TEST_CASE("at rk4's second stage the eigenfactors miss A(q) by O(h squared), u' 
         REQUIRE(dyn.rhs(0, y.data(), k1.data()).ok);
         const Eigen::VectorXd y2 = y + 0.5 * h * k1;
         REQUIRE(dyn.rhs(0.5 * h, y2.data(), k2.data()).ok);
-        const Eigen::MatrixXd& A = dyn.workspace().A;  // A(q) at the stage's q
-        const Eigen::VectorXd exact = A.llt().solve(dyn.workspace().B);
+        Workspace ws(m);  // A(q) at the stage's q (the method at refine 0 does not form it)
+        formEquations(m, y2.data(), y2.data() + m.nq, ws);
+        const Eigen::MatrixXd& A = ws.A;
+        const Eigen::VectorXd exact = A.llt().solve(ws.B);
         const Eigen::Map<const RowMatrix> C(y2.data() + dyn.offsetExtra(), N, N);
         const Eigen::Map<const Eigen::VectorXd> lambda(y2.data() + dyn.offsetExtra() + N * N, N);
         const double dA = (C.transpose() * lambda.asDiagonal() * C - A).norm() / A.norm();

@@ -131,7 +131,7 @@ TEST_CASE("through a family of near-crossings eigen-block's rates stay bounded w
     Eigen::VectorXd yb = blk.initialState(m.q0(), m.u0()), dyb(blk.size());
     REQUIRE(eig.rhs(0, ye.data(), dye.data()).ok);
     REQUIRE(blk.rhs(0, yb.data(), dyb.data()).ok);
-    const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(eig.workspace().A).eigenvalues();
+    const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(equationsAtStart(m).A).eigenvalues();
     const double gap = lambda[1] - lambda[0];
     const int o = eig.offsetExtra(), ob = blk.offsetExtra();
     const Eigen::Map<const RowMatrix> Ce(ye.data() + o, 2, 2), Cde(dye.data() + o, 2, 2);
@@ -184,12 +184,21 @@ TEST_CASE("through tree_mixed's near-crossing eigen-block's Omega stays bounded 
   CHECK(orth < 1e-6);      // measured 1.1e-10
 }
 
-TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-block-jacobi", "[eigenblock]") {
+TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-block-jacobi, though not accurately", "[eigenblock]") {
+  // Where every paper method stops, both block methods finish; how far they
+  // stray is bounded too: against classical under the same rk4 step (itself
+  // 2.4e-4 rad from Simbody over 10 s) their bodies' CMs are 0.072 m
+  // (eigen-block) and 0.096 m (eigen-block-jacobi) off at most (measured), on
+  // links 1 m long: finished, not accurate. The bounds sit a factor 2 above.
   const Model m = test::loadData("chain20.json");
+  const Trajectory c = simulate(m, blockRun(Method::Classical, 10.0, 3e-2));
+  REQUIRE(c.status() == "ok");
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
     const Trajectory b = simulate(m, blockRun(method, 10.0, 3e-2));
-    INFO(methodName(method));
+    const double off = maxPoseDiff(b, c);
+    INFO(methodName(method) << " " << off << " m from classical");
     CHECK(b.status() == "ok");
+    CHECK(off < (method == Method::EigenBlock ? 0.15 : 0.2));
   }
 }
 

@@ -155,7 +155,8 @@ TEST_CASE("each residual correction multiplies the error of u' by I - H A, H the
 
 TEST_CASE("a residual correction that grows the residual is reported, not applied on", "[eigenfactor][refine][failure]") {
   // One eigenvalue of H's Lambda at a third of A's: I - H A has the eigenvalue
-  // 1 - 3 = -2 there, so the second residual is twice the first along it.
+  // 1 - 3 = -2 there, so each residual is twice the last along it (r^T H r
+  // four times). Along B = that eigenvector a single correction already grows it.
   std::mt19937 rng(8);
   const Eigen::MatrixXd A = randomSpd(rng);
   const Eigen::VectorXd B = Eigen::VectorXd::Ones(N);
@@ -167,10 +168,16 @@ TEST_CASE("a residual correction that grows the residual is reported, not applie
     out = C.transpose() * (lambda.cwiseInverse().asDiagonal() * (C * b));
   };
   Eigen::VectorXd u(N), r(N), du(N);
-  applyH(B, u);
-  CHECK(refineResidual(A, B, 1, applyH, u, r, du));  // one residual: nothing to compare it with
-  applyH(B, u);
-  CHECK_FALSE(refineResidual(A, B, 3, applyH, u, r, du));
+  for (int steps : {1, 2, 3}) {  // the residual after the last correction is measured too
+    applyH(B, u);
+    CHECK_FALSE(refineResidual(A, B, steps, applyH, u, r, du));
+  }
+  const Eigen::VectorXd along = C.row(0).transpose();
+  applyH(along, u);
+  CHECK_FALSE(refineResidual(A, along, 1, applyH, u, r, du));
+  const Eigen::VectorXd across = C.row(1).transpose();  // where H A = I: one correction is exact
+  applyH(across, u);
+  CHECK(refineResidual(A, across, 1, applyH, u, r, du));
   CHECK_FALSE(refineDivergedCause(3).empty());
 }
 

@@ -54,6 +54,7 @@ constexpr int kStates = 20;
 Workspace formAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u, bool adot = false) {
   Workspace ws(m);
   formEquations(m, q.data(), u.data(), ws, adot);
+  formEnergies(m, q.data(), ws);
   return ws;
 }
 
@@ -109,6 +110,43 @@ TEST_CASE("compound pendulum: A = I + m l2 and udot = -m g l sin q / (I + m l2)"
   CHECK(std::abs(ws.B[0] / ws.A(0, 0) - (-m * g * l * std::sin(q) / (I + m * l * l))) < kRoundoff);
   CHECK(std::abs(ws.kinetic - 0.5 * (I + m * l * l) * u * u) < kRoundoff);
   CHECK(std::abs(ws.potential - (-m * g * l * std::cos(q))) < kRoundoff);
+}
+
+TEST_CASE("a free asymmetric rotor on a ball and on a gimbal obeys Euler's equations J w' = -w x J w", "[closedform][formation]") {
+  // One body held at its CM (joint point = CM): gravity has no moment, so u'
+  // is the torque-free rotor's. World frame: J_w w' = -w x J_w w with
+  // J_w = R J R^T. The gyroscopic term is the whole right-hand side here, so a
+  // wrong sign or factor in B's w x J w fails at once; the planar closed forms
+  // above cannot see it (w x J w = 0 there). 1e-12 relative: a few dozen
+  // products of O(1) numbers.
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> uni(-1.5, 1.5);
+  for (JointType type : {JointType::Ball, JointType::Gimbal}) {
+    SceneSpec s = revoluteSpec(1);
+    s.bodies[0].inertia = Vec3(0.3, 0.5, 0.65).asDiagonal();  // asymmetric, within the triangle inequality
+    s.bodies[0].inertia(0, 1) = s.bodies[0].inertia(1, 0) = 0.04;  // and not principal in the body frame
+    s.bodies[0].joint.type = type;
+    s.bodies[0].joint.in_body = Vec3::Zero();
+    s.bodies[0].joint.q0 = type == JointType::Ball ? Eigen::VectorXd(Eigen::Vector4d(1, 0, 0, 0)) : Eigen::VectorXd::Zero(3);
+    s.bodies[0].joint.u0 = Eigen::VectorXd::Zero(3);
+    const Model model = buildModel(s);
+    for (int k = 0; k < 20; ++k) {
+      Eigen::VectorXd q(model.nq), u(3);
+      for (int i = 0; i < model.nq; ++i) q[i] = uni(rng);
+      if (type == JointType::Ball) q.normalize();
+      else q[1] *= 0.9;  // away from gimbal lock
+      for (int i = 0; i < 3; ++i) u[i] = 3 * uni(rng);
+      const Workspace ws = formAt(model, q, u);
+      const Eigen::VectorXd udot = ws.A.llt().solve(ws.B);
+      const Mat3& Jw = ws.J_w[0];
+      const Vec3 w = ws.omega[0];
+      const Vec3 wdot_euler = Jw.llt().solve(Vec3(-w.cross(Jw * w)));
+      const Vec3 wdot = ws.P * udot + ws.Pdot * u;  // w = P u, so w' = P u' + P' u
+      INFO(jointTypeName(type) << " state " << k << ": " << wdot.transpose() << " vs " << wdot_euler.transpose());
+      CHECK((wdot - wdot_euler).norm() < 1e-12 * std::max(1.0, wdot_euler.norm()));
+      CHECK(wdot_euler.norm() > 1e-2);  // not vacuous: the rotor precesses
+    }
+  }
 }
 
 TEST_CASE("planar double pendulum of point masses matches the textbook equations", "[closedform][formation]") {
