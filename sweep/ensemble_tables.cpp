@@ -115,20 +115,20 @@ std::map<std::pair<std::string, int>, double> exponents(const std::vector<CaseRe
 }  // namespace
 
 std::vector<Prediction> predictions(const std::vector<CaseRecord>& records) {
-  const auto lambda = exponents(records);
+  const auto chi = exponents(records);
   std::vector<Prediction> out;
   for (const CaseRecord& r : records) {
     if (r.role != "run" || !r.has_error || !r.t0 || !r.pose_by_t0) continue;
-    const auto l = lambda.find({r.scene, r.member});
-    if (l == lambda.end()) continue;
+    const auto l = chi.find({r.scene, r.member});
+    if (l == chi.end()) continue;
     for (const auto& [threshold, measured] : {std::pair{1e-3, r.pose_1e3}, std::pair{1e-1, r.pose_1e1}}) {
       Prediction p;
       p.record = &r;
       p.threshold = threshold;
-      p.lambda = l->second;
+      p.chi = l->second;
       p.e0 = *r.pose_by_t0;
       p.measured = measured;
-      if (p.lambda > 0 && p.e0 > 0 && p.e0 < threshold) p.predicted = *r.t0 + std::log(threshold / p.e0) / p.lambda;
+      if (p.chi > 0 && p.e0 > 0 && p.e0 < threshold) p.predicted = *r.t0 + std::log(threshold / p.e0) / p.chi;
       out.push_back(p);
     }
   }
@@ -142,7 +142,7 @@ std::string predictionCsv(const std::vector<Prediction>& rows) {
   for (const Prediction& p : rows) {
     const CaseRecord& r = *p.record;
     o << r.scene << ',' << r.member << ',' << r.method << ',' << r.integrator << ',' << gnum(r.setting, 17) << ','
-      << gnum(p.threshold) << ',' << opt(r.t0) << ',' << gnum(p.e0, 17) << ',' << gnum(p.lambda, 17) << ','
+      << gnum(p.threshold) << ',' << opt(r.t0) << ',' << gnum(p.e0, 17) << ',' << gnum(p.chi, 17) << ','
       << opt(p.predicted) << ',' << opt(p.measured) << ',' << r.status << '\n';
   }
   return o.str();
@@ -163,8 +163,8 @@ std::string predictionTable(const std::vector<Prediction>& rows) {
   }
   std::ostringstream o;
   o << "## Divergence times predicted from the Lyapunov exponent\n\n"
-       "Each member's time to exceed the threshold predicted as t0 + ln(threshold / e(t0)) / lambda, from its "
-       "largest pose error e(t0) up to t0 = t_end / 10 and its reference's exponent lambda; `both` counts members "
+       "Each member's time to exceed the threshold predicted as t0 + ln(threshold / e(t0)) / chi, from its "
+       "largest pose error e(t0) up to t0 = t_end / 10 and its reference's Lyapunov exponent chi; `both` counts members "
        "with a prediction and a measured crossing; measured / predicted: median [quartiles].\n\n"
        "| scene | method | integrator | setting | threshold | members | both | measured / predicted |\n"
        "|---|---|---|---:|---:|---:|---:|---|\n";

@@ -97,11 +97,11 @@ std::string ensembleCsv(const std::vector<EnsembleRow>& rows);
 std::string ensembleTable(const std::vector<EnsembleRow>& rows);
 
 /// One run's divergence time predicted from its early error and its
-/// member's Lyapunov exponent, t0 + ln(threshold / e(t0)) / lambda, beside the measured one.
+/// member's Lyapunov exponent, t0 + ln(threshold / e(t0)) / chi, beside the measured one.
 struct Prediction {
   const CaseRecord* record = nullptr;
-  double threshold = 0, lambda = 0, e0 = 0;
-  std::optional<double> predicted, measured;  ///< predicted: none when lambda <= 0 or e(t0) is not below the threshold
+  double threshold = 0, chi = 0, e0 = 0;  // chi: the Lyapunov exponent (docs/theory.md §11)
+  std::optional<double> predicted, measured;  ///< predicted: none when chi <= 0 or e(t0) is not below the threshold
 };
 /// For every run with an early error and a reference exponent, at 1e-3 and 0.1 rad (pose).
 std::vector<Prediction> predictions(const std::vector<CaseRecord>& records);

@@ -11,6 +11,12 @@ Draws what the plan's tables ask for:
   trajectories    fig3-<scene>.png (one joint angle of every method and the
                   reference, 0.1-rad divergence marked) and fig5-<scene>.png
                   (total energy and its relative error)
+and, for a plan with an ensemble:
+  <plan>-cdf.png          per scene, the fraction of members whose joint angles
+                          have left the reference by 0.1 rad against time, one
+                          colour per method, one line style per step
+  <plan>-prediction.png   measured against predicted 0.1-rad divergence times
+                          (t0 + ln(0.1 / e(t0)) / chi), per scene
 Needs Debian's python3-matplotlib (./run figures installs it); never needed
 by the build or the tests.
 """
@@ -190,6 +196,63 @@ def save(fig, out, name):
 
 
 T_END = [1.0]
+DT_STYLES = ["-", "--", "-.", ":"]
+
+
+def ensemble_cdf(plan, rows, out):
+    # Small multiples: a row per method (its colour), a column per scene, a line style per step.
+    runs = [r for r in rows if r["role"] == "run"]
+    scenes = sorted({r["scene"] for r in runs})
+    methods = list(dict.fromkeys(r["method"] for r in runs))
+    fig, axes = plt.subplots(len(methods), len(scenes), figsize=(4.6 * len(scenes), 2.6 * len(methods)),
+                             sharex=True, sharey=True, squeeze=False)
+    for i, method in enumerate(methods):
+        for j, scene in enumerate(scenes):
+            ax = axes[i][j]
+            mine = [r for r in runs if r["scene"] == scene and r["method"] == method]
+            settings = sorted({float(r["setting"]) for r in mine}, reverse=True)
+            for k, dt in enumerate(settings):
+                t = [num(r["coord_beyond_1e-1_s"]) for r in mine if float(r["setting"]) == dt]
+                crossed = sorted(x for x in t if not math.isnan(x))
+                xs = [0.0] + [x for x in crossed for _ in (0, 1)] + [T_END[0]]
+                ys = [0.0] + [y for n in range(len(crossed)) for y in (n / len(t), (n + 1) / len(t))] + [len(crossed) / len(t)]
+                ax.plot(xs, ys, DT_STYLES[k % len(DT_STYLES)], color=COLORS.get(method, "k"), lw=1.4, label="dt %g" % dt)
+            ax.axvline(7.2, color="k", lw=0.8, ls=":")
+            ax.set_title("%s, %s (%d members)" % (method, scene, len(t)), fontsize=9)
+            ax.set_xlim(0, T_END[0])
+            ax.set_ylim(0, 1.02)
+            ax.grid(alpha=0.3)
+            if i == len(methods) - 1:
+                ax.set_xlabel("time (s); dotted: the paper's 7.2 s")
+            if j == 0:
+                ax.set_ylabel("fraction beyond 0.1 rad")
+            if i == 0 and j == 0:
+                ax.legend(fontsize=7, loc="upper left")
+    save(fig, out, plan["name"] + "-cdf.png")
+
+
+def ensemble_prediction(plan, results, out):
+    path = os.path.join(results, plan["name"] + "-prediction.csv")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        pred = [p for p in csv.DictReader(f) if float(p["threshold"]) == 0.1 and p["predicted_s"] and p["measured_s"]]
+    scenes = sorted({p["scene"] for p in pred})
+    fig, axes = plt.subplots(1, len(scenes), figsize=(4.8 * len(scenes), 4.4), sharey=True, squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        for method in dict.fromkeys(p["method"] for p in pred):
+            mine = [p for p in pred if p["scene"] == scene and p["method"] == method]
+            ax.scatter([float(p["predicted_s"]) for p in mine], [float(p["measured_s"]) for p in mine], s=6,
+                       color=COLORS.get(method, "k"), alpha=0.5, label=method)
+        ax.plot([0, T_END[0] * 1.5], [0, T_END[0] * 1.5], "k:", lw=0.8)
+        ax.set_xlim(0, T_END[0] * 1.5)
+        ax.set_ylim(0, T_END[0])
+        ax.set_title(scene + ": every member and step")
+        ax.set_xlabel("predicted from e(t0) and chi (s)")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("measured: pose beyond 0.1 rad (s)")
+    axes[0][0].legend(fontsize=8)
+    save(fig, out, plan["name"] + "-prediction.png")
 
 
 def main():
@@ -209,6 +272,9 @@ def main():
         cost_vs_size(rows, a.out)
     if "trajectories" in tables:
         trajectories(rows, a.results, a.out)
+    if "ensemble" in plan:
+        ensemble_cdf(plan, rows, a.out)
+        ensemble_prediction(plan, a.results, a.out)
 
 
 if __name__ == "__main__":
