@@ -124,6 +124,18 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
   p["refine"] = 11;
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  p = smallPlan();  // an ensemble: its count, its perturbation, its keys, each named
+  p["ensemble"] = {{"count", 0}, {"perturb", {{"q", 1e-3}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.count: must be a whole number from 1"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 0}, {"u", 0}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb: q or u must be > 0"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"q", -1e-3}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: must be a finite number >= 0"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"w", 1e-3}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.w: unknown key"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e-3}}}};
+  p["repeats"] = 1;  // an ensemble may run each case once; a plain plan may not (above)
+  CHECK(planError(p).empty());
   p = smallPlan();  // every row option is a plan key under its name, checked by its row's range
   p["block_gap"] = 2;
   CHECK_THAT(planError(p), Catch::Contains("bad.json: block_gap: must be in (0, 1], got 2"));
