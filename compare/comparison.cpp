@@ -85,8 +85,12 @@ void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) {
 ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
   const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
   checkComparison(opt, specs);
-  return {runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
-          runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress)};
+  ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}};
+  LyapunovOptions lo;
+  lo.t_end = specs[0].t_end;  // the grid's horizon
+  out.lyapunov = lyapunovExponent(scene.model, lo);
+  return out;
 }
 
 ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
@@ -106,9 +110,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   r.nq = m.nq;
   r.nu = m.nu;
   r.bodies = m.n();
-  LyapunovOptions lo;
-  lo.t_end = r.t_end;
-  r.lyapunov = lyapunovExponent(m, lo);
+  r.lyapunov = reference.lyapunov;
   return r;
 }
 

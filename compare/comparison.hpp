@@ -46,9 +46,12 @@ struct ComparisonResult {
 /// no threshold): what runComparison checks before anything runs.
 void checkComparisonOptions(const Scene& scene, const CompareOptions& opt);
 
-/// The reference run and its tighter twin (the horizon run).
+/// The reference run, its tighter twin (the horizon run) and the reference
+/// motion's Lyapunov exponent over the grid: measured once per reference, and
+/// shared by every comparison against it (the gallery's settings).
 struct ReferenceRuns {
   Trajectory reference, tight;
+  Lyapunov lyapunov;
 };
 /// Run them as `opt` says (after checkComparisonOptions).
 ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&) = nullptr);

@@ -130,6 +130,23 @@ TEST_CASE("compare writes the report and prints the table - a broken gate exits 
   CHECK(nlohmann::json::parse(gin)["gate"]["passed"] == false);
 }
 
+TEST_CASE("compare reports the reference motion's Lyapunov exponent and says it under the table", "[cli][comparison][lyapunov]") {
+  // pendulum5 is chaotic: 1.43 +- 0.32 /s over its 10 s (measured; docs/theory.md §11). Over
+  // the 10 windows of 1 s the exponent stays positive beyond its own uncertainty.
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_lyapunov";
+  std::filesystem::remove_all(dir);
+  const Run r = eigenmass("compare " + scene("pendulum5.json") + " --methods classical --out " + dir + "/r.json");
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("maximal Lyapunov exponent") != std::string::npos);
+  std::ifstream in(dir + "/r.json");
+  const auto j = nlohmann::json::parse(in);
+  const double chi = j["reference"]["lyapunov_per_s"], sigma = j["reference"]["lyapunov_uncertainty_per_s"];
+  CHECK(chi > 3 * sigma);
+  CHECK(chi == Approx(1.43).epsilon(0.05));  // deterministic: the same twin direction and steps every run
+  CHECK(j["reference"]["lyapunov"]["windows_per_s"].size() == 10);
+  CHECK(j["reference"]["lyapunov"]["completed"] == true);
+}
+
 TEST_CASE("compare --refine records the corrections per eigenfactor method and says so under the table", "[cli][comparison][refine]") {
   const std::string dir = std::string(EM_BINARY_DIR) + "/cli_refine";
   std::filesystem::remove_all(dir);
