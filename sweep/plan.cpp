@@ -284,6 +284,10 @@ SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSp
 
 }  // namespace
 
+SweepCase referenceCaseOf(const Plan& p, const SweepCase& c) {
+  return makeCase(p, c.scene, c.member, CaseRole::Reference, *p.reference);
+}
+
 std::vector<SweepCase> planCases(const Plan& p) {
   std::vector<SweepCase> cases;
   const int members = p.ensemble ? p.ensemble->count : 1;

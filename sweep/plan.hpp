@@ -59,4 +59,8 @@ struct SweepCase {
 /// order), then the runs in plan order: scene, member, line, method, setting.
 std::vector<SweepCase> planCases(const Plan& plan);
 
+/// The reference case of `c`'s scene and member (the plan has a reference),
+/// built directly: as planCases lists it, without listing every case.
+SweepCase referenceCaseOf(const Plan& plan, const SweepCase& c);
+
 }  // namespace em

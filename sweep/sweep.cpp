@@ -74,15 +74,9 @@ void checkKey(const std::string& path, const json& key) {
                              "); use another --results folder or remove the file");
 }
 
-SweepCase referenceCase(const Plan& plan, const SweepCase& c) {
-  for (const SweepCase& r : planCases(plan))
-    if (r.role == CaseRole::Reference && r.scene == c.scene && r.member == c.member) return r;
-  throw std::logic_error("no reference case");
-}
-
 // The scene's (the member's) reference run: read from its case file, or run and written now.
 Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scene, const std::string& dir) {
-  const SweepCase r = referenceCase(plan, c);
+  const SweepCase r = referenceCaseOf(plan, c);
   const std::string path = caseFile(dir, r);
   if (!fs::exists(path)) runCase(plan, r, dir);
   checkKey(path, caseKey(plan, r, scene.source.sha256));

@@ -3,6 +3,7 @@
 // distributions of divergence times (docs/sweep.md, "ensemble").
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -79,6 +80,15 @@ TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row 
   fs::create_directories(kDir);
   const std::string path = kDir + "/ens.json", dir = kDir + "/results";
   std::ofstream(path) << plan.dump(1);
+  {  // every run's reference, built directly, is the one the plan lists for its scene and member
+    const Plan loaded = loadPlan(path);
+    const std::vector<SweepCase> cases = planCases(loaded);
+    for (const SweepCase& c : cases) {
+      const SweepCase r = referenceCaseOf(loaded, c);
+      CHECK(r.name == c.name.substr(0, c.name.find('.', c.name.find(".m") + 1)) + ".reference");
+      CHECK(std::count_if(cases.begin(), cases.end(), [&](const SweepCase& x) { return x.name == r.name; }) == 1);
+    }
+  }
   const std::string exe = std::string(EM_BINARY_DIR) + "/bin/eigenmass";
   REQUIRE(shell(exe + " sweep " + path + " --list --results " + dir + " | parallel --will-cite -j 2 >/dev/null") == 0);
   REQUIRE(shell(exe + " sweep " + path + " --merge " + dir + " >/dev/null") == 0);
