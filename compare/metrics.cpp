@@ -16,20 +16,10 @@ double energyScale(const Trajectory& ref) {
 
 namespace {
 
-// Angle coordinates: every coordinate but the ball quaternions (compared by pose).
+// Angle coordinates (not a quaternion's, not a displacement), when both runs name the same.
 std::vector<int> angleCoordinates(const Trajectory& run, const Trajectory& ref) {
-  std::vector<int> idx;
-  if (run.q_names != ref.q_names) return idx;
-  for (size_t i = 0; i < run.q_names.size(); ++i) {
-    // A ball's 4 coordinates are named b.q0..q3; find balls by their speeds count.
-    const std::string body = run.q_names[i].substr(0, run.q_names[i].rfind('.'));
-    const auto nq = std::count_if(run.q_names.begin(), run.q_names.end(),
-                                  [&](const std::string& n) { return n.rfind(body + ".", 0) == 0; });
-    const auto nu = std::count_if(run.u_names.begin(), run.u_names.end(),
-                                  [&](const std::string& n) { return n.rfind(body + ".", 0) == 0; });
-    if (nq == nu) idx.push_back(static_cast<int>(i));
-  }
-  return idx;
+  if (run.q_names != ref.q_names || run.angle_coords != ref.angle_coords) return {};
+  return run.angle_coords;
 }
 
 template <class F>

@@ -45,6 +45,7 @@ json trajectoryJson(const Trajectory& tr) {
     poses.push_back(posesJson(tr.poses[k]));
   }
   return {{"scene", tr.scene},          {"q_names", tr.q_names},   {"u_names", tr.u_names},
+          {"angle_coordinates", tr.angle_coords},
           {"body_names", tr.body_names}, {"t", tr.t},               {"q", q},
           {"u", u},                      {"energy", tr.energy},     {"kinetic", tr.kinetic},
           {"dissipated", tr.dissipated}, {"poses", poses},          {"status", tr.status()},
@@ -61,6 +62,9 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     tr.q_names = j.at("q_names").get<std::vector<std::string>>();
     tr.u_names = j.at("u_names").get<std::vector<std::string>>();
     tr.body_names = j.at("body_names").get<std::vector<std::string>>();
+    tr.angle_coords = j.at("angle_coordinates").get<std::vector<int>>();
+    for (int i : tr.angle_coords)
+      if (i < 0 || i >= static_cast<int>(tr.q_names.size())) throw std::out_of_range("angle_coordinates: index out of range");
     tr.t = j.at("t").get<std::vector<double>>();
     for (const json& v : j.at("q")) tr.q.push_back(vectorFrom(v));
     for (const json& v : j.at("u")) tr.u.push_back(vectorFrom(v));

@@ -68,7 +68,7 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
 
 void Dynamics::normalizeQuaternions(double* y) const {
   for (const Body& b : model_.bodies)
-    if (b.joint.type == JointType::Ball) Eigen::Map<Vec4>(y + b.iq).normalize();
+    if (const int at = jointQuat(b.joint.type); at >= 0) Eigen::Map<Vec4>(y + b.iq + at).normalize();
 }
 
 Status Dynamics::afterStep(double t, double* y, StepInfo& info) {

@@ -17,7 +17,7 @@ inline Mat3 kernel(const Vec3& a, const Vec3& b) {
 
 Workspace::Workspace(const Model& m) {
   const int n = m.n(), nu = m.nu;
-  for (auto* v : {&omega, &b, &d, &o, &vo, &r, &v, &s, &e, &h, &F, &S, &z, &y, &L, &S_dot}) v->assign(n, Vec3::Zero());
+  for (auto* v : {&omega, &b, &d, &o, &vo, &v_rel, &r, &v, &s, &e, &h, &F, &F_slide, &tau, &S, &z, &y, &L, &S_dot}) v->assign(n, Vec3::Zero());
   for (auto* M : {&Kd, &IC, &JW, &Gamma, &IC_dot}) M->assign(n, Mat3::Zero());
   R.assign(n, Mat3::Identity());
   J_w.assign(n, Mat3::Zero());
@@ -32,11 +32,11 @@ Workspace::Workspace(const Model& m) {
 }
 
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
-  // Outward recursion over the regular numbering (parents first); docs/theory.md §3.
+  // Outward recursion over the regular numbering (parents first); docs/theory.md §3, §7.
   Axes Pj, Pdj;
   for (int i = 0; i < m.n(); ++i) {
     const Body& B = m.bodies[i];
-    const int p = B.parent;
+    const int p = B.parent, nt = B.nt(), nr = B.nu() - nt;
     const Mat3 R_p = p < 0 ? Mat3::Identity() : ws.R[p];
     const Vec3 w_p = p < 0 ? Vec3::Zero() : ws.omega[p];
     const double* qi = q + B.iq;
@@ -44,20 +44,25 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
     ws.R[i] = R_p * relativeRotation(B.joint, qi);
     worldAxes(B.joint, R_p, qi, Pj);
     ws.P.middleCols(B.iu, B.nu()) = Pj;
-    ws.omega[i] = w_p + Pj * Eigen::Map<const Eigen::VectorXd>(ui, B.nu());
+    if (nt == 0) ws.omega[i] = w_p + Pj * Eigen::Map<const Eigen::VectorXd>(ui, B.nu());
+    else ws.omega[i] = w_p + Pj.rightCols(nr) * Eigen::Map<const Eigen::VectorXd>(ui + nt, nr);
     axisRates(B.joint, Pj, w_p, ws.omega[i], ui, Pdj);
     ws.Pdot.middleCols(B.iu, B.nu()) = Pdj;
     ws.J_w[i] = ws.R[i] * B.J * ws.R[i].transpose();
     ws.b[i] = -(ws.R[i] * B.joint.in_body);
-    // Joint point i, and its velocity, from the parent's joint point.
-    Vec3 v_o = Vec3::Zero();
+    // Joint point i, and its velocity, from the parent's joint point; a
+    // sliding joint moves it by x along the parent's axes at v_rel (eq. (X)).
+    const Vec3 x = nt == 0 ? Vec3::Zero() : slideOffset(B.joint, qi);
+    ws.v_rel[i] = nt == 0 ? Vec3::Zero() : Vec3(Pj.leftCols(nt) * Eigen::Map<const Eigen::VectorXd>(ui, nt));
+    Vec3 v_o = ws.v_rel[i];
     if (p < 0) {
       ws.d[i].setZero();
-      ws.o[i] = B.joint.in_parent;
+      ws.o[i] = nt == 0 ? B.joint.in_parent : Vec3(B.joint.in_parent + x);
     } else {
-      ws.d[i] = R_p * (B.joint.in_parent - m.bodies[p].joint.in_body);
+      ws.d[i] = nt == 0 ? Vec3(R_p * (B.joint.in_parent - m.bodies[p].joint.in_body))
+                        : Vec3(R_p * (B.joint.in_parent - m.bodies[p].joint.in_body + x));
       ws.o[i] = ws.o[p] + ws.d[i];
-      v_o = ws.v[p] - w_p.cross(ws.b[p]) + w_p.cross(ws.d[i]);  // v of joint point p, then to i
+      v_o += ws.v[p] - w_p.cross(ws.b[p]) + w_p.cross(ws.d[i]);  // v of joint point p, then to i
     }
     ws.vo[i] = v_o;
     ws.r[i] = ws.o[i] + ws.b[i];
@@ -110,24 +115,50 @@ void formSubtrees(const Model& m, Workspace& ws) {
   }
 }
 
-void formA(const Model& m, Workspace& ws) {
-  // Column b (of body k) against every row a of k and of its ancestors j:
-  // A_ab = p_a . (I_k p_b + r_jk x (p_b x S_k)), r_jk = o_k - o_j (docs/theory.md §4).
-  // The lever r_jk is formed from the joint points, so j = k is free of cancellation.
-  // Rows a <= b only, written down column b (contiguous); then mirrored.
+namespace {
+
+// Column b of A (of body k): the momentum per unit u_b of subtree(k), as an
+// angular part f about joint point k and a linear part l (docs/theory.md
+// eq. (A7)): rotation p_b: f = I_k p_b, l = p_b x S_k; slide t_b:
+// f = S_k x t_b, l = mu_k t_b.
+struct ColumnMomentum {
+  Vec3 f, l;
+};
+
+template <bool kSliding>
+ColumnMomentum columnMomentum(const Workspace& ws, int k, const Vec3& p_b, bool slides) {
+  if (kSliding && slides) return {ws.S[k].cross(p_b), ws.mu[k] * p_b};
+  return {ws.IC[k] * p_b, p_b.cross(ws.S[k])};
+}
+
+// A_ab = p_a . (f + r_jk x l) for a rotation axis p_a of ancestor j, t_a . l
+// for a slide t_a (eq. (A7)), down column b.
+template <bool kSliding>
+void formAImpl(const Model& m, Workspace& ws) {
+  // The lever r_jk = o_k - o_j is formed from the joint points, so j = k is
+  // free of cancellation. Rows a <= b only, written down column b (contiguous); then mirrored.
   const int N = m.nu;
   for (int k = 0; k < m.n(); ++k) {
-    for (int b = m.body_iu[k]; b < m.body_iu[k] + m.body_nu[k]; ++b) {
-      const Vec3 p_b = ws.P.col(b);
-      const Vec3 f = ws.IC[k] * p_b, c = p_b.cross(ws.S[k]);
+    const int b0 = m.body_iu[k];
+    for (int b = b0; b < b0 + m.body_nu[k]; ++b) {
+      const ColumnMomentum c = columnMomentum<kSliding>(ws, k, ws.P.col(b), b < b0 + m.body_nt[k]);
       double* A_b = ws.A.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
-        const Vec3 w = f + (ws.o[k] - ws.o[j]).cross(c);
-        for (int a = m.body_iu[j]; a < m.body_iu[j] + m.body_nu[j]; ++a) A_b[a] = ws.P.col(a).dot(w);
+        const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
+        for (int a = a0; a < a_rot; ++a) A_b[a] = ws.P.col(a).dot(c.l);
+        const Vec3 w = c.f + (ws.o[k] - ws.o[j]).cross(c.l);
+        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) A_b[a] = ws.P.col(a).dot(w);
       }
     }
   }
   ws.A.triangularView<Eigen::StrictlyLower>() = ws.A.transpose();
+}
+
+}  // namespace
+
+void formA(const Model& m, Workspace& ws) {
+  if (m.has_sliding) formAImpl<true>(m, ws);
+  else formAImpl<false>(m, ws);
 }
 
 void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::VectorXd& Kx) {
@@ -147,29 +178,58 @@ void multiplyK(const Model& m, const Eigen::VectorXd& x, Workspace& ws, Eigen::V
   }
 }
 
-void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
+namespace {
+
+// F~_k: F_k plus the subtree's mass times the linear acceleration the
+// velocity-product angular accelerations phi cause (tau_i + phi_i x b_i,
+// tau_i = tau_p + phi_p x d_i): the force a slide's row of B projects
+// (docs/theory.md eq. (B7)). O(n); sliding scenes only.
+void formSlideForces(const Model& m, Workspace& ws) {
   const int n = m.n();
   for (int i = 0; i < n; ++i) {
+    const int p = m.bodies[i].parent;
+    ws.tau[i] = p < 0 ? Vec3::Zero() : Vec3(ws.tau[p] + ws.phi.segment<3>(3 * p).cross(ws.d[i]));
+  }
+  for (int k = n - 1; k >= 0; --k) {  // phi's part alone, bottom-up, then F added
+    ws.F_slide[k] = m.bodies[k].mass * (ws.tau[k] + ws.phi.segment<3>(3 * k).cross(ws.b[k]));
+    for (int c : m.bodies[k].children) ws.F_slide[k] += ws.F_slide[c];
+  }
+  for (int k = 0; k < n; ++k) ws.F_slide[k] += ws.F[k];
+}
+
+// phi = T^T f and the joint points' velocity-product accelerations e, h (§5;
+// a slide adds Coriolis 2 w_p x v_rel to e, eq. (B7)).
+void formVelocityProducts(const Model& m, const double* u, Workspace& ws) {
+  for (int i = 0; i < m.n(); ++i) {
     const Body& Bi = m.bodies[i];
-    const int p = Bi.parent;
+    const int p = Bi.parent, nt = Bi.nt(), nr = Bi.nu() - nt;
     const Vec3& w = ws.omega[i];
     // phi_i = (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
-    Vec3 phi_i = ws.Pdot.middleCols(Bi.iu, Bi.nu()) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu, Bi.nu());
+    Vec3 phi_i = ws.Pdot.middleCols(Bi.iu + nt, nr) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu + nt, nr);
     // e_i: velocity-product acceleration of joint point i, from the parent's joint point.
     Vec3 e_i = Vec3::Zero();
     if (p >= 0) {
       phi_i += ws.phi.segment<3>(3 * p);
       e_i = ws.e[p] + ws.omega[p].cross(ws.omega[p].cross(ws.d[i]));
+      if (nt > 0) e_i += 2.0 * ws.omega[p].cross(ws.v_rel[i]);
     }
     ws.phi.segment<3>(3 * i) = phi_i;
     ws.e[i] = e_i;
     ws.h[i] = e_i + w.cross(w.cross(ws.b[i]));
   }
+}
+
+}  // namespace
+
+void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
+  const int n = m.n();
+  formVelocityProducts(m, u, ws);
   // F_k = sum over subtree(k) of m_i (h_i - g), bottom-up.
   for (int k = n - 1; k >= 0; --k) {
     ws.F[k] = m.bodies[k].mass * (ws.h[k] - m.gravity);
     for (int c : m.bodies[k].children) ws.F[k] += ws.F[c];
   }
+  if (m.has_sliding) formSlideForces(m, ws);
   // psi = K phi + M', M'_j = w_j x J_j w_j + sum_i T_ji m_i l_ji x (h_i - g)
   // (barycentric: l_ji is d_c for every i below child c).
   multiplyK(m, ws.phi, ws, ws.psi);
@@ -180,12 +240,14 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     for (int c : Bj.children) Mp += ws.d[c].cross(ws.F[c]);
     ws.psi.segment<3>(3 * j) += Mp;
   }
-  // T psi: subtree sums, then B = -P^T (T psi) + Q.
+  // T psi: subtree sums, then B = -P^T (T psi) + Q; a slide's row -t^T F~ (eq. (B7)).
   for (int i = n - 1; i >= 0; --i)
     if (int p = m.bodies[i].parent; p >= 0) ws.psi.segment<3>(3 * p) += ws.psi.segment<3>(3 * i);
-  for (const Body& Bi : m.bodies) {
-    const int i = &Bi - m.bodies.data();
-    ws.B.segment(Bi.iu, Bi.nu()).noalias() = -(ws.P.middleCols(Bi.iu, Bi.nu()).transpose() * ws.psi.segment<3>(3 * i));
+  for (int i = 0; i < n; ++i) {
+    const Body& Bi = m.bodies[i];
+    const int nt = Bi.nt(), nr = Bi.nu() - nt;
+    if (nt > 0) ws.B.segment(Bi.iu, nt).noalias() = -(ws.P.middleCols(Bi.iu, nt).transpose() * ws.F_slide[i]);
+    ws.B.segment(Bi.iu + nt, nr).noalias() = -(ws.P.middleCols(Bi.iu + nt, nr).transpose() * ws.psi.segment<3>(3 * i));
   }
   if (m.has_springs) addSpringForces(m, q, u, ws.B);
 }
@@ -231,27 +293,49 @@ void formSubtreeRates(const Model& m, Workspace& ws) {
   }
 }
 
-void formAdot(const Model& m, Workspace& ws) {
-  // The time derivative of formA's A_ab = p_a . w, w = I_k p_b + r_jk x c,
-  // c = p_b x S_k: A'_ab = p_a' . w + p_a . w', column by column as in formA.
+namespace {
+
+// formA's column momentum (f, l) and its rate (f', l') (docs/theory.md §6, eq. (A7')).
+template <bool kSliding>
+void columnMomentumRate(const Workspace& ws, int k, const Vec3& p_b, const Vec3& pd_b, bool slides,
+                        ColumnMomentum& c, ColumnMomentum& c_dot) {
+  c = columnMomentum<kSliding>(ws, k, p_b, slides);
+  if (kSliding && slides) {
+    c_dot = {ws.S_dot[k].cross(p_b) + ws.S[k].cross(pd_b), ws.mu[k] * pd_b};
+    return;
+  }
+  c_dot = {ws.IC_dot[k] * p_b + ws.IC[k] * pd_b, pd_b.cross(ws.S[k]) + p_b.cross(ws.S_dot[k])};
+}
+
+template <bool kSliding>
+void formAdotImpl(const Model& m, Workspace& ws) {
+  // The time derivative of formA's A_ab = p_a . w, w = f + r_jk x l
+  // (t_a . l for a slide): A'_ab = p_a' . w + p_a . w', column by column as in formA.
   const int N = m.nu;
   for (int k = 0; k < m.n(); ++k) {
-    for (int b = m.body_iu[k]; b < m.body_iu[k] + m.body_nu[k]; ++b) {
-      const Vec3 p_b = ws.P.col(b), pd_b = ws.Pdot.col(b);
-      const Vec3 f = ws.IC[k] * p_b, c = p_b.cross(ws.S[k]);
-      const Vec3 f_dot = ws.IC_dot[k] * p_b + ws.IC[k] * pd_b;
-      const Vec3 c_dot = pd_b.cross(ws.S[k]) + p_b.cross(ws.S_dot[k]);
+    const int b0 = m.body_iu[k];
+    for (int b = b0; b < b0 + m.body_nu[k]; ++b) {
+      ColumnMomentum c, c_dot;
+      columnMomentumRate<kSliding>(ws, k, ws.P.col(b), ws.Pdot.col(b), b < b0 + m.body_nt[k], c, c_dot);
       double* Ad_b = ws.Adot.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
+        const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
+        for (int a = a0; a < a_rot; ++a) Ad_b[a] = ws.Pdot.col(a).dot(c.l) + ws.P.col(a).dot(c_dot.l);
         const Vec3 r = ws.o[k] - ws.o[j], r_dot = ws.vo[k] - ws.vo[j];
-        const Vec3 w = f + r.cross(c);
-        const Vec3 w_dot = f_dot + r_dot.cross(c) + r.cross(c_dot);
-        for (int a = m.body_iu[j]; a < m.body_iu[j] + m.body_nu[j]; ++a)
-          Ad_b[a] = ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot);
+        const Vec3 w = c.f + r.cross(c.l);
+        const Vec3 w_dot = c_dot.f + r_dot.cross(c.l) + r.cross(c_dot.l);
+        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) Ad_b[a] = ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot);
       }
     }
   }
   ws.Adot.triangularView<Eigen::StrictlyLower>() = ws.Adot.transpose();
+}
+
+}  // namespace
+
+void formAdot(const Model& m, Workspace& ws) {
+  if (m.has_sliding) formAdotImpl<true>(m, ws);
+  else formAdotImpl<false>(m, ws);
 }
 
 void formEquations(const Model& m, const double* q, const double* u, Workspace& ws, bool with_Adot, bool with_A) {

@@ -23,6 +23,7 @@ struct Workspace {
   std::vector<Vec3> d;      ///< d_i = R_p (a_i - c_p): parent's joint point -> joint point i (0 for roots)
   std::vector<Vec3> o;      ///< position of joint point i
   std::vector<Vec3> vo;     ///< velocity of joint point i
+  std::vector<Vec3> v_rel;  ///< v_rel,i: joint point i's sliding velocity relative to its parent (0 unless it slides)
   std::vector<Vec3> r;      ///< position of CM i
   std::vector<Vec3> v;      ///< velocity of CM i
   std::vector<Vec3> s;      ///< s_k = sum over subtree(k) of m_i l_ki
@@ -38,6 +39,8 @@ struct Workspace {
   std::vector<Vec3> e;      ///< e_i: velocity-product part of joint point i's acceleration
   std::vector<Vec3> h;      ///< h_i: velocity-product part of CM i's acceleration
   std::vector<Vec3> F;      ///< F_k = sum over subtree(k) of m_i (h_i - g)
+  std::vector<Vec3> tau;    ///< tau_i: phi's part of joint point i's acceleration (sliding scenes)
+  std::vector<Vec3> F_slide;  ///< F~_k: F_k with phi's part, what a slide's row of B projects (sliding scenes)
   Eigen::Matrix3Xd P;       ///< the paper's p: world axes p_jk as columns (block diagonal, stored 3 x nu)
   Eigen::Matrix3Xd Pdot;    ///< axis rates p_jk'  (3 x nu)
   Eigen::MatrixXd A, Adot;  ///< mass matrix and its time derivative  (nu x nu)

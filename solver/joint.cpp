@@ -9,14 +9,25 @@ Mat3 relativeRotation(const Joint& j, const double* q) {
     case JointType::Gimbal:
       return rot(Vec3::UnitX(), q[0]) * rot(Vec3::UnitY(), q[1]) * rot(Vec3::UnitZ(), q[2]);
     case JointType::Ball: return quatToMatrix(Vec4(q[0], q[1], q[2], q[3]));
+    case JointType::Prismatic: return Mat3::Identity();
+    case JointType::Free: return quatToMatrix(Vec4(q[3], q[4], q[5], q[6]));
   }
   return Mat3::Identity();
+}
+
+Vec3 slideOffset(const Joint& j, const double* q) {
+  switch (j.type) {
+    case JointType::Prismatic: return q[0] * j.axis[0];
+    case JointType::Free: return Vec3(q[0], q[1], q[2]);
+    default: return Vec3::Zero();
+  }
 }
 
 void worldAxes(const Joint& j, const Mat3& R_p, const double* q, Axes& P) {
   P.resize(3, jointNu(j.type));
   switch (j.type) {
-    case JointType::Revolute: P.col(0) = R_p * j.axis[0]; break;
+    case JointType::Revolute:
+    case JointType::Prismatic: P.col(0) = R_p * j.axis[0]; break;
     case JointType::Universal:
       P.col(0) = R_p * j.axis[0];
       P.col(1) = R_p * (rot(j.axis[0], q[0]) * j.axis[1]);
@@ -30,6 +41,7 @@ void worldAxes(const Joint& j, const Mat3& R_p, const double* q, Axes& P) {
       break;
     }
     case JointType::Ball: P = R_p; break;
+    case JointType::Free: P << R_p, R_p; break;  // slides along, then turns about, the parent's axes
   }
 }
 
@@ -40,6 +52,8 @@ void axisRates(const Joint& j, const Axes& P, const Vec3& omega_p, const Vec3& o
   switch (j.type) {
     case JointType::Revolute:
     case JointType::Ball:
+    case JointType::Prismatic:
+    case JointType::Free:
       for (int k = 0; k < P.cols(); ++k) Pdot.col(k) = omega_p.cross(P.col(k));
       break;
     case JointType::Universal:
@@ -55,12 +69,15 @@ void axisRates(const Joint& j, const Axes& P, const Vec3& omega_p, const Vec3& o
 }
 
 void jointQdot(const Joint& j, const double* q, const double* u, double* qdot) {
-  if (j.type != JointType::Ball) {
+  const int at = jointQuat(j.type), nt = jointNt(j.type);
+  if (at < 0) {
     for (int k = 0; k < jointNu(j.type); ++k) qdot[k] = u[k];
     return;
   }
-  const Vec4 d = 0.5 * quatMul(Vec4(0, u[0], u[1], u[2]), Vec4(q[0], q[1], q[2], q[3]));
-  for (int k = 0; k < 4; ++k) qdot[k] = d[k];
+  for (int k = 0; k < nt; ++k) qdot[k] = u[k];
+  const double *qq = q + at, *w = u + nt;
+  const Vec4 d = 0.5 * quatMul(Vec4(0, w[0], w[1], w[2]), Vec4(qq[0], qq[1], qq[2], qq[3]));
+  for (int k = 0; k < 4; ++k) qdot[at + k] = d[k];
 }
 
 }  // namespace em

@@ -5,10 +5,12 @@
 namespace em {
 
 const std::vector<JointTypeInfo>& jointTypeTable() {
-  static const std::vector<JointTypeInfo> table = {{JointType::Revolute, "revolute", 1, 1},
-                                                   {JointType::Universal, "universal", 2, 2},
-                                                   {JointType::Gimbal, "gimbal", 3, 3},
-                                                   {JointType::Ball, "ball", 4, 3}};
+  static const std::vector<JointTypeInfo> table = {{JointType::Revolute, "revolute", 1, 1, 0, -1},
+                                                   {JointType::Universal, "universal", 2, 2, 0, -1},
+                                                   {JointType::Gimbal, "gimbal", 3, 3, 0, -1},
+                                                   {JointType::Ball, "ball", 4, 3, 0, 0},
+                                                   {JointType::Prismatic, "prismatic", 1, 1, 1, -1},
+                                                   {JointType::Free, "free", 7, 6, 3, 3}};
   return table;
 }
 
@@ -19,6 +21,8 @@ const JointTypeInfo& jointRow(JointType t) { return jointTypeTable()[static_cast
 const char* jointTypeName(JointType t) { return jointRow(t).name; }
 int jointNq(JointType t) { return jointRow(t).nq; }
 int jointNu(JointType t) { return jointRow(t).nu; }
+int jointNt(JointType t) { return jointRow(t).nt; }
+int jointQuat(JointType t) { return jointRow(t).quat; }
 
 namespace {
 
@@ -92,10 +96,12 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.nu += b.nu();
     m.has_springs = m.has_springs || b.joint.has_spring;
     m.has_dampers = m.has_dampers || (b.joint.has_spring && (b.joint.spring.c.array() != 0).any());
+    m.has_sliding = m.has_sliding || b.nt() > 0;
     if (b.parent >= 0) m.bodies[b.parent].children.push_back(i);
     m.body_parent.push_back(b.parent);
     m.body_iu.push_back(b.iu);
     m.body_nu.push_back(b.nu());
+    m.body_nt.push_back(b.nt());
   }
   int fq = 0, fu = 0;
   for (int f = 0; f < n; ++f) {
@@ -176,17 +182,29 @@ std::vector<int> Model::uFilePermutation() const { return filePermutation(*this,
 std::vector<std::string> Model::qNames() const { return coordNames(*this, false); }
 std::vector<std::string> Model::uNames() const { return coordNames(*this, true); }
 
+std::vector<int> Model::angleCoordinates() const {
+  std::vector<int> idx;
+  for (int f = 0; f < n(); ++f) {
+    const Body& b = bodies[file_to_internal[f]];
+    if (jointQuat(b.joint.type) >= 0) continue;  // compared by pose
+    for (int k = b.nt(); k < b.nq(); ++k) idx.push_back(b.file_iq + k);
+  }
+  return idx;
+}
+
 void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  std::uniform_real_distribution<double> ang(-M_PI, M_PI), spd(-2.0, 2.0);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), spd(-2.0, 2.0), disp(-1.0, 1.0);
   std::normal_distribution<double> gauss;
   q.resize(m.nq);
   u.resize(m.nu);
   for (const Body& b : m.bodies) {
-    if (b.joint.type == JointType::Ball) {
+    const int quat = jointQuat(b.joint.type);
+    for (int k = 0; k < b.nt(); ++k) q[b.iq + k] = disp(rng);
+    if (quat >= 0) {
       Vec4 v(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
-      q.segment<4>(b.iq) = v.normalized();
+      q.segment<4>(b.iq + quat) = v.normalized();
     } else {
-      for (int k = 0; k < b.nq(); ++k) q[b.iq + k] = ang(rng);
+      for (int k = b.nt(); k < b.nq(); ++k) q[b.iq + k] = ang(rng);
       if (b.joint.type == JointType::Gimbal) q[b.iq + 1] *= 1.2 / M_PI;  // middle angle within +-72 deg
     }
     for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = spd(rng);

@@ -12,18 +12,25 @@
 
 namespace em {
 
-enum class JointType { Revolute, Universal, Gimbal, Ball };
+enum class JointType { Revolute, Universal, Gimbal, Ball, Prismatic, Free };
 
-/// One row per joint kind: its name and how many coordinates and speeds it has.
+/// One row per joint kind: its name, how many coordinates and speeds it has,
+/// how many of them slide, and where its quaternion sits (docs/theory.md §1).
+/// The sliding coordinates and speeds come first: q = [x (nt), rotation],
+/// u = [v (nt), angular (nu - nt)].
 struct JointTypeInfo {
   JointType type;
   const char* name;
-  int nq, nu;  ///< ball: nq 4 (a quaternion), nu 3
+  int nq, nu;  ///< ball: nq 4 (a quaternion), nu 3; free: nq 7, nu 6
+  int nt;      ///< translational speeds (prismatic 1, free 3), the first nt of u and of q
+  int quat;    ///< offset of the unit quaternion [w,x,y,z] in q, -1 without one
 };
 const std::vector<JointTypeInfo>& jointTypeTable();
 const char* jointTypeName(JointType t);
 int jointNq(JointType t);
 int jointNu(JointType t);
+int jointNt(JointType t);
+int jointQuat(JointType t);
 
 /// Per-coordinate linear spring-damper, generalized force -k (q - q_rest) - c u.
 struct Spring {
@@ -33,7 +40,7 @@ struct Spring {
 /// One joint: the inboard joint of its body.
 struct Joint {
   JointType type = JointType::Revolute;
-  Vec3 axis[2] = {Vec3::UnitX(), Vec3::UnitY()};  ///< unit axes (revolute: [0]; universal: both)
+  Vec3 axis[2] = {Vec3::UnitX(), Vec3::UnitY()};  ///< unit axes, parent frame (revolute, prismatic: [0]; universal: both)
   Vec3 in_parent = Vec3::Zero();  ///< a: parent CM -> joint point, parent frame (world for roots)
   Vec3 in_body = Vec3::Zero();    ///< c: body CM -> joint point, body frame
   Eigen::VectorXd q0, u0;         ///< initial coordinates (nq) and speeds (nu)
@@ -75,6 +82,7 @@ struct Body {
   std::vector<int> children;
   int nq() const { return jointNq(joint.type); }
   int nu() const { return jointNu(joint.type); }
+  int nt() const { return jointNt(joint.type); }
 };
 
 /// Immutable model built once (Pinocchio's Model, MuJoCo's mjModel).
@@ -86,11 +94,13 @@ struct Model {
   bool has_springs = false;    ///< build the joint-force term Q only when declared
   bool has_dampers = false;    ///< some c != 0: runs track the dissipated work W_diss (docs/theory.md §5)
   bool has_gravity = false;
+  bool has_sliding = false;    ///< some prismatic or free joint: the formation does translational work only then (theory.md §7)
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map
   /// Compact copies of bodies[i].parent, .iu and .nu() for the O(n depth)
   /// loops of the formation (MuJoCo's body_parentid, body_dofadr, body_dofnum).  // (n) each
   std::vector<int> body_parent, body_iu, body_nu;
+  std::vector<int> body_nt;    ///< translational speeds of body i's joint, the first of its nu  // (n)
 
   int n() const { return static_cast<int>(bodies.size()); }
   /// Initial state in internal order: q (nq), u (nu).
@@ -106,6 +116,9 @@ struct Model {
   /// a named joint's name in place of the body's).
   std::vector<std::string> qNames() const;
   std::vector<std::string> uNames() const;
+  /// Source-order indices of the coordinates that are angles (not a
+  /// quaternion's, not a displacement): what a coordinate error in rad compares.
+  std::vector<int> angleCoordinates() const;
 };
 
 /// Validate the topology and renumber parents-first (docs/theory.md §1–2):
@@ -118,7 +131,8 @@ Model buildModel(const std::string& name, const Vec3& gravity, const std::vector
 /// A random state in internal order, for checks at states a run may never
 /// reach: angles uniform in [-pi, pi] (a gimbal's middle angle within +-72 deg,
 /// away from its lock, where A is singular), unit quaternions uniform on the
-/// sphere, speeds uniform in [-2, 2] rad/s.  // q: (nq), u: (nu)
+/// sphere, displacements uniform in [-1, 1] m, speeds uniform in [-2, 2] rad/s
+/// (or m/s).  // q: (nq), u: (nu)
 void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u);
 
 }  // namespace em

@@ -8,6 +8,7 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run) {
   tr.run = run;
   tr.q_names = m.qNames();
   tr.u_names = m.uNames();
+  tr.angle_coords = m.angleCoordinates();
   tr.body_names.resize(m.n());
   for (const Body& b : m.bodies) tr.body_names[b.file_index] = b.name;
   return tr;

@@ -43,6 +43,7 @@ struct Trajectory {
   std::string scene;
   RunSpec run;                             ///< what made it
   std::vector<std::string> q_names, u_names, body_names;
+  std::vector<int> angle_coords;           ///< indices into q that are angles (Model::angleCoordinates)
   std::vector<double> t;                   ///< sample times
   std::vector<Eigen::VectorXd> q, u;       ///< (nq), (nu) per sample
   std::vector<double> energy;              ///< total energy per sample

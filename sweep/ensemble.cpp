@@ -50,11 +50,13 @@ Model ensembleMember(const Model& m, const Ensemble& e, int k) {
   for (int i = 0; i < m.n(); ++i) by_file[m.bodies[i].file_index] = i;
   for (int i : by_file) {
     Joint& j = out.bodies[i].joint;
-    if (j.type == JointType::Ball) {
+    const int at = jointQuat(j.type);
+    for (int c = 0; c < jointNt(j.type); ++c) j.q0[c] += e.sigma_q * draws.normal();  // metres: the same sigma
+    if (at >= 0) {
       const Vec3 v(draws.normal(), draws.normal(), draws.normal());
-      j.q0 = quatMul(Vec4(j.q0), quatOfRotationVector(e.sigma_q * v)).normalized();
+      j.q0.segment<4>(at) = quatMul(Vec4(j.q0.segment<4>(at)), quatOfRotationVector(e.sigma_q * v)).normalized();
     } else {
-      for (int c = 0; c < j.q0.size(); ++c) j.q0[c] += e.sigma_q * draws.normal();
+      for (int c = jointNt(j.type); c < j.q0.size(); ++c) j.q0[c] += e.sigma_q * draws.normal();
     }
     for (int c = 0; c < j.u0.size(); ++c) j.u0[c] += e.sigma_u * draws.normal();
   }
