@@ -28,7 +28,8 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
 std::unique_ptr<MujocoPeer> mujocoFor(const Scene& scene, const UrdfOptions& urdf) {
   if (scene.source.format != "urdf") return std::make_unique<MujocoPeer>(scene.model);
   return std::make_unique<MujocoPeer>(scene.model, readFile(scene.source.file, "URDF file"), scene.source_joints,
-                                      urdf.lock_joints, urdf.balance_inertia);
+                                      urdf.lock_joints, urdf.balance_inertia,
+                                      urdf.floating_base ? kFloatingBaseJoint : "");
 }
 
 // The model with MuJoCo's compiled mass properties in place of the in-house

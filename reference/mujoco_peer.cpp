@@ -1,6 +1,7 @@
 #include "reference/mujoco_peer.hpp"
 
 #include <cstdio>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,9 +33,40 @@ std::string inertial(const Body& b) {
   return buf;
 }
 
-void hinge(std::ostream& o, const Body& b, int k, const Vec3& axis) {
-  o << "<joint name=\"" << b.name << ".q" << k << "\" type=\"hinge\" pos=\"" << vec(b.joint.in_body) << "\" axis=\""
-    << vec(axis) << "\"/>";
+// One MuJoCo joint of body b, named after its first in-house coordinate k;
+// a one-coordinate joint carries coordinate k's spring and damper (MuJoCo's
+// passive force -stiffness (q - springref) - damping u, as ours).
+void mjJoint(std::ostream& o, const Body& b, int k, const char* type, const Vec3& axis) {
+  o << "<joint name=\"" << b.name << ".q" << k << "\" type=\"" << type << "\" pos=\"" << vec(b.joint.in_body) << "\" axis=\""
+    << vec(axis) << "\"";
+  if (b.joint.has_spring && std::string(type) != "ball") {
+    const Spring& s = b.joint.spring;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, " stiffness=\"%.17g\" damping=\"%.17g\" springref=\"%.17g\"", s.k[k], s.c[k], s.q_rest[k]);
+    o << buf;
+  }
+  o << "/>";
+}
+
+// The in-house joint as MuJoCo joints, applied in order: a gimbal three
+// hinges x, y, z; a free joint three slides x, y, z and a ball (MuJoCo's
+// free joint must hang from the world; the slides and ball are its motion
+// anywhere).
+void joints(std::ostream& o, const Body& b) {
+  const Joint& j = b.joint;
+  switch (j.type) {
+    case JointType::Revolute: mjJoint(o, b, 0, "hinge", j.axis[0]); break;
+    case JointType::Universal: mjJoint(o, b, 0, "hinge", j.axis[0]); mjJoint(o, b, 1, "hinge", j.axis[1]); break;
+    case JointType::Gimbal:
+      for (int k = 0; k < 3; ++k) mjJoint(o, b, k, "hinge", Vec3::Unit(k));
+      break;
+    case JointType::Ball: mjJoint(o, b, 0, "ball", Vec3::UnitZ()); break;
+    case JointType::Prismatic: mjJoint(o, b, 0, "slide", j.axis[0]); break;
+    case JointType::Free:
+      for (int k = 0; k < 3; ++k) mjJoint(o, b, k, "slide", Vec3::Unit(k));
+      mjJoint(o, b, 3, "ball", Vec3::UnitZ());
+      break;
+  }
 }
 
 // MuJoCo's XML parser (tinyxml2) refuses elements nested deeper than 100,
@@ -62,14 +94,7 @@ struct MjcfWriter {
     const Body& b = m.bodies[i];
     const Vec3 a = b.joint.in_parent;  // parent CM -> joint point; the body's CM is that point minus c
     o << "<body name=\"" << b.name << "\" pos=\"" << vec(a - b.joint.in_body) << "\">" << inertial(b);
-    switch (b.joint.type) {
-      case JointType::Revolute: hinge(o, b, 0, b.joint.axis[0]); break;
-      case JointType::Universal: hinge(o, b, 0, b.joint.axis[0]); hinge(o, b, 1, b.joint.axis[1]); break;
-      case JointType::Gimbal:
-        for (int k = 0; k < 3; ++k) hinge(o, b, k, Vec3::Unit(k));
-        break;
-      case JointType::Ball: throw std::runtime_error("MuJoCo peer: ball joints are not mapped (body '" + b.name + "')");
-    }
+    joints(o, b);
     for (int c : b.children) body(o, c, depth + 1);
     o << "</body>";
   }
@@ -81,7 +106,7 @@ std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m) {
   MjcfWriter w{m, {{"scene.xml", ""}}};
   std::ostringstream o;
   o << "<mujoco model=\"" << m.name << "\"><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
-    << "<option gravity=\"" << vec(m.gravity) << "\"><flag contact=\"disable\" constraint=\"disable\" passive=\"disable\"/></option>"
+    << "<option gravity=\"" << vec(m.gravity) << "\"><flag contact=\"disable\" constraint=\"disable\"/></option>"
     << "<worldbody>";
   for (int i = 0; i < m.n(); ++i)
     if (m.bodies[i].parent < 0) w.body(o, i, 0);
@@ -92,10 +117,36 @@ std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m) {
 
 namespace {
 
+// The root link freed: a massless world link and a floating joint to the
+// root, which MuJoCo reads as its free joint (the world link is static and fused).
+void freeRoot(TiXmlElement& robot, const std::string& joint) {
+  std::set<std::string> children;
+  for (TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+    if (const TiXmlElement* c = j->FirstChildElement("child"); c && c->Attribute("link")) children.insert(c->Attribute("link"));
+  std::string root;
+  for (TiXmlElement* l = robot.FirstChildElement("link"); l && root.empty(); l = l->NextSiblingElement("link"))
+    if (l->Attribute("name") && !children.count(l->Attribute("name"))) root = l->Attribute("name");
+  if (root == "world") {  // MuJoCo reads a link named world as its world body: rename it
+    root = "em_root";
+    for (TiXmlElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+      if (l->Attribute("name") && std::string(l->Attribute("name")) == "world") l->SetAttribute("name", root);
+    for (TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+      for (const char* end : {"parent", "child"})
+        if (TiXmlElement* e = j->FirstChildElement(end); e && e->Attribute("link") && std::string(e->Attribute("link")) == "world")
+          e->SetAttribute("link", root);
+  }
+  TiXmlDocument add;
+  add.Parse(("<robot><link name=\"em_world\"/><joint name=\"" + joint + "\" type=\"floating\"><parent link=\"em_world\"/>"
+             "<child link=\"" + root + "\"/></joint></robot>").c_str());
+  robot.InsertBeforeChild(robot.FirstChild(), *add.RootElement()->FirstChildElement("link"));
+  robot.InsertEndChild(*add.RootElement()->FirstChildElement("joint"));
+}
+
 // The URDF as MuJoCo is to read it: visual and collision elements removed,
 // locked joints fixed, compiler options and disabled forces in MuJoCo's
 // <mujoco> extension element.
-std::string urdfForMujoco(const std::string& text, const std::vector<std::string>& locked, bool balance_inertia) {
+std::string urdfForMujoco(const std::string& text, const std::vector<std::string>& locked, bool balance_inertia,
+                          const std::string& floating_joint) {
   TiXmlDocument doc;
   doc.Parse(text.c_str());
   TiXmlElement* robot = doc.RootElement();
@@ -106,6 +157,7 @@ std::string urdfForMujoco(const std::string& text, const std::vector<std::string
   for (TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
     for (const std::string& name : locked)
       if (j->Attribute("name") && name == j->Attribute("name")) j->SetAttribute("type", "fixed");
+  if (!floating_joint.empty()) freeRoot(*robot, floating_joint);
   TiXmlDocument ext;
   ext.Parse((std::string("<mujoco><compiler angle=\"radian\" fusestatic=\"true\" discardvisual=\"true\" balanceinertia=\"") +
              (balance_inertia ? "true" : "false") + "\"/></mujoco>").c_str());
@@ -135,51 +187,113 @@ mjModel* compile(const std::vector<std::pair<std::string, std::string>>& files) 
 struct MujocoPeer::Impl {
   mjModel* mm = nullptr;
   mjData* d = nullptr;
-  std::vector<int> qadr, dof;  // MuJoCo qpos and dof address of in-house q[i] = u[i] (hinges only)
+  std::vector<int> qadr, dof;  // MuJoCo qpos index of in-house q[i] (nq), dof index of u[i] (nu)
+  std::vector<double> qoff;    // qpos = q + qoff: a free joint's rest place (nq)
+  // A rotation MuJoCo reads in its child's frame (ball, free): in-house
+  // quaternion at q_at, its angular speeds at u_at; u_mj = R^T u (R as of setState).
+  struct Turned {
+    int q_at, u_at;
+    Mat3 R = Mat3::Identity();
+    Vec4 rest = Vec4(1, 0, 0, 0);  ///< MuJoCo's body orientation at our zero rotation (a URDF free joint's frame)
+  };
+  std::vector<Turned> turned;
+  std::vector<int> body;       // MuJoCo body of each in-house body (internal order)
   ~Impl() {
     if (d) mj_deleteData(d);
     if (mm) mj_deleteModel(mm);
   }
+
+  // Map MuJoCo joint `jid` onto in-house body b's coordinates from q offset
+  // iq and speed offset iu on; returns how many (q, u) it took.
+  std::pair<int, int> take(int jid, int iq, int iu) {
+    const int qa = mm->jnt_qposadr[jid], da = mm->jnt_dofadr[jid];
+    int nq = 1, nv = 1;
+    switch (mm->jnt_type[jid]) {
+      case mjJNT_FREE: nq = 7; nv = 6; break;
+      case mjJNT_BALL: nq = 4; nv = 3; break;
+      default: break;
+    }
+    for (int k = 0; k < nq; ++k) qadr.push_back(qa + k);
+    for (int k = 0; k < nv; ++k) dof.push_back(da + k);
+    qoff.resize(qadr.size(), 0.0);
+    if (nv == 6) turned.push_back({iq + 3, iu + 3});
+    if (nv == 3) turned.push_back({iq, iu});
+    return {nq, nv};
+  }
+
+  // u_mj = G^T u, and G x back: the turned speeds' blocks.
+  void toInhouse(Eigen::Ref<Eigen::VectorXd> x) const {
+    for (const Turned& t : turned) x.segment<3>(t.u_at) = t.R * x.segment<3>(t.u_at);
+  }
 };
 
+namespace {
+// MuJoCo's joint types as scenes name them (for one-line mismatches).
+const char* mjTypeName(int t) {
+  switch (t) {
+    case mjJNT_FREE: return "free";
+    case mjJNT_BALL: return "ball";
+    case mjJNT_SLIDE: return "slide";
+    default: return "hinge";
+  }
+}
+}  // namespace
+
 MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>()) {
-  impl_->mm = compile(toMjcf(m));
-  impl_->d = mj_makeData(impl_->mm);
+  Impl& I = *impl_;
+  I.mm = compile(toMjcf(m));
+  I.d = mj_makeData(I.mm);
   for (const Body& b : m.bodies) {
-    const int id = mj_name2id(impl_->mm, mjOBJ_BODY, b.name.c_str());
-    for (int k = 0; k < b.nu(); ++k) {
-      impl_->dof.push_back(impl_->mm->body_dofadr[id] + k);
-      impl_->qadr.push_back(impl_->mm->body_dofadr[id] + k);  // hinges only: qpos index = dof index
+    const int id = mj_name2id(I.mm, mjOBJ_BODY, b.name.c_str());
+    I.body.push_back(id);
+    int iq = b.iq, iu = b.iu;
+    for (int j = I.mm->body_jntadr[id]; j < I.mm->body_jntadr[id] + I.mm->body_jntnum[id]; ++j) {
+      const auto [nq, nv] = I.take(j, iq, iu);
+      iq += nq;
+      iu += nv;
     }
   }
 }
 
 MujocoPeer::MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
-                       const std::vector<std::string>& locked, bool balance_inertia)
+                       const std::vector<std::string>& locked, bool balance_inertia, const std::string& floating_joint)
     : impl_(std::make_unique<Impl>()) {
-  impl_->mm = compile({{"robot.urdf", urdfForMujoco(urdf_text, locked, balance_inertia)}});
-  impl_->mm->opt.disableflags |= mjDSBL_CONSTRAINT | mjDSBL_PASSIVE | mjDSBL_CONTACT;
-  impl_->d = mj_makeData(impl_->mm);
-  if (impl_->mm->nv != m.nu)
-    throw std::runtime_error("MuJoCo peer: MuJoCo has " + std::to_string(impl_->mm->nv) + " speeds, the scene " +
+  Impl& I = *impl_;
+  I.mm = compile({{"robot.urdf", urdfForMujoco(urdf_text, locked, balance_inertia, floating_joint)}});
+  I.mm->opt.disableflags |= mjDSBL_CONSTRAINT | mjDSBL_PASSIVE | mjDSBL_CONTACT;
+  I.d = mj_makeData(I.mm);
+  if (I.mm->nv != m.nu)
+    throw std::runtime_error("MuJoCo peer: MuJoCo has " + std::to_string(I.mm->nv) + " speeds, the scene " +
                              std::to_string(m.nu));
   for (const Body& b : m.bodies) {
     const std::string& name = joints.at(b.file_index);
-    const int id = mj_name2id(impl_->mm, mjOBJ_JOINT, name.c_str());
-    if (id < 0 || impl_->mm->jnt_type[id] != mjJNT_HINGE)
-      throw std::runtime_error("MuJoCo peer: no hinge named '" + name + "' in MuJoCo's model");
-    impl_->qadr.push_back(impl_->mm->jnt_qposadr[id]);
-    impl_->dof.push_back(impl_->mm->jnt_dofadr[id]);
+    const int id = mj_name2id(I.mm, mjOBJ_JOINT, name.c_str());
+    const char* want = b.joint.type == JointType::Free ? "free" : b.joint.type == JointType::Prismatic ? "slide" : "hinge";
+    if (id < 0 || std::string(mjTypeName(I.mm->jnt_type[id])) != want)
+      throw std::runtime_error("MuJoCo peer: no " + std::string(want) + " joint named '" + name + "' in MuJoCo's model");
+    I.body.push_back(I.mm->jnt_bodyid[id]);
+    I.take(id, b.iq, b.iu);
+    if (b.joint.type == JointType::Free) {  // MuJoCo's free qpos is the pose in the world, ours from the rest pose
+      const int body = I.mm->jnt_bodyid[id];
+      for (int k = 0; k < 3; ++k) I.qoff[I.qoff.size() - 7 + k] = I.mm->body_pos[3 * body + k];
+      I.turned.back().rest = Vec4(I.mm->body_quat + 4 * body);
+    }
   }
 }
 
 MujocoPeer::~MujocoPeer() = default;
 
 void MujocoPeer::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-  for (size_t i = 0; i < impl_->dof.size(); ++i) {
-    impl_->d->qpos[impl_->qadr[i]] = q[i];
-    impl_->d->qvel[impl_->dof[i]] = u[i];
+  Impl& I = *impl_;
+  for (size_t i = 0; i < I.qadr.size(); ++i) I.d->qpos[I.qadr[i]] = q[i] + I.qoff[i];
+  Eigen::VectorXd v = u;
+  for (Impl::Turned& t : I.turned) {  // MuJoCo's orientation q (x) rest, its w in that frame
+    const Vec4 quat = quatMul(q.segment<4>(t.q_at), t.rest);
+    for (int k = 0; k < 4; ++k) I.d->qpos[I.qadr[t.q_at + k]] = quat[k];
+    t.R = quatToMatrix(quat);
+    v.segment<3>(t.u_at) = t.R.transpose() * v.segment<3>(t.u_at);
   }
+  for (size_t i = 0; i < I.dof.size(); ++i) I.d->qvel[I.dof[i]] = v[i];
 }
 
 void MujocoPeer::forward() { mj_forward(impl_->mm, impl_->d); }
@@ -192,17 +306,20 @@ Eigen::MatrixXd MujocoPeer::massMatrix() const {
   Eigen::MatrixXd A(nv, nv);
   for (int i = 0; i < nv; ++i)
     for (int j = 0; j < nv; ++j) A(i, j) = M[dof[i] * nv + dof[j]];
+  for (const Impl::Turned& t : impl_->turned) {  // A = G A_mj G^T
+    A.middleRows<3>(t.u_at) = (t.R * A.middleRows<3>(t.u_at)).eval();
+    A.middleCols<3>(t.u_at) = (A.middleCols<3>(t.u_at) * t.R.transpose()).eval();
+  }
   return A;
 }
 
 std::vector<CompiledMass> MujocoPeer::compiledMass() {
   const mjModel* mm = impl_->mm;
   mjData* d = impl_->d;
-  mju_zero(d->qpos, mm->nq);  // hinges only: zero is the zero configuration
+  mju_copy(d->qpos, mm->qpos0, mm->nq);  // the zero configuration (a quaternion's is 1 0 0 0)
   mj_kinematics(mm, d);
   std::vector<CompiledMass> out;
-  for (int dof : impl_->dof) {
-    const int b = mm->dof_bodyid[dof];
+  for (int b : impl_->body) {
     Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->ximat + 9 * b);  // principal axes in the world
     const Vec3 I(mm->body_inertia + 3 * b);
     out.push_back({mm->body_mass[b], Vec3(d->xipos + 3 * b), R * I.asDiagonal() * R.transpose()});
@@ -213,12 +330,15 @@ std::vector<CompiledMass> MujocoPeer::compiledMass() {
 Eigen::VectorXd MujocoPeer::acceleration() const {
   Eigen::VectorXd a(impl_->mm->nv);
   for (int i = 0; i < a.size(); ++i) a[i] = impl_->d->qacc[impl_->dof[i]];
+  impl_->toInhouse(a);  // u' = G u_mj' (G' u_mj = w x w = 0)
   return a;
 }
 
 Eigen::VectorXd MujocoPeer::rhs() const {
   Eigen::VectorXd B(impl_->mm->nv);
-  for (int i = 0; i < B.size(); ++i) B[i] = -impl_->d->qfrc_bias[impl_->dof[i]];
+  // MuJoCo's passive forces are the scene's springs and dampers (none from a URDF: disabled).
+  for (int i = 0; i < B.size(); ++i) B[i] = impl_->d->qfrc_passive[impl_->dof[i]] - impl_->d->qfrc_bias[impl_->dof[i]];
+  impl_->toInhouse(B);  // B = G B_mj
   return B;
 }
 

@@ -6,8 +6,12 @@
 /// CMs, parallel to the parent's at zero coordinates as in the scene; a
 /// revolute joint is one hinge, a universal two, a gimbal three hinges x, y, z
 /// in one body, applied in order about the turned axes, as Rx Ry Rz; inertia
-/// as diaginertia or fullinertia; contacts, constraints and passive forces off).
-/// Ball joints are not mapped (MuJoCo's ball speed is in the child's frame).
+/// as diaginertia or fullinertia; joint springs and dampers as stiffness,
+/// springref and damping; contacts and constraints off).
+/// A prismatic joint is a slide; a ball MuJoCo's ball, a free joint three
+/// slides and a ball (MuJoCo's free joint must hang from the world): MuJoCo
+/// reads their angular speed in the child's frame, which setState and the
+/// getters turn to and from the parent's.
 ///
 /// From a URDF: MuJoCo compiles the file itself (its own URDF reader, its own
 /// fixed-joint fusion and frame arithmetic), with visual and collision
@@ -41,9 +45,11 @@ class MujocoPeer {
   explicit MujocoPeer(const Model& m);
   /// MuJoCo's reading of `urdf_text`; `joints` names the URDF joint of each
   /// body of `m` in source (file) order (Scene::source_joints). `locked`
-  /// joints become fixed; `balance_inertia` sets MuJoCo's balanceinertia.
+  /// joints become fixed; `balance_inertia` sets MuJoCo's balanceinertia;
+  /// a `floating_joint` name frees the root link by a URDF floating joint
+  /// of that name, which MuJoCo reads as its free joint.
   MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
-             const std::vector<std::string>& locked, bool balance_inertia);
+             const std::vector<std::string>& locked, bool balance_inertia, const std::string& floating_joint = "");
   ~MujocoPeer();
   MujocoPeer(const MujocoPeer&) = delete;
   MujocoPeer& operator=(const MujocoPeer&) = delete;

@@ -59,7 +59,9 @@ Rotation jointFrame(const Joint& j) {
       return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::ZAxis);
     case JointType::Universal:  // Universal: about x, then the new y.
       return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis);
-    default:  // Gimbal (x-y-z body-fixed) and Ball act in the parent's axes.
+    case JointType::Prismatic:  // Slider slides along its frames' common x: put x on the axis.
+      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis);
+    default:  // Gimbal (x-y-z body-fixed), Ball and Free act in the parent's axes.
       return Rotation();
   }
 }
@@ -108,6 +110,8 @@ struct SimbodyReference::Impl {
         case JointType::Universal: mobods.push_back(MobilizedBody::Universal(parent, X_PF, body, X_BM)); break;
         case JointType::Gimbal: mobods.push_back(MobilizedBody::Gimbal(parent, X_PF, body, X_BM)); break;
         case JointType::Ball: mobods.push_back(MobilizedBody::Ball(parent, X_PF, body, X_BM)); break;
+        case JointType::Prismatic: mobods.push_back(MobilizedBody::Slider(parent, X_PF, body, X_BM)); break;
+        case JointType::Free: mobods.push_back(MobilizedBody::Free(parent, X_PF, body, X_BM)); break;
       }
       addSpring(b, mobods.back());
     }
@@ -122,8 +126,11 @@ struct SimbodyReference::Impl {
     // Simbody's q and u index of each in-house coordinate and speed, fixed from here on.
     for (const Body& b : m.bodies) {
       const MobilizedBody& mb = mobods[&b - m.bodies.data()];
-      for (int k = 0; k < b.nq(); ++k) q_index.push_back(mb.getFirstQIndex(state) + k);  // Ball: [w,x,y,z] as ours
-      for (int k = 0; k < b.nu(); ++k) u_index.push_back(mb.getFirstUIndex(state) + k);  // Ball: w_FM in F = parent axes
+      // Ball: [w,x,y,z] as ours, w_FM in F = parent axes. Free: Simbody's
+      // q = [quaternion, p_FM], u = [w_FM, v_FM] (in F), ours [x, quaternion], [v, w].
+      const bool free = b.joint.type == JointType::Free;
+      for (int k = 0; k < b.nq(); ++k) q_index.push_back(mb.getFirstQIndex(state) + (free ? (k + 4) % 7 : k));
+      for (int k = 0; k < b.nu(); ++k) u_index.push_back(mb.getFirstUIndex(state) + (free ? (k + 3) % 6 : k));
     }
     setState(m.q0(), m.u0());
   }
