@@ -53,8 +53,7 @@ UrdfScene importUrdfFile(const std::string& path, const UrdfOptions& options) {
 Scene loadScene(const std::string& path, const UrdfOptions& urdf) {
   const bool is_urdf = isUrdfPath(path);
   if (!is_urdf && urdf.any())
-    throw std::runtime_error(std::string(urdf.balance_inertia ? "--balance-inertia" : "--lock-joint") +
-                             ": applies to URDF files only, not to " + path);
+    throw std::runtime_error(urdf.firstOption() + ": applies to URDF files only, not to " + path);
   const std::string text = readFile(path, is_urdf ? "URDF file" : "scene file");
   Scene s = is_urdf ? loadUrdfText(text, path, urdf) : loadSceneText(text, path);
   s.source.sha256 = sha256Hex(text);

@@ -29,6 +29,8 @@ constexpr double kInertiaMinRatio = 1e-12;
 constexpr double kPerpendicularTol = 1e-9;
 // Largest |q0| of an angle: at 1e4 rad a double's spacing is 1.8e-12 rad.
 constexpr double kMaxAngle = 1e4;
+// Largest |q0| of a displacement, for the same reason (1.8e-12 m at 1e4 m).
+constexpr double kMaxDisplacement = 1e4;
 constexpr size_t kMaxNameLength = 64;
 
 std::string at(const std::string& path, const std::string& key) { return jsonPath(path, key); }
@@ -162,16 +164,17 @@ Spring spring(const json& v, const std::string& path, int nu) {
   return s;
 }
 
-// The axes of a revolute or universal joint (keys of another kind are errors).
+// The axes of a revolute, prismatic or universal joint (keys of another kind are errors).
 void jointAxes(const json& v, const std::string& path, Joint& j) {
   const std::string kind = jointTypeName(j.type);
   auto forbid = [&](const char* key, bool allowed) {
     if (!allowed && v.contains(key)) throw Err(at(path, key), "not allowed on a " + kind + " joint");
   };
-  forbid("axis", j.type == JointType::Revolute);
+  const bool one_axis = j.type == JointType::Revolute || j.type == JointType::Prismatic;
+  forbid("axis", one_axis);
   forbid("axes", j.type == JointType::Universal);
-  forbid("spring", j.type != JointType::Ball);
-  if (j.type == JointType::Revolute) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
+  forbid("spring", j.type != JointType::Ball && j.type != JointType::Free);
+  if (one_axis) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
   if (j.type == JointType::Universal) {
     const std::string p = at(path, "axes");
     const json& a = require(v, path, "axes");
@@ -191,20 +194,21 @@ Joint joint(const json& v, const std::string& path) {
   jointAxes(v, path, j);
   j.in_parent = vec3(require(v, path, "in_parent"), at(path, "in_parent"));
   j.in_body = vec3(require(v, path, "in_body"), at(path, "in_body"));
-  const int nq = jointNq(j.type), nu = jointNu(j.type);
-  if (v.contains("q0")) {
-    j.q0 = numbers(v["q0"], at(path, "q0"), nq);
-    for (int k = 0; k < nq && j.type != JointType::Ball; ++k)
-      if (std::abs(j.q0[k]) > kMaxAngle)
-        throw Err(at(at(path, "q0"), k), "angle " + gnum(j.q0[k]) + " rad beyond +-" + gnum(kMaxAngle) +
-                                             " rad, where a double no longer resolves 1e-12 rad");
-  } else {
-    j.q0 = Eigen::VectorXd::Zero(nq);
-    if (j.type == JointType::Ball) j.q0[0] = 1;
-  }
-  if (j.type == JointType::Ball) {
-    if (!(j.q0.norm() > 0)) throw Err(at(path, "q0"), "zero quaternion");
-    j.q0.normalize();
+  const int nq = jointNq(j.type), nu = jointNu(j.type), nt = jointNt(j.type), quat = jointQuat(j.type);
+  j.q0 = Eigen::VectorXd::Zero(nq);
+  if (quat >= 0) j.q0[quat] = 1;
+  if (v.contains("q0")) j.q0 = numbers(v["q0"], at(path, "q0"), nq);
+  for (int k = 0; k < nt; ++k)
+    if (std::abs(j.q0[k]) > kMaxDisplacement)
+      throw Err(at(at(path, "q0"), k), "displacement " + gnum(j.q0[k]) + " m beyond +-" + gnum(kMaxDisplacement) + " m");
+  for (int k = nt; k < nq && quat < 0; ++k)
+    if (std::abs(j.q0[k]) > kMaxAngle)
+      throw Err(at(at(path, "q0"), k), "angle " + gnum(j.q0[k]) + " rad beyond +-" + gnum(kMaxAngle) +
+                                           " rad, where a double no longer resolves 1e-12 rad");
+  if (quat >= 0) {
+    auto q = j.q0.segment<4>(quat);
+    if (!(q.norm() > 0)) throw Err(at(path, "q0"), "zero quaternion");
+    q.normalize();
   }
   j.u0 = v.contains("u0") ? numbers(v["u0"], at(path, "u0"), nu) : Eigen::VectorXd::Zero(nu);
   if (v.contains("spring")) {
@@ -296,7 +300,7 @@ json vecJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 json jointJson(const Joint& j) {
   json o = {{"type", jointTypeName(j.type)}};
   if (!j.name.empty()) o["name"] = j.name;
-  if (j.type == JointType::Revolute) o["axis"] = vecJson(j.axis[0]);
+  if (j.type == JointType::Revolute || j.type == JointType::Prismatic) o["axis"] = vecJson(j.axis[0]);
   if (j.type == JointType::Universal) o["axes"] = {vecJson(j.axis[0]), vecJson(j.axis[1])};
   o["in_parent"] = vecJson(j.in_parent);
   o["in_body"] = vecJson(j.in_body);

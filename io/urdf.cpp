@@ -157,11 +157,16 @@ bool isMoving(const urdf::Joint& j, const std::set<std::string>& locked) {
   if (j.mimic)
     throw Err(jointAt(j.name), "mimic joints couple two coordinates, which independent tree joints cannot express "
                                "(--lock-joint " + j.name + " holds it at zero)");
-  if (j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::CONTINUOUS) return true;
-  const char* kind = j.type == urdf::Joint::PRISMATIC ? "prismatic" : j.type == urdf::Joint::FLOATING ? "floating"
-                     : j.type == urdf::Joint::PLANAR  ? "planar" : "unknown";
-  throw Err(jointAt(j.name), std::string(kind) + " joints are not supported: the formulation covers rotational joints "
-                             "only (--lock-joint " + j.name + " holds it at zero)");
+  switch (j.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+    case urdf::Joint::PRISMATIC:
+    case urdf::Joint::FLOATING: return true;
+    default: break;
+  }
+  const char* kind = j.type == urdf::Joint::PLANAR ? "planar" : "unknown";
+  throw Err(jointAt(j.name), std::string(kind) + " joints are not supported: scenes have revolute, prismatic and free "
+                             "joints (--lock-joint " + j.name + " holds it at zero)");
 }
 
 /// The robot at its zero configuration: link frames, which moving link
@@ -194,7 +199,7 @@ Walk walk(const urdf::ModelInterface& u, const std::set<std::string>& locked, co
   Walk w;
   const std::string root = u.getRoot()->name;
   w.frame[root] = Frame{};
-  w.carrier[root] = "";
+  w.carrier[root] = opt.floating_base ? root : "";
   std::vector<urdf::LinkConstSharedPtr> stack = {u.getRoot()};
   std::set<std::string> reached = {root};
   while (!stack.empty()) {
@@ -237,27 +242,45 @@ std::set<std::string> lockedJoints(const urdf::ModelInterface& u, const UrdfOpti
   return locked;
 }
 
-// The scene body of moving joint j: joint point and axis from the child link's frame.
-BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, MassPart>& mass) {
-  const std::string& link = j.child_link_name;
+// A scene body carried by `link` (joint point at its frame's origin), hanging
+// from `parent` ("" for the ground), its joint of `type` not yet set.
+BodySpec linkBody(const std::string& link, const std::string& parent, const std::string& joint, const Walk& w,
+                  const std::map<std::string, MassPart>& mass) {
   const Frame& F = w.frame.at(link);
   const MassPart& m = mass.at(link);
-  const std::string& parent = w.carrier.at(j.parent_link_name);
   BodySpec b;
   b.name = sceneName(link, linkAt(link));
   b.parent = parent.empty() ? "ground" : sceneName(parent, linkAt(parent));
   b.mass = m.m;
   b.inertia = m.J;
-  b.joint.type = JointType::Revolute;
-  b.joint.name = sceneName(j.name, jointAt(j.name));
-  const Vec3 axis = F.R * vec(j.axis);
-  if (!(axis.stableNorm() > 0)) throw Err(jointAt(j.name), "zero axis");
-  b.joint.axis[0] = axis.stableNormalized();
+  b.joint.name = sceneName(joint, jointAt(joint));
   b.joint.in_parent = parent.empty() ? F.p : Vec3(F.p - mass.at(parent).c);
   b.joint.in_body = F.p - m.c;
-  b.joint.q0 = b.joint.u0 = Eigen::VectorXd::Zero(1);
-  b.extra = {{"x-urdf-link", link}, {"x-urdf-joint", j.name}};
+  b.extra = {{"x-urdf-link", link}, {"x-urdf-joint", joint}};
   if (w.merged.count(link)) b.extra["x-urdf-merged-links"] = w.merged.at(link);
+  return b;
+}
+
+void setFree(Joint& j) {
+  j.type = JointType::Free;
+  j.q0 = Eigen::VectorXd::Zero(7);
+  j.q0[3] = 1;  // identity quaternion
+  j.u0 = Eigen::VectorXd::Zero(6);
+}
+
+// The scene body of moving joint j: joint point and axis from the child link's frame.
+BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, MassPart>& mass) {
+  const std::string& link = j.child_link_name;
+  BodySpec b = linkBody(link, w.carrier.at(j.parent_link_name), j.name, w, mass);
+  if (j.type == urdf::Joint::FLOATING) {
+    setFree(b.joint);
+    return b;
+  }
+  b.joint.type = j.type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
+  const Vec3 axis = w.frame.at(link).R * vec(j.axis);
+  if (!(axis.stableNorm() > 0)) throw Err(jointAt(j.name), "zero axis");
+  b.joint.axis[0] = axis.stableNormalized();
+  b.joint.q0 = b.joint.u0 = Eigen::VectorXd::Zero(1);
   return b;
 }
 
@@ -299,7 +322,16 @@ UrdfScene importUrdf(const std::string& text, const std::string& source, const U
   for (const auto& [link, carrier] : w.carrier)
     if (!carrier.empty() && carrier == link) mass.emplace(link, bodyMass(w, link));
   for (const std::string& name : s.joint_names) s.spec.bodies.push_back(body(*u->getJoint(name), w, mass));
-  if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute or continuous joint: nothing moves");
+  if (opt.floating_base) {  // the root link first, on its free joint at its frame's origin
+    const std::string root = u->getRoot()->name;
+    if (u->getJoint(kFloatingBaseJoint))
+      throw Err("--floating-base", "the URDF already has a joint named '" + std::string(kFloatingBaseJoint) + "'");
+    s.spec.bodies.insert(s.spec.bodies.begin(), linkBody(root, "", kFloatingBaseJoint, w, mass));
+    setFree(s.spec.bodies.front().joint);
+    s.joint_names.insert(s.joint_names.begin(), kFloatingBaseJoint);
+    s.notes.push_back(linkAt(root) + ": moves on a free joint '" + kFloatingBaseJoint + "' (--floating-base)");
+  }
+  if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute, continuous, prismatic or floating joint: nothing moves");
   requireDistinct(s.spec.bodies, s.joint_names);
   s.spec.name = sceneName(u->getName(), "robot name");
   s.spec.extra = {{"x-source", {{"format", "urdf"}, {"file", source}, {"sha256", sha256Hex(text)}, {"robot", u->getName()}}},

@@ -1,7 +1,8 @@
 #pragma once
 /// URDF robots as scenes (docs/urdf.md). liburdfdom parses the file; this
-/// maps it: the root link held by the ground, revolute and continuous joints
-/// to revolute joints, fixed (and --lock-joint) joints merged into their
+/// maps it: the root link held by the ground (or freed by a free joint,
+/// --floating-base), revolute and continuous joints to revolute joints,
+/// prismatic to prismatic, floating to free, fixed (and --lock-joint) joints merged into their
 /// parent with the parallel-axis theorem, every frame turned world-aligned at
 /// the zero configuration. Errors are one line naming the link or joint.
 #include <string>
@@ -15,8 +16,16 @@ namespace em {
 struct UrdfOptions {
   bool balance_inertia = false;          ///< --balance-inertia: MuJoCo's balanceinertia repair
   std::vector<std::string> lock_joints;  ///< --lock-joint: held at zero and merged like a fixed joint
-  bool any() const { return balance_inertia || !lock_joints.empty(); }
+  bool floating_base = false;            ///< --floating-base: the root link moves on a free joint (kFloatingBaseJoint)
+  bool any() const { return balance_inertia || !lock_joints.empty() || floating_base; }
+  /// The first option set, as the command line spells it (for "applies to URDF files only").
+  std::string firstOption() const {
+    return balance_inertia ? "--balance-inertia" : floating_base ? "--floating-base" : "--lock-joint";
+  }
 };
+
+/// The name of the free joint --floating-base gives the root link.
+inline constexpr const char* kFloatingBaseJoint = "floating_base";
 
 /// A URDF as a scene: the spec (bodies in the file order of their joints,
 /// provenance in `x-` keys) and what the import did beyond a plain mapping.
