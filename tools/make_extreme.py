@@ -138,6 +138,36 @@ def fast_spin():
                 "gyroscopic coupling, 0.1 rad of spin per 1e-3 s step.")
 
 
+def floating_chain():
+    """Six rods on a free root in zero gravity, started tumbling: A depends on
+    the free root's rotation only through the rods' relative angles; momentum
+    is conserved (the slides' invariants)."""
+    root = {"type": "free", "in_parent": [0, 0, 0], "in_body": [0, 0, 0.5],
+            "q0": [0, 0, 0, 1, 0, 0, 0], "u0": [0.1, 0.0, 0.05, 0.3, -0.2, 0.5]}
+    return case("floating_chain", chain(6, root),
+                "Six rods on a free joint in zero gravity (a space tether), tumbling: six free speeds beside five "
+                "revolute ones; linear and angular momentum are conserved.", gravity=(0, 0, 0))
+
+
+def long_slider():
+    """A carriage sliding down a 30 degree incline (prismatic), launched at
+    20 m/s, carrying a double pendulum: after 10 s it is ~445 m away, so the
+    joint points' coordinates carry 400 m beside 1 m levers."""
+    c, s_ = math.cos(math.radians(30)), math.sin(math.radians(30))
+    cart = {"name": "carriage", "parent": "ground", "mass": 5.0, "inertia": [0.2, 0.3, 0.4],
+            "joint": {"type": "prismatic", "axis": [c, 0, -s_], "in_parent": [0, 0, 0], "in_body": [0, 0, 0],
+                      "q0": [0.0], "u0": [20.0]}}
+    bodies = [cart]
+    for i in (1, 2):
+        bodies.append({"name": "link%d" % i, "parent": "carriage" if i == 1 else "link1", **ROD,
+                       "joint": {"type": "revolute", "axis": [0, 1, 0],
+                                 "in_parent": [0, 0, 0] if i == 1 else [0, 0, -0.5], "in_body": [0, 0, 0.5],
+                                 "q0": [0.8 if i == 1 else -0.4], "u0": [0.0]}})
+    return case("long_slider", bodies,
+                "A carriage launched at 20 m/s down a 30 degree incline (prismatic) with a double pendulum on it: "
+                "~445 m of travel in 10 s beside 1 m links.")
+
+
 def copy_scene(path, name, why, t_end=None, **extreme):
     doc = json.load(open(path))
     doc["name"] = name
@@ -172,6 +202,8 @@ def main():
         copy_scene("data/bench/chain100.json", "chain100",
                    "A hundred links for 10 s: size (N = 102) and near-crossings together.",
                    runs=["rk4:1e-3"]),  # under rk8pd 1e-10 one eigen-jacobi run alone exceeds 10 CPU-minutes
+        floating_chain(),
+        long_slider(),
         copy_scene("data/scenes/pendulum5.json", "long_horizon",
                    "Pendulum5 for 1000 s: far beyond the reference horizon (chaos), so only energy drift and "
                    "failures count.", t_end=1000.0, runs=["rk4:1e-3"], reference_tol=1e-8),

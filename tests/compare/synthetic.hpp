@@ -13,6 +13,7 @@ inline Trajectory turning(Method method, double slope, double drift, double t_en
   tr.run.t_end = t_end;
   tr.run.output_dt = dt;
   tr.q_names = {"body.q0"};
+  tr.angle_coords = {0};
   tr.u_names = {"body.u0"};
   tr.body_names = {"body"};
   const int n = static_cast<int>(std::lround(t_end / dt));

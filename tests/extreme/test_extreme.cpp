@@ -100,7 +100,7 @@ TEST_CASE("gallery scenes: A and B agree with Simbody at the initial and at rand
       CHECK(row.B <= kRoundOff);
     }
   }
-  CHECK(scenes == 13);
+  CHECK(scenes == 15);
   CHECK(rows == 4 * scenes);  // the initial state and three random ones, each
 }
 
