@@ -32,7 +32,7 @@ Workspace::Workspace(const Model& m) {
 }
 
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
-  // Outward recursion over the regular numbering (parents first); docs/theory.md §3, §7.
+  // Outward recursion over the regular numbering (parents first); docs/theory.md §3, §12.
   Axes Pj, Pdj;
   for (int i = 0; i < m.n(); ++i) {
     const Body& B = m.bodies[i];
@@ -51,7 +51,7 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
     ws.J_w[i] = ws.R[i] * B.J * ws.R[i].transpose();
     ws.b[i] = -(ws.R[i] * B.joint.in_body);
     // Joint point i, and its velocity, from the parent's joint point; a
-    // sliding joint moves it by x along the parent's axes at v_rel (eq. (X)).
+    // sliding joint moves it by x along the parent's axes at v_rel (eq. (T1)).
     const Vec3 x = nt == 0 ? Vec3::Zero() : slideOffset(B.joint, qi);
     ws.v_rel[i] = nt == 0 ? Vec3::Zero() : Vec3(Pj.leftCols(nt) * Eigen::Map<const Eigen::VectorXd>(ui, nt));
     Vec3 v_o = ws.v_rel[i];
@@ -118,11 +118,11 @@ void formSubtrees(const Model& m, Workspace& ws) {
 namespace {
 
 // Column b of A (of body k): the momentum per unit u_b of subtree(k), as an
-// angular part f about joint point k and a linear part l (docs/theory.md
-// eq. (A7)): rotation p_b: f = I_k p_b, l = p_b x S_k; slide t_b:
-// f = S_k x t_b, l = mu_k t_b.
+// angular part sigma about joint point k and a linear part pi (docs/theory.md
+// eq. (T2)): rotation p_b: sigma = I_k p_b, pi = p_b x S_k; slide t_b:
+// sigma = S_k x t_b, pi = mu_k t_b.
 struct ColumnMomentum {
-  Vec3 f, l;
+  Vec3 sigma, pi;  ///< angular part about joint point k, linear part
 };
 
 template <bool kSliding>
@@ -131,8 +131,8 @@ ColumnMomentum columnMomentum(const Workspace& ws, int k, const Vec3& p_b, bool 
   return {ws.IC[k] * p_b, p_b.cross(ws.S[k])};
 }
 
-// A_ab = p_a . (f + r_jk x l) for a rotation axis p_a of ancestor j, t_a . l
-// for a slide t_a (eq. (A7)), down column b.
+// A_ab = p_a . (sigma + r_jk x pi) for a rotation axis p_a of ancestor j,
+// t_a . pi for a slide t_a (eq. (T3)), down column b.
 template <bool kSliding>
 void formAImpl(const Model& m, Workspace& ws) {
   // The lever r_jk = o_k - o_j is formed from the joint points, so j = k is
@@ -145,8 +145,8 @@ void formAImpl(const Model& m, Workspace& ws) {
       double* A_b = ws.A.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
         const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
-        for (int a = a0; a < a_rot; ++a) A_b[a] = ws.P.col(a).dot(c.l);
-        const Vec3 w = c.f + (ws.o[k] - ws.o[j]).cross(c.l);
+        for (int a = a0; a < a_rot; ++a) A_b[a] = ws.P.col(a).dot(c.pi);
+        const Vec3 w = c.sigma + (ws.o[k] - ws.o[j]).cross(c.pi);
         for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) A_b[a] = ws.P.col(a).dot(w);
       }
     }
@@ -183,7 +183,7 @@ namespace {
 // F~_k: F_k plus the subtree's mass times the linear acceleration the
 // velocity-product angular accelerations phi cause (tau_i + phi_i x b_i,
 // tau_i = tau_p + phi_p x d_i): the force a slide's row of B projects
-// (docs/theory.md eq. (B7)). O(n); sliding scenes only.
+// (docs/theory.md eq. (T5)). O(n); sliding scenes only.
 void formSlideForces(const Model& m, Workspace& ws) {
   const int n = m.n();
   for (int i = 0; i < n; ++i) {
@@ -198,7 +198,7 @@ void formSlideForces(const Model& m, Workspace& ws) {
 }
 
 // phi = T^T f and the joint points' velocity-product accelerations e, h (§5;
-// a slide adds Coriolis 2 w_p x v_rel to e, eq. (B7)).
+// a slide adds Coriolis 2 w_p x v_rel to e, eq. (T4)).
 void formVelocityProducts(const Model& m, const double* u, Workspace& ws) {
   for (int i = 0; i < m.n(); ++i) {
     const Body& Bi = m.bodies[i];
@@ -240,7 +240,7 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     for (int c : Bj.children) Mp += ws.d[c].cross(ws.F[c]);
     ws.psi.segment<3>(3 * j) += Mp;
   }
-  // T psi: subtree sums, then B = -P^T (T psi) + Q; a slide's row -t^T F~ (eq. (B7)).
+  // T psi: subtree sums, then B = -P^T (T psi) + Q; a slide's row -t^T F~ (eq. (T5)).
   for (int i = n - 1; i >= 0; --i)
     if (int p = m.bodies[i].parent; p >= 0) ws.psi.segment<3>(3 * p) += ws.psi.segment<3>(3 * i);
   for (int i = 0; i < n; ++i) {
@@ -295,7 +295,7 @@ void formSubtreeRates(const Model& m, Workspace& ws) {
 
 namespace {
 
-// formA's column momentum (f, l) and its rate (f', l') (docs/theory.md §6, eq. (A7')).
+// formA's column momentum (sigma, pi) and its rate (sigma', pi') (docs/theory.md §6, eqs. (T2)–(T3) differentiated).
 template <bool kSliding>
 void columnMomentumRate(const Workspace& ws, int k, const Vec3& p_b, const Vec3& pd_b, bool slides,
                         ColumnMomentum& c, ColumnMomentum& c_dot) {
@@ -309,8 +309,8 @@ void columnMomentumRate(const Workspace& ws, int k, const Vec3& p_b, const Vec3&
 
 template <bool kSliding>
 void formAdotImpl(const Model& m, Workspace& ws) {
-  // The time derivative of formA's A_ab = p_a . w, w = f + r_jk x l
-  // (t_a . l for a slide): A'_ab = p_a' . w + p_a . w', column by column as in formA.
+  // The time derivative of formA's A_ab = p_a . w, w = sigma + r_jk x pi
+  // (t_a . pi for a slide): A'_ab = p_a' . w + p_a . w', column by column as in formA.
   const int N = m.nu;
   for (int k = 0; k < m.n(); ++k) {
     const int b0 = m.body_iu[k];
@@ -320,10 +320,10 @@ void formAdotImpl(const Model& m, Workspace& ws) {
       double* Ad_b = ws.Adot.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
         const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
-        for (int a = a0; a < a_rot; ++a) Ad_b[a] = ws.Pdot.col(a).dot(c.l) + ws.P.col(a).dot(c_dot.l);
+        for (int a = a0; a < a_rot; ++a) Ad_b[a] = ws.Pdot.col(a).dot(c.pi) + ws.P.col(a).dot(c_dot.pi);
         const Vec3 r = ws.o[k] - ws.o[j], r_dot = ws.vo[k] - ws.vo[j];
-        const Vec3 w = c.f + r.cross(c.l);
-        const Vec3 w_dot = c_dot.f + r_dot.cross(c.l) + r.cross(c_dot.l);
+        const Vec3 w = c.sigma + r.cross(c.pi);
+        const Vec3 w_dot = c_dot.sigma + r_dot.cross(c.pi) + r.cross(c_dot.pi);
         for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) Ad_b[a] = ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot);
       }
     }

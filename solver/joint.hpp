@@ -1,5 +1,5 @@
 #pragma once
-/// Joint kinematics for the six joint kinds (docs/theory.md §1, §3, §7): the
+/// Joint kinematics for the six joint kinds (docs/theory.md §1, §3, §12): the
 /// rotational kinds turn about the joint point; prismatic and free slide it.
 #include "solver/model.hpp"
 
@@ -11,12 +11,12 @@ using Axes = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6>;  ///< up to 6 ax
 Mat3 relativeRotation(const Joint& j, const double* q);
 
 /// Displacement x of the joint point from its rest place, parent frame:
-/// prismatic q0 * axis, free (q0, q1, q2), else zero (docs/theory.md §7).  // q: (nq)
+/// prismatic q0 * axis, free (q0, q1, q2), else zero (docs/theory.md §12).  // q: (nq)
 Vec3 slideOffset(const Joint& j, const double* q);
 
 /// World-frame joint axes p_jk as columns, R_p = parent orientation: the
 /// sliding direction t_jk for the first nt speeds, the rotation axis for the
-/// rest (docs/theory.md §7).  // -> (3 x nu)
+/// rest (docs/theory.md §12).  // -> (3 x nu)
 void worldAxes(const Joint& j, const Mat3& R_p, const double* q, Axes& P);
 
 /// Axis rates p_jk' (columns) from the parent's and the body's angular velocity

@@ -94,7 +94,7 @@ struct Model {
   bool has_springs = false;    ///< build the joint-force term Q only when declared
   bool has_dampers = false;    ///< some c != 0: runs track the dissipated work W_diss (docs/theory.md §5)
   bool has_gravity = false;
-  bool has_sliding = false;    ///< some prismatic or free joint: the formation does translational work only then (theory.md §7)
+  bool has_sliding = false;    ///< some prismatic or free joint: the formation does translational work only then (theory.md §12)
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map
   /// Compact copies of bodies[i].parent, .iu and .nu() for the O(n depth)
