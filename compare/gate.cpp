@@ -45,7 +45,7 @@ RunSpec inhouseSettings(const json& run, const std::string& file, const std::str
     bad(file, path, "expected {\"integrator\": ..., \"dt\" or \"tolerance\": ...}");
   RunSpec s;
   const std::string name = run["integrator"].get<std::string>();
-  if (!findIntegrator(name, s.integrator) || info(s.integrator).engine != Engine::InHouse)
+  if (!findIntegrator(name, s.integrator) || !info(s.integrator).runs(Engine::InHouse))
     bad(file, path + ".integrator", "unknown in-house integrator '" + name + "' (" + joined(integratorNames(Engine::InHouse)) + ")");
   if (s.fixedStep()) s.dt = positive(run.value("dt", json()), file, path + ".dt");
   else s.tol = positive(run.value("tolerance", json()), file, path + ".tolerance");

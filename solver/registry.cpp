@@ -24,6 +24,7 @@ const std::vector<EngineInfo>& engineTable() {
   static const std::vector<EngineInfo> table = {
       {Engine::InHouse, "inhouse", Integrator::RK4, Integrator::RK8PD},
       {Engine::Simbody, "simbody", Integrator::RKMerson, Integrator::RKMerson},
+      {Engine::Mujoco, "mujoco", Integrator::RK4, Integrator::RK4},  // MuJoCo 2.2 has no adaptive scheme
   };
   return table;
 }
@@ -45,23 +46,29 @@ const std::vector<MethodInfo>& methodTable() {
        makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step"},
       {Method::Simbody, "simbody", Engine::Simbody, Correction::None, ExtraState::None, false, nullptr, {},
        "Simbody's own O(n) recursive dynamics: the independent engine"},
+      {Method::Mujoco, "mujoco", Engine::Mujoco, Correction::None, ExtraState::None, false, nullptr, {},
+       "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step"},
   };
   return table;
 }
 
 const std::vector<IntegratorInfo>& integratorTable() {
   static const std::vector<IntegratorInfo> table = {
-      {Integrator::RK4, "rk4", Engine::InHouse, true, rk4Step, nullptr,
-       "classical four-stage Runge-Kutta, fixed step (hand-written)"},
-      {Integrator::RKF45, "rkf45", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_rkf45,
+      {Integrator::RK4, "rk4", {Engine::InHouse, Engine::Mujoco}, true, rk4Step, nullptr,
+       "classical four-stage Runge-Kutta, fixed step (in-house: hand-written; mujoco: MuJoCo's RK4, the same tableau)"},
+      {Integrator::RKF45, "rkf45", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rkf45,
        "GSL Runge-Kutta-Fehlberg (4, 5), adaptive"},
-      {Integrator::RK8PD, "rk8pd", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_rk8pd,
+      {Integrator::RK8PD, "rk8pd", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rk8pd,
        "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive"},
-      {Integrator::BSIMP, "bsimp", Engine::InHouse, false, nullptr, &gsl_odeiv2_step_bsimp,
+      {Integrator::BSIMP, "bsimp", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_bsimp,
        "GSL implicit Bulirsch-Stoer, adaptive (stiff)"},
-      {Integrator::RKMerson, "rkmerson", Engine::Simbody, false, nullptr, nullptr, "Simbody Runge-Kutta-Merson, adaptive"},
-      {Integrator::RK3, "rk3", Engine::Simbody, false, nullptr, nullptr, "Simbody Runge-Kutta 3, adaptive"},
-      {Integrator::CPodes, "cpodes", Engine::Simbody, false, nullptr, nullptr, "Simbody CPodes (implicit BDF), adaptive"},
+      {Integrator::RKMerson, "rkmerson", {Engine::Simbody}, false, nullptr, nullptr, "Simbody Runge-Kutta-Merson, adaptive"},
+      {Integrator::RK3, "rk3", {Engine::Simbody}, false, nullptr, nullptr, "Simbody Runge-Kutta 3, adaptive"},
+      {Integrator::CPodes, "cpodes", {Engine::Simbody}, false, nullptr, nullptr, "Simbody CPodes (implicit BDF), adaptive"},
+      {Integrator::Euler, "euler", {Engine::Mujoco}, true, nullptr, nullptr,
+       "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step"},
+      {Integrator::Implicit, "implicit", {Engine::Mujoco}, true, nullptr, nullptr,
+       "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step"},
   };
   return table;
 }
@@ -79,7 +86,7 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::RefinementDiverged, "refinement-diverged", "a residual correction of u' grew the residual in the H-norm: the eigenfactors no longer approximate A's inverse"},
       {Failure::IntegratorStopped, "integrator-stopped", "the adaptive integrator gave up"},
       {Failure::StepUnderflow, "step-underflow", "the adaptive step collapsed"},
-      {Failure::Engine, "engine", "the other engine (Simbody) stopped with an exception"},
+      {Failure::Engine, "engine", "another engine stopped (a Simbody exception, a MuJoCo warning)"},
   };
   return table;
 }
@@ -142,7 +149,7 @@ std::vector<std::string> integratorNames() { return names(integratorTable()); }
 std::vector<std::string> integratorNames(Engine e) {
   std::vector<std::string> n;
   for (const IntegratorInfo& r : integratorTable())
-    if (r.engine == e) n.emplace_back(r.name);
+    if (r.runs(e)) n.emplace_back(r.name);
   return n;
 }
 
@@ -162,6 +169,12 @@ int extraStateSize(ExtraState x, int N) {
     case ExtraState::CD: return 2 * N * N;
   }
   throw std::logic_error("registry: an extra state without a size");
+}
+
+bool IntegratorInfo::runs(Engine e) const {
+  for (Engine x : engines)
+    if (x == e) return true;
+  return false;
 }
 
 bool MethodInfo::takes(const std::string& option) const {
@@ -192,7 +205,7 @@ std::vector<MethodParam> methodParams() {
 
 void requireCompatible(Method method, Integrator integrator) {
   const Engine e = info(method).engine;
-  if (info(integrator).engine != e)
+  if (!info(integrator).runs(e))
     throw std::invalid_argument("integrator '" + std::string(integratorName(integrator)) + "' is not one of " +
                                 methodName(method) + "'s (" + joined(integratorNames(e)) + ")");
 }

@@ -18,11 +18,11 @@ struct Model;
 class MethodImpl;
 
 /// Who runs a method or an integrator.
-enum class Engine { InHouse, Simbody };
+enum class Engine { InHouse, Simbody, Mujoco };
 
-enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody };
+enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody, Mujoco };
 
-enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes };
+enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes, Euler, Implicit };
 
 /// An engine's row: its name and the integrators it runs when none is named.
 struct EngineInfo {
@@ -79,14 +79,17 @@ struct MethodInfo {
   double param(const std::string& name, const MethodOptions& o) const;
 };
 
+/// An integrator row. One name means one scheme: rk4 is the in-house rk4 and
+/// MuJoCo's RK4 (the same tableau), so it lists both engines.
 struct IntegratorInfo {
   Integrator id;
   const char* name;
-  Engine engine;
+  std::vector<Engine> engines;  ///< who runs it
   bool fixed_step;  ///< a step dt (else a tolerance: adaptive)
   FixedStep step;   ///< in-house fixed-step schemes: one step of exactly h
   GslStepper gsl;   ///< in-house adaptive schemes: GSL's stepper
   const char* summary;
+  bool runs(Engine e) const;
 };
 
 /// Why a run stopped: the kind of its numerical failure (reports'
@@ -103,7 +106,7 @@ enum class Failure {
   RefinementDiverged,     ///< a residual correction of u' grew the residual (the refine option)
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
-  Engine,                 ///< another engine (Simbody) threw
+  Engine,                 ///< another engine (Simbody, MuJoCo) threw or warned
 };
 
 struct FailureInfo {

@@ -38,7 +38,7 @@ TEST_CASE("runMethod dispatches to both engines and rejects unknown names", "[ru
   CHECK(t.integrator() == "rkmerson");
   CHECK(t.size() == 3);
   CHECK_THROWS_WITH(parseMethod("lagrange"), Catch::Contains("unknown method 'lagrange'"));
-  CHECK_THROWS_WITH(parseIntegrator("euler"), Catch::Contains("unknown integrator 'euler'"));
+  CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'"));
   s.method = Method::Classical;  // an integrator of the other engine
   CHECK_THROWS_WITH(runMethod(m, s), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
 }

@@ -17,10 +17,13 @@ TEST_CASE("every method and integrator round-trips through its name - unknown na
   }
   for (const IntegratorInfo& i : integratorTable()) CHECK(parseIntegrator(i.name) == i.id);
   CHECK(methodNames().size() == methodTable().size());
-  CHECK(integratorNames(Engine::InHouse).size() + integratorNames(Engine::Simbody).size() == integratorTable().size());
+  for (const IntegratorInfo& i : integratorTable()) CHECK_FALSE(i.engines.empty());  // every row runs somewhere
+  // One name, one scheme: rk4 is the in-house rk4 and MuJoCo's RK4.
+  CHECK(integratorNames(Engine::Mujoco) == std::vector<std::string>{"rk4", "euler", "implicit"});
+  CHECK(info(Integrator::RK4).runs(Engine::InHouse));
   CHECK_THROWS_WITH(parseMethod("newton"),
-                    "unknown method 'newton' (classical, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody)");
-  CHECK_THROWS_WITH(parseIntegrator("euler"), Catch::Contains("unknown integrator 'euler'") && Catch::Contains("rk8pd"));
+                    "unknown method 'newton' (classical, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody, mujoco)");
+  CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'") && Catch::Contains("rk8pd"));
 }
 
 TEST_CASE("the registry's properties are what each method does", "[registry][dynamics]") {
@@ -53,13 +56,15 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
     CHECK((held - eigenvalues).cwiseAbs().maxCoeff() < 1e-13 * eigenvalues.maxCoeff());
     CHECK((C.transpose() * held.asDiagonal() * C - A).norm() < 1e-13 * A.norm());
   }
-  for (Engine e : {Engine::InHouse, Engine::Simbody}) {
-    CHECK(info(defaultIntegrator(e)).engine == e);
-    CHECK(info(adaptiveIntegrator(e)).engine == e);
-    CHECK_FALSE(info(adaptiveIntegrator(e)).fixed_step);
+  for (Engine e : {Engine::InHouse, Engine::Simbody, Engine::Mujoco}) {
+    CHECK(info(defaultIntegrator(e)).runs(e));
+    CHECK(info(adaptiveIntegrator(e)).runs(e));
+    CHECK(info(adaptiveIntegrator(e)).fixed_step == (e == Engine::Mujoco));  // MuJoCo 2.2 has no adaptive scheme
   }
   for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function or its GSL stepper
-    if (i.engine == Engine::InHouse) CHECK((i.fixed_step ? i.step != nullptr : i.gsl != nullptr));
+    if (i.runs(Engine::InHouse)) CHECK((i.fixed_step ? i.step != nullptr : i.gsl != nullptr));
+  CHECK_THROWS_AS(requireCompatible(Method::Classical, Integrator::Euler), std::invalid_argument);
+  CHECK_NOTHROW(requireCompatible(Method::Mujoco, Integrator::RK4));
   CHECK_THROWS_WITH(requireCompatible(Method::Simbody, Integrator::RK4), Catch::Contains("rk4") && Catch::Contains("simbody"));
   CHECK_THROWS_AS(requireCompatible(Method::Classical, Integrator::CPodes), std::invalid_argument);
   CHECK_NOTHROW(requireCompatible(Method::Classical, Integrator::BSIMP));
