@@ -18,6 +18,7 @@ struct CompareArgs {
   std::string reference = methodName(Method::Simbody), reference_integrator;
   std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
   std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
+  std::string mujoco_integrator;
   std::vector<std::string> methods = methodNames();
   RunArgs run;
   CompareOptions opt;
@@ -36,8 +37,13 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
                                                                           : parseIntegrator(a.integrator);
   o.simbody.integrator = parseIntegrator(a.simbody_integrator);
+  // MuJoCo runs the in-house scheme when it has it (rk4: the same tableau), else its own rk4.
+  o.mujoco.integrator = !a.mujoco_integrator.empty()                           ? parseIntegrator(a.mujoco_integrator)
+                        : info(o.inhouse.integrator).runs(Engine::Mujoco) ? o.inhouse.integrator
+                                                                            : defaultIntegrator(Engine::Mujoco);
+  o.mujoco.dt = o.inhouse.dt;
   o.grid = a.run.asked(cmd);
-  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.reference}) a.run.applyTo(*s);
+  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.mujoco, &o.reference}) a.run.applyTo(*s);
   return o;
 }
 
@@ -109,6 +115,10 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
                   helpWithNames("Integrator of the compared simbody method", integratorNames(Engine::Simbody)))
       ->check(integratorValidator(Engine::Simbody))
       ->capture_default_str();
+  cmd->add_option("--mujoco-integrator", a.mujoco_integrator,
+                  helpWithNames("Integrator of the compared mujoco method, at --dt (default: the in-house one when "
+                                "MuJoCo has it, else rk4)", integratorNames(Engine::Mujoco)))
+      ->check(integratorValidator(Engine::Mujoco));
   cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")
       ->check(positiveFinite())
       ->capture_default_str();

@@ -42,6 +42,11 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   s.method = parseMethod(a.method);
   // --tol alone selects an adaptive integrator for the in-house methods.
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
+  // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
+  if (cmd.count("--tol") && s.fixedStep())
+    throw std::invalid_argument(std::string("--tol: ") + integratorName(s.integrator) + " takes a fixed step (--dt)");
+  if (cmd.count("--dt") && !s.fixedStep())
+    throw std::invalid_argument(std::string("--dt: ") + integratorName(s.integrator) + " is adaptive (--tol)");
   const Trajectory tr = runMethod(scene.model, onGrid(s, scene, a.run.asked(cmd)));
   writeTrajectory(tr, path);
   printSummary(tr, path);
@@ -61,7 +66,9 @@ void addSimulate(CLI::App& app) {
                   "In-house: " + joined(integratorNames(Engine::InHouse)) + " (default " +
                       integratorName(defaultIntegrator(Engine::InHouse)) + "); simbody: " +
                       joined(integratorNames(Engine::Simbody)) + " (default " +
-                      integratorName(defaultIntegrator(Engine::Simbody)) + ")")
+                      integratorName(defaultIntegrator(Engine::Simbody)) + "); mujoco: " +
+                      joined(integratorNames(Engine::Mujoco)) + " (default " +
+                      integratorName(defaultIntegrator(Engine::Mujoco)) + ", fixed step --dt)")
       ->check(integratorValidator());
   auto* dt = cmd->add_option("--dt", a->spec.dt, "Fixed step of fixed-step integrators (s)")
                  ->check(positiveFinite())

@@ -1,6 +1,7 @@
 #include "compare/comparison.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -15,10 +16,14 @@ CompareOptions::CompareOptions() : reference(referenceRun()) {
   simbody.method = Method::Simbody;
   simbody.integrator = defaultIntegrator(Engine::Simbody);
   simbody.tol = 1e-6;
+  mujoco.method = Method::Mujoco;
+  mujoco.integrator = defaultIntegrator(Engine::Mujoco);
+  mujoco.dt = 1e-3;
 }
 
 RunSpec CompareOptions::specFor(Method method) const {
-  RunSpec s = info(method).engine == Engine::Simbody ? simbody : inhouse;
+  const Engine e = info(method).engine;
+  RunSpec s = e == Engine::Simbody ? simbody : e == Engine::Mujoco ? mujoco : inhouse;
   s.method = method;
   return s;
 }
@@ -76,6 +81,20 @@ Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& 
   return runMethod(scene.model, s);
 }
 
+// MuJoCo rk4 at kSecondEngineDt (or the output step, if finer) on the reference's grid.
+void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns& out, void (*progress)(const std::string&)) {
+  RunSpec s = reference;
+  s.method = Method::Mujoco;
+  s.integrator = Integrator::RK4;
+  s.dt = reference.output_dt / std::ceil(reference.output_dt / kSecondEngineDt - 1e-9);
+  s.options.max_steps = HUGE_VAL;  // its cost is the floor's, asked for by the comparison
+  try {
+    out.second_engine = runLabelled(scene, s, "second engine mujoco/rk4 dt " + gnum(s.dt), progress);
+  } catch (const std::exception& e) {
+    out.second_engine_skipped = std::string("mujoco: ") + e.what();
+  }
+}
+
 }  // namespace
 
 void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) {
@@ -86,10 +105,11 @@ ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (
   const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
   checkComparison(opt, specs);
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
-                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}};
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}};
   LyapunovOptions lo;
   lo.t_end = specs[0].t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
+  if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
   return out;
 }
 
@@ -111,6 +131,10 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   r.nu = m.nu;
   r.bodies = m.n();
   r.lyapunov = reference.lyapunov;
+  r.second_engine = reference.second_engine;
+  r.second_engine_skipped = reference.second_engine_skipped;
+  if (r.second_engine)
+    r.second_engine_metrics = compareRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
   return r;
 }
 
@@ -162,6 +186,14 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
   for (size_t i = 0; i < r.horizon.size(); ++i)
     o << " " << gnum(r.options.thresholds[i]) << " rad " << (r.horizon[i] ? gnum(*r.horizon[i]) + " s" : "not within t_end");
   o << "\n";
+  if (r.second_engine_metrics) {
+    const MethodMetrics& m = *r.second_engine_metrics;
+    o << "second engine: mujoco/rk4 dt " << gnum(r.second_engine->run.dt) << " against the reference: max pose "
+      << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time.value_or(0)) + " s)" : "")
+      << ", the two independent engines' distance: errors below it are not resolved\n";
+  } else if (!r.second_engine_skipped.empty()) {
+    o << "second engine: not run (" << r.second_engine_skipped << ")\n";
+  }
 }
 
 }  // namespace

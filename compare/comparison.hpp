@@ -15,13 +15,18 @@ struct CompareOptions {
   std::vector<Method> methods;  ///< default: every method of the registry, in table order
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
   RunSpec simbody;           ///< Simbody as a compared method (rkmerson, accuracy 1e-6)
+  RunSpec mujoco;            ///< MuJoCo as a compared method (its rk4, dt 1e-3: the in-house default's scheme and step)
   RunSpec reference;         ///< the reference run (referenceRun(): Simbody rkmerson, accuracy 1e-10)
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
   Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
   std::vector<double> thresholds = {1e-3, 1e-1};
+  /// Beside the reference, MuJoCo rk4 at kSecondEngineDt on the grid: the
+  /// distance of the two independent engines, a second floor (compare; the
+  /// gallery leaves it out).
+  bool second_engine = true;
 
   CompareOptions();
-  /// The settings a compared method runs with: `simbody` or `inhouse`, by its engine.
+  /// The settings a compared method runs with: `simbody`, `mujoco` or `inhouse`, by its engine.
   RunSpec specFor(Method method) const;
 };
 
@@ -40,7 +45,15 @@ struct ComparisonResult {
   /// The reference motion's maximal Lyapunov exponent over the grid (compare/lyapunov.hpp);
   /// absent where no comparison command asked for it (the gallery).
   std::optional<Lyapunov> lyapunov;
+  /// The second engine (MuJoCo rk4 at a small step) against the reference,
+  /// when asked and MuJoCo takes the scene; else why not.
+  std::optional<Trajectory> second_engine;
+  std::optional<MethodMetrics> second_engine_metrics;
+  std::string second_engine_skipped;
 };
+
+/// The second engine's step: fine enough that rk4's own error (~dt^4) is below the reference's tolerance.
+constexpr double kSecondEngineDt = 1e-4;
 
 /// Throws for settings that cannot run (SettingError, a method named twice,
 /// no threshold): what runComparison checks before anything runs.
@@ -52,6 +65,8 @@ void checkComparisonOptions(const Scene& scene, const CompareOptions& opt);
 struct ReferenceRuns {
   Trajectory reference, tight;
   Lyapunov lyapunov;
+  std::optional<Trajectory> second_engine;  ///< MuJoCo rk4 at kSecondEngineDt (CompareOptions::second_engine)
+  std::string second_engine_skipped;        ///< why it did not run, when asked
 };
 /// Run them as `opt` says (after checkComparisonOptions).
 ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&) = nullptr);

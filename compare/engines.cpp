@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "compare/progress.hpp"
+#include "reference/mujoco_engine.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
@@ -35,6 +36,7 @@ Trajectory runMethod(const Model& m, const RunSpec& spec) {
   switch (spec.engine()) {
     case Engine::InHouse: return simulate(m, spec, observe);
     case Engine::Simbody: return SimbodyReference(m).simulate(spec, observe);
+    case Engine::Mujoco: return simulateMujoco(m, spec, observe);
   }
   throw std::logic_error("runMethod: an engine without a runner");
 }

@@ -13,7 +13,9 @@ namespace em {
 RunSpec PrecisionOptions::specFor(Method method, double setting) const {
   RunSpec s;
   s.method = method;
-  s.integrator = info(method).engine == Engine::InHouse ? integrator : defaultIntegrator(info(method).engine);
+  // Another engine runs the same scheme where it has it (mujoco: rk4), else its default.
+  const Engine e = info(method).engine;
+  s.integrator = info(integrator).runs(e) ? integrator : defaultIntegrator(e);
   (s.fixedStep() ? s.dt : s.tol) = setting;
   s.diagnostics = false;  // only errors and cost are wanted here
   s.options = options;
@@ -30,9 +32,11 @@ std::vector<RunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& 
   const bool fixed = info(opt.integrator).fixed_step;
   std::vector<RunSpec> specs;
   for (Method method : opt.methods) {
-    if (fixed && info(method).engine != Engine::InHouse)
-      throw std::invalid_argument(std::string(methodName(method)) +
-                                  " has no fixed-step integrator here: give an adaptive --integrator and tolerances");
+    if (info(opt.specFor(method, 1.0).integrator).fixed_step != fixed)
+      throw std::invalid_argument(std::string(methodName(method)) + (fixed ? " has no fixed-step integrator here: give an "
+                                                                             "adaptive --integrator and tolerances"
+                                                                           : " has no adaptive integrator: give --integrator "
+                                                                             "rk4 and steps"));
     for (double setting : opt.settings) specs.push_back(onGrid(opt.specFor(method, setting), scene, opt.grid));
   }
   for (const RunSpec& s : specs) checkRunSpec(s);

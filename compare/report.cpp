@@ -120,6 +120,18 @@ std::string thresholdKey(double th) {
   return key + "e" + std::to_string(exponent);
 }
 
+// MuJoCo at a small step against the reference: the two independent engines' distance.
+json secondEngineJson(const ComparisonResult& r) {
+  if (!r.second_engine_metrics) return r.second_engine_skipped.empty() ? json(nullptr) : json({{"skipped", r.second_engine_skipped}});
+  const Trajectory& t = *r.second_engine;
+  const MethodMetrics& m = *r.second_engine_metrics;
+  return {{"method", t.method()},          {"integrator", t.integrator()},
+          {"dt", t.run.dt},                {"status", t.status()},
+          {"failure", failureJson(m)},     {"max_pose_error_rad", finiteOrNull(m.pose.value)},
+          {"max_position_error_m", finiteOrNull(m.position.value)},
+          {"energy_error_max", finiteOrNull(m.energy.value)}, {"run_time_s", t.run_time_s}};
+}
+
 json makeReport(const ComparisonResult& r, const json& gate, int max_series_points) {
   const CompareOptions& o = r.options;
   json methods = json::array();
@@ -143,6 +155,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
            {{"methods", names},
             {"inhouse", runSpec(o.inhouse)},
             {"simbody", runSpec(o.simbody)},
+            {"mujoco", runSpec(o.mujoco)},
             {"t_end", r.t_end},
             {"output_dt", r.output_dt},
             {"thresholds_rad", o.thresholds},
@@ -163,7 +176,8 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)},
             {"lyapunov_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->per_s) : json(nullptr)},
             {"lyapunov_uncertainty_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->uncertainty_per_s) : json(nullptr)},
-            {"lyapunov", lyapunovJson(r.lyapunov)}}},
+            {"lyapunov", lyapunovJson(r.lyapunov)},
+            {"second_engine", secondEngineJson(r)}}},
           {"methods", methods},
           {"series", series},
           {"gate", gate},

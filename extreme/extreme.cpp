@@ -24,7 +24,7 @@ ExtremeSetting parseSetting(const std::string& text) {
   if (colon == std::string::npos) throw std::invalid_argument("'" + printable(text, 40) + "': expected integrator:value (rk4:1e-3)");
   ExtremeSetting s;
   s.integrator = parseIntegrator(text.substr(0, colon));
-  if (info(s.integrator).engine != Engine::InHouse)
+  if (!info(s.integrator).runs(Engine::InHouse))
     throw std::invalid_argument("'" + text.substr(0, colon) + "' is not an in-house integrator (" +
                                 joined(integratorNames(Engine::InHouse)) + ")");
   size_t used = 0;
@@ -158,10 +158,15 @@ namespace {
 CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const ExtremeOptions& opt) {
   CompareOptions o;
   o.methods = opt.methods;
+  o.second_engine = false;  // the gallery compares MuJoCo as a method; its floor would double the cost
   o.inhouse.integrator = s.integrator;
   (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
+  if (info(s.integrator).runs(Engine::Mujoco)) {  // the same scheme at the same step; else MuJoCo's rk4 at 1e-3
+    o.mujoco.integrator = s.integrator;
+    o.mujoco.dt = s.value;
+  }
   if (c.reference_tol) o.reference.tol = *c.reference_tol;
-  for (RunSpec* spec : {&o.inhouse, &o.simbody, &o.reference}) spec->options = opt.options;
+  for (RunSpec* spec : {&o.inhouse, &o.simbody, &o.mujoco, &o.reference}) spec->options = opt.options;
   o.grid = opt.grid;
   o.thresholds = {1e-3, kWrongRad};
   return o;

@@ -167,7 +167,12 @@ std::string urdfForMujoco(const std::string& text, const std::vector<std::string
   return printer.CStr();
 }
 
+// MuJoCo prints its warnings and appends them to MUJOCO_LOG.TXT in the working
+// directory by default: a file nobody asked for. Runs report them instead (warnings()).
+void quietWarning(const char*) {}
+
 mjModel* compile(const std::vector<std::pair<std::string, std::string>>& files) {
+  mju_user_warning = quietWarning;
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());
   for (const auto& [name, xml] : files) {
@@ -340,6 +345,63 @@ Eigen::VectorXd MujocoPeer::rhs() const {
   for (int i = 0; i < B.size(); ++i) B[i] = impl_->d->qfrc_passive[impl_->dof[i]] - impl_->d->qfrc_bias[impl_->dof[i]];
   impl_->toInhouse(B);  // B = G B_mj
   return B;
+}
+
+}  // namespace em
+
+namespace em {
+
+void MujocoPeer::configure(int scheme, double dt) {
+  mjModel* mm = impl_->mm;
+  mm->opt.integrator = scheme;
+  mm->opt.timestep = dt;
+  mm->opt.enableflags |= mjENBL_ENERGY;
+  mj_resetData(mm, impl_->d);
+}
+
+void MujocoPeer::step() { mj_step(impl_->mm, impl_->d); }
+
+void MujocoPeer::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
+  const Impl& I = *impl_;
+  q.resize(static_cast<Eigen::Index>(I.qadr.size()));
+  u.resize(static_cast<Eigen::Index>(I.dof.size()));
+  for (size_t i = 0; i < I.qadr.size(); ++i) q[i] = I.d->qpos[I.qadr[i]] - I.qoff[i];
+  for (size_t i = 0; i < I.dof.size(); ++i) u[i] = I.d->qvel[I.dof[i]];
+  for (const Impl::Turned& t : I.turned) {  // ours = MuJoCo's (x) rest^-1; w back to the parent's frame
+    const Vec4 quat = q.segment<4>(t.q_at);
+    const Vec4 inv(t.rest[0], -t.rest[1], -t.rest[2], -t.rest[3]);
+    q.segment<4>(t.q_at) = quatMul(quat, inv);
+    u.segment<3>(t.u_at) = quatToMatrix(quat) * u.segment<3>(t.u_at);
+  }
+}
+
+std::vector<Pose> MujocoPeer::poses() const {
+  const Impl& I = *impl_;
+  std::vector<Pose> out(I.body.size());
+  for (size_t i = 0; i < I.body.size(); ++i) {  // the MJCF body frame is the in-house one, at the CM
+    const int b = I.body[i];
+    out[i].p = Vec3(I.d->xipos + 3 * b);
+    out[i].quat = Vec4(I.d->xquat + 4 * b);
+  }
+  return out;
+}
+
+double MujocoPeer::kineticEnergy() const { return impl_->d->energy[1]; }
+double MujocoPeer::potentialEnergy() const { return impl_->d->energy[0]; }
+
+double MujocoPeer::dissipationRate() const {
+  const mjModel* mm = impl_->mm;
+  double P = 0;
+  for (int i = 0; i < mm->nv; ++i) P += mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qvel[i];
+  return P;
+}
+
+std::string MujocoPeer::warnings() const {
+  std::string out;
+  for (int i = 0; i < mjNWARNING; ++i)
+    if (impl_->d->warning[i].number > 0)
+      out += (out.empty() ? "" : "; ") + std::string(mju_warningText(i, impl_->d->warning[i].lastinfo));
+  return out;
 }
 
 }  // namespace em

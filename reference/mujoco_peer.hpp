@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "solver/model.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em {
 
@@ -64,6 +65,24 @@ class MujocoPeer {
   /// MuJoCo's compiled mass properties of each in-house body (internal order),
   /// at the zero configuration (leaves the state at zero).
   std::vector<CompiledMass> compiledMass();
+
+  // Stepping (reference/mujoco_engine.cpp): the peer as a trajectory engine.
+  /// Fixed step dt with MuJoCo's integrator `scheme` (mjINT_EULER, mjINT_RK4,
+  /// mjINT_IMPLICIT); energies computed by every forward.
+  void configure(int scheme, double dt);
+  /// One mj_step (after setState and forward).
+  void step();
+  /// In-house q, u (internal order) from qpos, qvel.  // q: (nq), u: (nu)
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const;
+  /// Body poses (CM position, orientation), internal order, as of the last forward.
+  std::vector<Pose> poses() const;
+  /// Kinetic and potential energy (gravity, springs) as of the last forward.
+  double kineticEnergy() const;
+  double potentialEnergy() const;
+  /// The dampers' power sum of c u^2 at the current speeds.
+  double dissipationRate() const;
+  /// MuJoCo's warnings raised so far ("" if none), one line.
+  std::string warnings() const;
 
  private:
   struct Impl;
