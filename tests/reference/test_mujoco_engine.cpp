@@ -1,0 +1,152 @@
+// MuJoCo as a trajectory engine (reference/mujoco_engine.cpp): the same
+// scheme (rk4) at the same step integrates the same ODE as the in-house
+// classical rk4, so the two agree to round-off until chaos amplifies it; at
+// a small step MuJoCo agrees with Simbody; its energies and poses are ours.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "reference/mujoco_engine.hpp"
+#include "reference/simbody_reference.hpp"
+#include "solver/integrate.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// Largest |q - q'| and |u - u'| over the samples up to t_max.
+double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()) && a.t[k] <= t_max + 1e-12; ++k)
+    d = std::max({d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff(), (a.u[k] - b.u[k]).cwiseAbs().maxCoeff()});
+  return d;
+}
+
+double poseDiff(const Trajectory& a, const Trajectory& b) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+    for (size_t i = 0; i < a.poses[k].size(); ++i) {
+      d = std::max(d, (a.poses[k][i].p - b.poses[k][i].p).norm());
+      d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
+    }
+  return d;
+}
+
+// A random tree of `n` bodies (revolute, universal, gimbal, prismatic joints;
+// random axes, masses, inertias, levers, springs, initial state): a scene
+// neither engine was tuned on.
+Model randomTree(unsigned seed, int n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1, 1), pos(0.2, 1.0);
+  auto unit = [&] { return Vec3(uni(rng), uni(rng), uni(rng)).normalized(); };
+  SceneSpec s;
+  s.name = "random" + std::to_string(seed);
+  const JointType kinds[] = {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Prismatic};
+  for (int i = 0; i < n; ++i) {
+    BodySpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i == 0 ? "ground" : "b" + std::to_string(std::uniform_int_distribution<int>(0, i - 1)(rng));
+    b.mass = pos(rng);
+    const Vec3 I(pos(rng), pos(rng), pos(rng));
+    b.inertia = (0.1 * (I + Vec3::Constant(I.sum()))).asDiagonal();  // within the triangle inequality
+    b.joint.type = kinds[std::uniform_int_distribution<int>(0, 3)(rng)];
+    b.joint.axis[0] = unit();
+    b.joint.axis[1] = b.joint.axis[0].unitOrthogonal();
+    b.joint.in_parent = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
+    b.joint.in_body = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
+    const int nq = jointNq(b.joint.type);
+    b.joint.q0 = 0.5 * Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
+    b.joint.u0 = Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
+    if (i % 2 == 1) {
+      b.joint.has_spring = true;
+      b.joint.spring = {Eigen::VectorXd::Constant(nq, 3.0), Eigen::VectorXd::Constant(nq, 0.1), Eigen::VectorXd::Zero(nq)};
+    }
+    s.bodies.push_back(b);
+  }
+  return buildModel(s);
+}
+
+}  // namespace
+
+TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over the first second", "[crosscheck][mujoco]") {
+  // Same ODE (the same A and B to 1e-15, crosscheck), same tableau, same step:
+  // what differs is round-off (~1e-16 per evaluation), amplified by the
+  // motion. Measured over 1 s at dt 1e-3: at most 3.5e-13 on the data scenes
+  // of hinges and slides, 2e-12 on the random trees; 1e-10 leaves room for
+  // other machines' round-off, and is 1e4 below what a wrong term would give.
+  std::vector<Model> models;
+  for (const char* s : {"pendulum5.json", "chain10.json", "cartpole.json", "spring_damper.json"}) models.push_back(test::loadData(s));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(randomTree(seed, 6));
+  for (const Model& m : models) {
+    const Trajectory in = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory mj = simulateMujoco(m, test::runSpec(Method::Mujoco, Integrator::RK4, 1.0, 1e-3));
+    REQUIRE_FALSE(in.failed());
+    REQUIRE_FALSE(mj.failed());
+    REQUIRE(mj.size() == in.size());
+    INFO(m.name << ": max |dq|, |du| over 1 s " << stateDiff(in, mj, 1.0));
+    CHECK(stateDiff(in, mj, 1.0) <= 1e-10);
+    // MuJoCo's own energies and poses of the same states are ours.
+    for (size_t k = 0; k < in.size(); ++k) CHECK(std::abs(mj.energy[k] - in.energy[k]) <= 1e-10 * std::max(1.0, std::abs(in.energy[k])));
+    CHECK(poseDiff(in, mj) <= 1e-10);
+  }
+}
+
+TEST_CASE("ball joints: MuJoCo 2.2's RK4 is second order on a quaternion, the in-house rk4 fourth", "[crosscheck][mujoco]") {
+  // MuJoCo turns a quaternion by the exponential of a velocity in each stage
+  // and of the stages' weighted mean at the end; the in-house rk4 integrates
+  // q' = (0, w) q / 2 as any other coordinate and normalizes after the step.
+  // Against Simbody (accuracy 1e-12) on pendulum5_ball over 0.1 s, measured:
+  // MuJoCo 2.44e-8 at dt 1e-3 and 6.10e-9 at 5e-4 (ratio 4.0: second
+  // order), in-house 1.6e-11 and 2.2e-12 (ratio 7.4, at Simbody's own floor).
+  const Model m = test::loadData("pendulum5_ball.json");
+  const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(Method::Simbody, Integrator::RKMerson, 0.1, 1e-12));
+  double mj_err[2], in_err[2];
+  for (int i = 0; i < 2; ++i) {
+    const double dt = i == 0 ? 1e-3 : 5e-4;
+    in_err[i] = stateDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, dt)), sb, 0.1);
+    mj_err[i] = stateDiff(simulateMujoco(m, test::runSpec(Method::Mujoco, Integrator::RK4, 0.1, dt)), sb, 0.1);
+  }
+  INFO("MuJoCo " << mj_err[0] << " -> " << mj_err[1] << ", in-house " << in_err[0] << " -> " << in_err[1]);
+  CHECK(mj_err[0] / mj_err[1] > 3.5);  // second order: 4
+  CHECK(mj_err[0] / mj_err[1] < 5.0);  // not fourth: 16
+  CHECK(mj_err[0] < 1e-6);
+  CHECK(in_err[0] < 1e-3 * mj_err[0]);
+}
+
+TEST_CASE("MuJoCo at a small step agrees with the Simbody reference", "[crosscheck][mujoco]") {
+  // Hinges, slides and a slowly turning free base: rk4 at dt 1e-4 errs by
+  // ~1e-13 per unit time; Simbody at accuracy 1e-12. Over 1 s both are within
+  // 1e-8 rad / m of each other. (Ball joints: the case above.)
+  for (const char* s : {"pendulum5.json", "cartpole.json", "floating_arm.json", "spring_damper.json"}) {
+    const Model m = test::loadData(s);
+    const Trajectory mj = simulateMujoco(m, test::runSpec(Method::Mujoco, Integrator::RK4, 1.0, 1e-4));
+    const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(Method::Simbody, Integrator::RKMerson, 1.0, 1e-12));
+    REQUIRE_FALSE(mj.failed());
+    REQUIRE_FALSE(sb.failed());
+    INFO(s << ": pose difference " << poseDiff(mj, sb));
+    CHECK(poseDiff(mj, sb) <= 1e-8);
+  }
+}
+
+TEST_CASE("MuJoCo's Euler and implicit schemes run, first order, and a damped scene closes its energy balance", "[mujoco]") {
+  // Semi-implicit Euler is first order: halving dt halves its error against
+  // the Simbody reference (a ratio above 1.6 asserted). The dampers' work is
+  // summed per step (c u^2 dt), so E + W_diss stays within O(dt) of E(0).
+  const Model m = test::loadData("spring_damper.json");
+  const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(Method::Simbody, Integrator::RKMerson, 1.0, 1e-12));
+  for (Integrator scheme : {Integrator::Euler, Integrator::Implicit}) {
+    double err[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory mj = simulateMujoco(m, test::runSpec(Method::Mujoco, scheme, 1.0, i == 0 ? 1e-3 : 5e-4));
+      REQUIRE_FALSE(mj.failed());
+      err[i] = stateDiff(mj, sb, 1.0);
+      const double balance = std::abs(mj.energy.back() + mj.dissipated.back() - mj.energy.front());
+      CHECK(balance <= 0.05 * std::abs(mj.energy.front()));
+      CHECK(mj.dissipated.back() > 0);
+    }
+    INFO(integratorName(scheme) << ": " << err[0] << " at 1e-3, " << err[1] << " at 5e-4");
+    CHECK(err[0] > 1.6 * err[1]);
+    CHECK(err[0] < 0.1);
+  }
+}
