@@ -12,6 +12,7 @@
 #include "io/scene_json.hpp"
 #include "solver/model.hpp"
 #include "solver/run_spec.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em::test {
 
@@ -69,6 +70,17 @@ double relErr(const X& a, const Y& b, double floor = 0.0) {
 inline double udotTolerance(const Eigen::MatrixXd& A, double floor = 1e-12) {
   const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A, Eigen::EigenvaluesOnly).eigenvalues();
   return std::max(floor, 4 * 2.220446049250313e-16 * ev.maxCoeff() / ev.minCoeff());
+}
+
+/// Largest CM distance (m) or rotation angle (rad) between two runs' body poses, over their common samples.
+inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+    for (size_t i = 0; i < a.poses[k].size(); ++i) {
+      d = std::max(d, (a.poses[k][i].p - b.poses[k][i].p).norm());
+      d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
+    }
+  return d;
 }
 
 /// A random state (solver/model.hpp): angles in [-pi, pi], unit quaternions, speeds in [-2, 2] rad/s.

@@ -23,16 +23,6 @@ double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
   return d;
 }
 
-double poseDiff(const Trajectory& a, const Trajectory& b) {
-  double d = 0;
-  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
-    for (size_t i = 0; i < a.poses[k].size(); ++i) {
-      d = std::max(d, (a.poses[k][i].p - b.poses[k][i].p).norm());
-      d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
-    }
-  return d;
-}
-
 // A random tree of `n` bodies (revolute, universal, gimbal, prismatic joints;
 // random axes, masses, inertias, levers, springs, initial state): a scene
 // neither engine was tuned on.
@@ -88,7 +78,7 @@ TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over
     CHECK(stateDiff(in, mj, 1.0) <= 1e-10);
     // MuJoCo's own energies and poses of the same states are ours.
     for (size_t k = 0; k < in.size(); ++k) CHECK(std::abs(mj.energy[k] - in.energy[k]) <= 1e-10 * std::max(1.0, std::abs(in.energy[k])));
-    CHECK(poseDiff(in, mj) <= 1e-10);
+    CHECK(test::maxPoseDiff(in, mj) <= 1e-10);
   }
 }
 
@@ -124,8 +114,8 @@ TEST_CASE("MuJoCo at a small step agrees with the Simbody reference", "[crossche
     const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(Method::Simbody, Integrator::RKMerson, 1.0, 1e-12));
     REQUIRE_FALSE(mj.failed());
     REQUIRE_FALSE(sb.failed());
-    INFO(s << ": pose difference " << poseDiff(mj, sb));
-    CHECK(poseDiff(mj, sb) <= 1e-8);
+    INFO(s << ": pose difference " << test::maxPoseDiff(mj, sb));
+    CHECK(test::maxPoseDiff(mj, sb) <= 1e-8);
   }
 }
 

@@ -19,16 +19,6 @@ constexpr double kRel = 1e-12;
 constexpr double kFloorB = 1e-3, kFloorUdot = 1e-3;
 constexpr int kStates = 20;
 
-double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
-  double d = 0;
-  for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
-    for (size_t i = 0; i < a.poses[k].size(); ++i) {
-      d = std::max(d, (a.poses[k][i].p - b.poses[k][i].p).norm());
-      d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
-    }
-  return d;
-}
-
 // In-house classical rk8pd and Simbody RK-Merson runs of one scene, both required ok.
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end);
 
@@ -111,7 +101,7 @@ TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12
   double dq = 0;
   for (size_t k = 0; k < in.size(); ++k) dq = std::max(dq, (in.q[k] - sb.q[k]).cwiseAbs().maxCoeff());
   CHECK(dq <= 1e-6);
-  CHECK(maxPoseDiff(in, sb) <= 1e-6);
+  CHECK(test::maxPoseDiff(in, sb) <= 1e-6);
 }
 
 TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
@@ -119,13 +109,13 @@ TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over
   const Trajectory sg = SimbodyReference(g).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
   const Trajectory sball = SimbodyReference(b).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
   const Trajectory ib = simulate(b, rk8pd(1e-13, 5.0));
-  CHECK(maxPoseDiff(sg, sball) <= 1e-8);
-  CHECK(maxPoseDiff(ib, sball) <= 1e-8);
+  CHECK(test::maxPoseDiff(sg, sball) <= 1e-8);
+  CHECK(test::maxPoseDiff(ib, sball) <= 1e-8);
 }
 
 TEST_CASE("a branched tree with every joint kind tracks Simbody over 2 s", "[crosscheck][slow]") {
   const auto [in, sb] = runBoth(test::loadData("tree_mixed.json"), 1e-12, 1e-11, 2.0);
-  CHECK(maxPoseDiff(in, sb) <= 1e-6);
+  CHECK(test::maxPoseDiff(in, sb) <= 1e-6);
 }
 
 TEST_CASE("a free-floating arm in zero gravity: Simbody and the in-house run keep its momenta and agree", "[crosscheck][sliding]") {
@@ -141,7 +131,7 @@ TEST_CASE("a free-floating arm in zero gravity: Simbody and the in-house run kee
     CHECK(dp <= 1e-11);
     CHECK(dH <= 1e-11);
   }
-  CHECK(maxPoseDiff(in, sb) <= 1e-8);
+  CHECK(test::maxPoseDiff(in, sb) <= 1e-8);
 }
 
 TEST_CASE("dampers: both engines close the energy balance and agree on the dissipated work", "[crosscheck][energy]") {
@@ -166,7 +156,7 @@ TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5
     INFO(integratorName(integ));
     REQUIRE(b.status() == "ok");
     CHECK(b.run.integrator == integ);
-    CHECK(maxPoseDiff(a, b) < 1e-6);  // both at accuracy 1e-10 over 1 s; measured ~1e-8
+    CHECK(test::maxPoseDiff(a, b) < 1e-6);  // both at accuracy 1e-10 over 1 s; measured ~1e-8
   }
   // An in-house integrator is not Simbody's: refused, naming Simbody's.
   RunSpec other = simbodyRun(Integrator::RK8PD, 1e-10, 1.0);
