@@ -19,9 +19,11 @@ struct Run {
   std::string out;
 };
 
-// Run the built eigenmass with arguments; stdout (and stderr if asked) captured.
-Run eigenmass(const std::string& args, bool with_stderr = false) {
-  const std::string cmd = std::string(EM_BINARY_DIR) + "/bin/eigenmass " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+// Run the built eigenmass with arguments; stdout (and stderr if asked) captured,
+// or, with `stdout_to`, stdout sent there and stderr captured.
+Run eigenmass(const std::string& args, bool with_stderr = false, const std::string& stdout_to = "") {
+  const std::string redirect = !stdout_to.empty() ? " 2>&1 >" + stdout_to : with_stderr ? " 2>&1" : " 2>/dev/null";
+  const std::string cmd = std::string(EM_BINARY_DIR) + "/bin/eigenmass " + args + redirect;
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
@@ -305,4 +307,13 @@ TEST_CASE("crosscheck passes on a published arm and names its engines", "[cli][u
   const Run r = eigenmass("crosscheck " + em::test::sourcePath("data/robots/ur5.urdf") + " --states 5");
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Catch::Contains("simbody") && Catch::Contains("mujoco") && Catch::Contains("within 1e-07"));
+}
+
+TEST_CASE("output lost on a full standard output is an error, not exit 0", "[cli][hostile]") {
+  // /dev/full accepts the open and fails every write with ENOSPC (Debian has it).
+  REQUIRE(std::filesystem::exists("/dev/full"));
+  const Run r = eigenmass("equations " + scene("pendulum5.json"), false, "/dev/full");
+  CHECK(r.status == 2);
+  CHECK(r.out == "eigenmass: error: standard output: write failed (full or closed)\n");
+  CHECK(eigenmass("equations " + scene("pendulum5.json"), false, "/dev/null").status == 0);  // a device that takes it is fine
 }
