@@ -26,10 +26,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v", "rk3": "<", "cpodes": ">"}
-STYLES = {"rk4": "-", "rkf45": "--", "rk8pd": "-.", "bsimp": ":", "rkmerson": "-", "rk3": "--", "cpodes": "-."}
+MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v", "rk3": "<", "cpodes": ">",
+           "euler": "P", "implicit": "X"}
+STYLES = {"rk4": "-", "rkf45": "--", "rk8pd": "-.", "bsimp": ":", "rkmerson": "-", "rk3": "--", "cpodes": "-.",
+          "euler": ":", "implicit": "--"}
 COLORS = {"classical": "tab:blue", "eigen": "tab:orange", "eigen-jacobi": "tab:green", "eigen-jacobi-orth": "tab:olive",
-          "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown", "simbody": "tab:gray"}
+          "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown", "simbody": "tab:gray", "mujoco": "tab:red"}
 
 
 def read_merged(results, plan_name):
