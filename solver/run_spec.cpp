@@ -45,7 +45,13 @@ long stepsPerOutput(double output_dt, double dt) {
 void checkRunSpec(const RunSpec& s) {
   requireCompatible(s.method, s.integrator);
   const long intervals = outputIntervals(s.t_end, s.output_dt);
-  if (!s.fixedStep()) return requirePositive("tol", s.tol);
+  if (!s.fixedStep()) {
+    requirePositive("tol", s.tol);
+    // Simbody asserts (SIGABRT) on an accuracy >= 1: bounded here, before any run.
+    if (s.engine() == Engine::Simbody && !(s.tol < 1))
+      throw SettingError("tol", "Simbody's accuracy must be < 1, got " + gnum(s.tol));
+    return;
+  }
   const double steps = double(intervals) * double(stepsPerOutput(s.output_dt, s.dt));
   if (steps > s.options.max_steps)
     throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + gnum(steps, 3) +

@@ -100,4 +100,14 @@ TEST_CASE("run settings: whole multiples within round-off - bad values name thei
       CHECK(e.field == "t_end");
     }
   }
+  // Simbody asserts (SIGABRT) on an accuracy >= 1: refused before any run, naming tol.
+  RunSpec sb = test::runSpec(Method::Simbody, Integrator::RKMerson, 1.0, 1.0);
+  try {
+    checkRunSpec(sb);
+    FAIL("Simbody accuracy 1 accepted");
+  } catch (const SettingError& e) {
+    CHECK(e.field == "tol");
+  }
+  sb.tol = 0.5;
+  CHECK_NOTHROW(checkRunSpec(sb));
 }
