@@ -42,7 +42,7 @@ long stepsPerOutput(double output_dt, double dt) {
   return n;
 }
 
-void checkRunSpec(const RunSpec& s) {
+void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
   requireCompatible(s.method, s.integrator);
   const long intervals = outputIntervals(s.t_end, s.output_dt);
   if (!s.fixedStep()) {
@@ -56,7 +56,7 @@ void checkRunSpec(const RunSpec& s) {
   if (steps > s.options.max_steps)
     throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + gnum(steps, 3) +
                                  " steps, more than the budget of " + gnum(s.options.max_steps, 3) +
-                                 " (--allow-long-run goes ahead)");
+                                 " (" + long_run_hint + ")");
 }
 
 }  // namespace em

@@ -36,8 +36,10 @@ struct SettingError : std::invalid_argument {
 };
 
 /// Throws SettingError (or std::invalid_argument for a method and integrator
-/// of different engines) unless `s` can be run as it stands.
-void checkRunSpec(const RunSpec& s);
+/// of different engines) unless `s` can be run as it stands. `long_run_hint`
+/// ends the message of a run beyond the step budget: how the caller's user
+/// raises it (the command line's --allow-long-run, a plan's max_steps).
+void checkRunSpec(const RunSpec& s, const char* long_run_hint = "--allow-long-run goes ahead");
 
 /// Number of output intervals: t_end / output_dt, a whole number within
 /// round-off. Throws SettingError otherwise.

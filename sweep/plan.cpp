@@ -225,7 +225,7 @@ void checkPlanRuns(const Plan& p) {
   for (const SweepCase& c : cases) {
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
     try {
-      checkRunSpec(c.spec);
+      checkRunSpec(c.spec, "the plan key max_steps raises the budget");
     } catch (const std::invalid_argument& e) {
       throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
                        c.name + ": " + e.what());

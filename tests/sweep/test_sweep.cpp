@@ -141,6 +141,10 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: block_gap: must be in (0, 1], got 2"));
   p["block_gap"] = 0.1;
   CHECK(planError(p).empty());
+  p = smallPlan();  // beyond the step budget: the hint is the plan's key, not a flag sweep does not take
+  p["t_end"] = 1e7;
+  CHECK_THAT(planError(p), Catch::Contains("(the plan key max_steps raises the budget)") &&
+                               !Catch::Contains("--allow-long-run"));
   CHECK(planError(smallPlan()).empty());
 }
 
