@@ -57,9 +57,10 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
   if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   formQdot(model_, y, y + nq, dydt);
-  formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA());
+  if (f_->needsEquations()) formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA());
+  else formKinematics(model_, y, y + nq, ws_);
   EvalInfo local;
-  Status s = f_->rates(t, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
+  Status s = f_->rates(t, y, y + nq, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
   if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);
   if (!s) s.cause += gimbalLockHint(model_, y);
   else if (!allFinite(dydt, size_)) return Status::failure(t, Failure::NonFinite, "non-finite derivative (NaN or Inf)");

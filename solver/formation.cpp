@@ -43,18 +43,23 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
     const double* ui = u + B.iu;
     ws.R[i] = R_p * relativeRotation(B.joint, qi);
     worldAxes(B.joint, R_p, qi, Pj);
-    ws.P.middleCols(B.iu, B.nu()) = Pj;
-    if (nt == 0) ws.omega[i] = w_p + Pj * Eigen::Map<const Eigen::VectorXd>(ui, B.nu());
-    else ws.omega[i] = w_p + Pj.rightCols(nr) * Eigen::Map<const Eigen::VectorXd>(ui + nt, nr);
-    axisRates(B.joint, Pj, w_p, ws.omega[i], ui, Pdj);
-    ws.Pdot.middleCols(B.iu, B.nu()) = Pdj;
+    // Column loops, not products of dynamic size: nu <= 6, and this runs per body per evaluation.
+    Vec3 w = w_p, v_rel = Vec3::Zero();
+    for (int k = 0; k < nt; ++k) v_rel += Pj.col(k) * ui[k];
+    for (int k = nt; k < nt + nr; ++k) w += Pj.col(k) * ui[k];
+    ws.omega[i] = w;
+    axisRates(B.joint, Pj, w_p, w, ui, Pdj);
+    for (int k = 0; k < nt + nr; ++k) {
+      ws.P.col(B.iu + k) = Pj.col(k);
+      ws.Pdot.col(B.iu + k) = Pdj.col(k);
+    }
     ws.J_w[i] = ws.R[i] * B.J * ws.R[i].transpose();
     ws.b[i] = -(ws.R[i] * B.joint.in_body);
     // Joint point i, and its velocity, from the parent's joint point; a
     // sliding joint moves it by x along the parent's axes at v_rel (eq. (T1)).
     const Vec3 x = nt == 0 ? Vec3::Zero() : slideOffset(B.joint, qi);
-    ws.v_rel[i] = nt == 0 ? Vec3::Zero() : Vec3(Pj.leftCols(nt) * Eigen::Map<const Eigen::VectorXd>(ui, nt));
-    Vec3 v_o = ws.v_rel[i];
+    ws.v_rel[i] = v_rel;
+    Vec3 v_o = v_rel;
     if (p < 0) {
       ws.d[i].setZero();
       ws.o[i] = nt == 0 ? B.joint.in_parent : Vec3(B.joint.in_parent + x);
@@ -205,7 +210,8 @@ void formVelocityProducts(const Model& m, const double* u, Workspace& ws) {
     const int p = Bi.parent, nt = Bi.nt(), nr = Bi.nu() - nt;
     const Vec3& w = ws.omega[i];
     // phi_i = (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
-    Vec3 phi_i = ws.Pdot.middleCols(Bi.iu + nt, nr) * Eigen::Map<const Eigen::VectorXd>(u + Bi.iu + nt, nr);
+    Vec3 phi_i = Vec3::Zero();
+    for (int k = Bi.iu + nt; k < Bi.iu + nt + nr; ++k) phi_i += ws.Pdot.col(k) * u[k];
     // e_i: velocity-product acceleration of joint point i, from the parent's joint point.
     Vec3 e_i = Vec3::Zero();
     if (p >= 0) {

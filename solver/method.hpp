@@ -41,6 +41,10 @@ struct StepInfo {
 class MethodImpl {
  public:
   virtual ~MethodImpl() = default;
+  /// Whether the evaluation needs A u' = B formed; false: Dynamics forms only
+  /// the kinematics (formKinematics) and rates() works from them and (q, u)
+  /// (the articulated-body method).
+  virtual bool needsEquations() const { return true; }
   /// Whether the evaluation needs A' formed (the eigenfactor rates do).
   virtual bool needsAdot() const { return false; }
   /// Whether the evaluation reads A (classical factors it; the eigenfactor
@@ -48,8 +52,9 @@ class MethodImpl {
   virtual bool needsA() const { return true; }
   /// The extra state at t = 0 from the formed A.  // x: (extraStateSize)
   virtual void initialize(const Workspace&, double* /*x*/) {}
-  /// u' and the extra state's rates from the formed A, B (and A').  // udot: (nu), xdot: (extraStateSize)
-  virtual Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) = 0;
+  /// u' and the extra state's rates at (q, u) from the formed A, B (and A').  // q: (nq), u, udot: (nu), x, xdot: (extraStateSize)
+  virtual Status rates(double t, const double* q, const double* u, const Workspace& ws, const double* x, double* udot,
+                       double* xdot, EvalInfo& info) = 0;
   /// Whether afterStep changes the state (the integrator must then restart).
   virtual bool correctsAfterStep() const { return false; }
   /// Whether afterStep needs A formed at the accepted state.

@@ -11,7 +11,7 @@ class Classical final : public MethodImpl {
  public:
   Classical(const Model& m, const MethodOptions& opt) : opt_(opt), llt_(m.nu) {}
 
-  Status rates(double t, const Workspace& ws, const double*, double* udot, double*, EvalInfo&) override {
+  Status rates(double t, const double*, const double*, const Workspace& ws, const double*, double* udot, double*, EvalInfo&) override {
     llt_.compute(ws.A);
     if (llt_.info() != Eigen::Success) return Status::failure(t, Failure::NotPositiveDefinite, "mass matrix A not positive definite (Cholesky failed)");
     // A nearly singular A (a gimbal at +-90 deg) factors with a tiny positive

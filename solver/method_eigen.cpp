@@ -30,7 +30,7 @@ class EigenMethod final : public MethodImpl {
     startFromEigensolver(ws.A, Eigen::Map<RowMatrix>(x, N_, N_), Eigen::Map<Eigen::VectorXd>(x + N_ * N_, N_));
   }
 
-  Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) override {
+  Status rates(double t, const double*, const double*, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) override {
     Eigen::Map<const RowMatrix> C(x, N_, N_);
     Eigen::Map<const Eigen::VectorXd> lambda(x + N_ * N_, N_);
     Eigen::Map<RowMatrix> Cdot(xdot, N_, N_);

@@ -70,7 +70,7 @@ class EigenBlock final : public MethodImpl {
     recluster(x, ignored);
   }
 
-  Status rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) override;
+  Status rates(double t, const double*, const double*, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) override;
   Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info) override;
   EigenDiagnostics diagnostics(const Workspace& ws, const double* x, double max_Omega) const override;
 
@@ -152,7 +152,7 @@ Status EigenBlock::solveSylvesterBetweenBlocks(double t, double floor) {
   return {};
 }
 
-Status EigenBlock::rates(double t, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) {
+Status EigenBlock::rates(double t, const double*, const double*, const Workspace& ws, const double* x, double* udot, double* xdot, EvalInfo& info) {
   Eigen::Map<const RowMatrix> C(x, N_, N_);
   Eigen::Map<RowMatrix> Cdot(xdot, N_, N_);
   Eigen::Map<Eigen::MatrixXd> Ddot(xdot + N_ * N_, N_, N_);

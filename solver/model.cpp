@@ -1,28 +1,23 @@
 #include "solver/model.hpp"
 
+#include <iterator>
 #include <unordered_map>
 
 namespace em {
 
-const std::vector<JointTypeInfo>& jointTypeTable() {
-  static const std::vector<JointTypeInfo> table = {{JointType::Revolute, "revolute", 1, 1, 0, -1},
-                                                   {JointType::Universal, "universal", 2, 2, 0, -1},
-                                                   {JointType::Gimbal, "gimbal", 3, 3, 0, -1},
-                                                   {JointType::Ball, "ball", 4, 3, 0, 0},
-                                                   {JointType::Prismatic, "prismatic", 1, 1, 1, -1},
-                                                   {JointType::Free, "free", 7, 6, 3, 3}};
-  return table;
-}
-
 namespace {
-const JointTypeInfo& jointRow(JointType t) { return jointTypeTable()[static_cast<int>(t)]; }
+constexpr bool jointRowsInOrder() {
+  for (int i = 0; i < static_cast<int>(std::size(kJointTypes)); ++i)
+    if (static_cast<int>(kJointTypes[i].type) != i) return false;
+  return true;
+}
+static_assert(jointRowsInOrder(), "kJointTypes: one row per JointType, in its order (jointRow indexes by it)");
 }  // namespace
 
-const char* jointTypeName(JointType t) { return jointRow(t).name; }
-int jointNq(JointType t) { return jointRow(t).nq; }
-int jointNu(JointType t) { return jointRow(t).nu; }
-int jointNt(JointType t) { return jointRow(t).nt; }
-int jointQuat(JointType t) { return jointRow(t).quat; }
+const std::vector<JointTypeInfo>& jointTypeTable() {
+  static const std::vector<JointTypeInfo> table(std::begin(kJointTypes), std::end(kJointTypes));
+  return table;
+}
 
 namespace {
 

@@ -25,12 +25,21 @@ struct JointTypeInfo {
   int nt;      ///< translational speeds (prismatic 1, free 3), the first nt of u and of q
   int quat;    ///< offset of the unit quaternion [w,x,y,z] in q, -1 without one
 };
+/// The rows in JointType order: inline, so that the per-evaluation loops read
+/// a joint's sizes without a call.
+inline constexpr JointTypeInfo kJointTypes[] = {{JointType::Revolute, "revolute", 1, 1, 0, -1},
+                                                {JointType::Universal, "universal", 2, 2, 0, -1},
+                                                {JointType::Gimbal, "gimbal", 3, 3, 0, -1},
+                                                {JointType::Ball, "ball", 4, 3, 0, 0},
+                                                {JointType::Prismatic, "prismatic", 1, 1, 1, -1},
+                                                {JointType::Free, "free", 7, 6, 3, 3}};
+inline const JointTypeInfo& jointRow(JointType t) { return kJointTypes[static_cast<int>(t)]; }
 const std::vector<JointTypeInfo>& jointTypeTable();
-const char* jointTypeName(JointType t);
-int jointNq(JointType t);
-int jointNu(JointType t);
-int jointNt(JointType t);
-int jointQuat(JointType t);
+inline const char* jointTypeName(JointType t) { return jointRow(t).name; }
+inline int jointNq(JointType t) { return jointRow(t).nq; }
+inline int jointNu(JointType t) { return jointRow(t).nu; }
+inline int jointNt(JointType t) { return jointRow(t).nt; }
+inline int jointQuat(JointType t) { return jointRow(t).quat; }
 
 /// Per-coordinate linear spring-damper, generalized force -k (q - q_rest) - c u.
 struct Spring {
