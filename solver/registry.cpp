@@ -6,7 +6,7 @@
 namespace em {
 
 // Each in-house method's code, defined in its own file (solver/method_*.cpp).
-MethodFactory makeClassical, makeEigen, makeEigenBlock;
+MethodFactory makeClassical, makeArticulated, makeEigen, makeEigenBlock;
 
 namespace {
 
@@ -33,6 +33,8 @@ const std::vector<MethodInfo>& methodTable() {
   static const std::vector<MethodInfo> table = {
       {Method::Classical, "classical", Engine::InHouse, Correction::None, ExtraState::None, false, makeClassical, {},
        "Cholesky of A every evaluation (paper method a)"},
+      {Method::Articulated, "articulated", Engine::InHouse, Correction::None, ExtraState::None, false, makeArticulated, {},
+       "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)"},
       {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine},
        "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)"},
       {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CLambda, true, makeEigen,
@@ -78,8 +80,8 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::None, "none", "the run completed"},
       {Failure::NonFinite, "non-finite", "NaN or Inf in the state or its derivative"},
       {Failure::BlowUp, "blow-up", "a speed beyond the blow-up bound"},
-      {Failure::NotPositiveDefinite, "not-positive-definite", "the Cholesky factorization of A failed"},
-      {Failure::Singular, "singular", "A numerically singular: cond(A) beyond 1/eps"},
+      {Failure::NotPositiveDefinite, "not-positive-definite", "the Cholesky factorization of A (articulated: of a joint's articulated inertia Delta) failed"},
+      {Failure::Singular, "singular", "A (articulated: a joint's Delta) numerically singular: cond beyond 1/eps"},
       {Failure::NonPositiveEigenvalue, "eigenvalue-nonpositive", "an integrated eigenvalue of A (or of D) <= 0"},
       {Failure::EigenGap, "eigen-gap", "an eigenvalue gap (or a gap between blocks) below the floor"},
       {Failure::JacobiNotConverged, "jacobi-not-converged", "the Jacobi correction did not converge"},

@@ -20,7 +20,7 @@ class MethodImpl;
 /// Who runs a method or an integrator.
 enum class Engine { InHouse, Simbody, Mujoco };
 
-enum class Method { Classical, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody, Mujoco };
+enum class Method { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody, Mujoco };
 
 enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes, Euler, Implicit };
 

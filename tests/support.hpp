@@ -37,6 +37,15 @@ inline SceneSpec chainSpec(int n) {
   return parseSceneSpec(readFile(sourcePath(name), "scene"));
 }
 
+/// chain01 with its CM at the joint point (A = P^T J P: rank 2 when the
+/// gimbal's middle angle is +-90 deg) at middle angle q1.
+inline Model lockedGimbal(double q1) {
+  SceneSpec s = chainSpec(1);
+  s.bodies[0].joint.in_body = Vec3::Zero();
+  s.bodies[0].joint.q0 = Vec3(0.3, q1, 0.2);
+  return buildModel(s);
+}
+
 /// A run of `method` with `integrator` at dt (fixed step) or tol (adaptive)
 /// `setting`, sampled every output_dt up to t_end.
 inline RunSpec runSpec(Method method, Integrator integrator, double t_end, double setting, double output_dt = 0.01) {
@@ -47,6 +56,47 @@ inline RunSpec runSpec(Method method, Integrator integrator, double t_end, doubl
   s.t_end = t_end;
   s.output_dt = output_dt;
   return s;
+}
+
+/// A random tree of `n` bodies: random parents, axes, masses, inertias,
+/// levers, springs on every other body, initial state; a scene no method was
+/// tuned on. Joints: revolute, universal, gimbal, prismatic; with `all_kinds`
+/// also ball and free (then with turned, full inertia matrices too).
+inline Model randomTree(unsigned seed, int n, bool all_kinds = false) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1, 1), pos(0.2, 1.0);
+  auto unit = [&] { return Vec3(uni(rng), uni(rng), uni(rng)).normalized(); };
+  SceneSpec s;
+  s.name = "random" + std::to_string(seed);
+  const JointType kinds[] = {JointType::Revolute, JointType::Universal, JointType::Gimbal,
+                             JointType::Prismatic, JointType::Ball,      JointType::Free};
+  for (int i = 0; i < n; ++i) {
+    BodySpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i == 0 ? "ground" : "b" + std::to_string(std::uniform_int_distribution<int>(0, i - 1)(rng));
+    b.mass = pos(rng);
+    const Vec3 I(pos(rng), pos(rng), pos(rng));
+    b.inertia = (0.1 * (I + Vec3::Constant(I.sum()))).asDiagonal();  // within the triangle inequality
+    b.joint.type = kinds[std::uniform_int_distribution<int>(0, all_kinds ? 5 : 3)(rng)];
+    b.joint.axis[0] = unit();
+    b.joint.axis[1] = b.joint.axis[0].unitOrthogonal();
+    b.joint.in_parent = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
+    b.joint.in_body = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
+    const int nq = jointNq(b.joint.type), nu = jointNu(b.joint.type), at = jointQuat(b.joint.type);
+    b.joint.q0 = 0.5 * Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
+    b.joint.u0 = Eigen::VectorXd::NullaryExpr(nu, [&] { return uni(rng); });
+    if (at >= 0) b.joint.q0.segment<4>(at).normalize();
+    if (all_kinds) {
+      const Mat3 R = Eigen::Quaterniond(Eigen::Vector4d(uni(rng), uni(rng), uni(rng), uni(rng)).normalized()).toRotationMatrix();
+      b.inertia = R * b.inertia * R.transpose();
+    }
+    if (i % 2 == 1 && at < 0) {
+      b.joint.has_spring = true;
+      b.joint.spring = {Eigen::VectorXd::Constant(nq, 3.0), Eigen::VectorXd::Constant(nq, 0.1), Eigen::VectorXd::Zero(nq)};
+    }
+    s.bodies.push_back(b);
+  }
+  return buildModel(s);
 }
 
 /// Every scene of data/scenes/ (kept in step with the folder by a test).

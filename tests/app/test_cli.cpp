@@ -202,7 +202,7 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
       {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
       {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},
-      {"simulate " + s + " --method newton", "--method: newton not in {classical,eigen,"},
+      {"simulate " + s + " --method newton", "--method: newton not in {classical,articulated,eigen,"},
       {"compare " + s + " --simbody-integrator rk4", "--simbody-integrator: rk4 not in {rkmerson,rk3,cpodes}"},
       {"", "Usage: eigenmass"},
   };

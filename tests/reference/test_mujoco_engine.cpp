@@ -23,40 +23,6 @@ double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
   return d;
 }
 
-// A random tree of `n` bodies (revolute, universal, gimbal, prismatic joints;
-// random axes, masses, inertias, levers, springs, initial state): a scene
-// neither engine was tuned on.
-Model randomTree(unsigned seed, int n) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uni(-1, 1), pos(0.2, 1.0);
-  auto unit = [&] { return Vec3(uni(rng), uni(rng), uni(rng)).normalized(); };
-  SceneSpec s;
-  s.name = "random" + std::to_string(seed);
-  const JointType kinds[] = {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Prismatic};
-  for (int i = 0; i < n; ++i) {
-    BodySpec b;
-    b.name = "b" + std::to_string(i);
-    b.parent = i == 0 ? "ground" : "b" + std::to_string(std::uniform_int_distribution<int>(0, i - 1)(rng));
-    b.mass = pos(rng);
-    const Vec3 I(pos(rng), pos(rng), pos(rng));
-    b.inertia = (0.1 * (I + Vec3::Constant(I.sum()))).asDiagonal();  // within the triangle inequality
-    b.joint.type = kinds[std::uniform_int_distribution<int>(0, 3)(rng)];
-    b.joint.axis[0] = unit();
-    b.joint.axis[1] = b.joint.axis[0].unitOrthogonal();
-    b.joint.in_parent = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
-    b.joint.in_body = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));
-    const int nq = jointNq(b.joint.type);
-    b.joint.q0 = 0.5 * Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
-    b.joint.u0 = Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
-    if (i % 2 == 1) {
-      b.joint.has_spring = true;
-      b.joint.spring = {Eigen::VectorXd::Constant(nq, 3.0), Eigen::VectorXd::Constant(nq, 0.1), Eigen::VectorXd::Zero(nq)};
-    }
-    s.bodies.push_back(b);
-  }
-  return buildModel(s);
-}
-
 }  // namespace
 
 TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over the first second", "[crosscheck][mujoco]") {
@@ -67,7 +33,7 @@ TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over
   // other machines' round-off, and is 1e4 below what a wrong term would give.
   std::vector<Model> models;
   for (const char* s : {"pendulum5.json", "chain10.json", "cartpole.json", "spring_damper.json"}) models.push_back(test::loadData(s));
-  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(randomTree(seed, 6));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6));
   for (const Model& m : models) {
     const Trajectory in = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
     const Trajectory mj = simulateMujoco(m, test::runSpec(Method::Mujoco, Integrator::RK4, 1.0, 1e-3));

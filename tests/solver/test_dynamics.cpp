@@ -150,10 +150,7 @@ TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classic
 }
 
 TEST_CASE("a gimbal locked at 90 deg makes A singular: classical fails with the cause", "[dynamics][failure]") {
-  SceneSpec s = test::chainSpec(1);
-  s.bodies[0].joint.in_body = Vec3::Zero();  // no offset: A = P^T J P, rank 2 at lock
-  s.bodies[0].joint.q0 = Vec3(0.3, M_PI / 2, 0.2);
-  const Model m = buildModel(s);
+  const Model m = test::lockedGimbal(M_PI / 2);
   Dynamics dyn(m, Method::Classical);
   Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
   const Status st = dyn.rhs(0.25, y.data(), dy.data());
@@ -162,8 +159,7 @@ TEST_CASE("a gimbal locked at 90 deg makes A singular: classical fails with the 
   CHECK_THAT(st.cause, Catch::Contains("numerically singular"));
   CHECK_THAT(st.cause, Catch::EndsWith("(gimbal lock: body 'link1' q1 = 1.5708 rad)"));
   // 0.1 rad away from lock the same body is fine.
-  s.bodies[0].joint.q0 = Vec3(0.3, M_PI / 2 - 0.1, 0.2);
-  const Model ok = buildModel(s);
+  const Model ok = test::lockedGimbal(M_PI / 2 - 0.1);
   Dynamics dyn2(ok, Method::Classical);
   y = dyn2.initialState(ok.q0(), ok.u0());
   CHECK(dyn2.rhs(0, y.data(), dy.data()));

@@ -22,7 +22,7 @@ TEST_CASE("every method and integrator round-trips through its name - unknown na
   CHECK(integratorNames(Engine::Mujoco) == std::vector<std::string>{"rk4", "euler", "implicit"});
   CHECK(info(Integrator::RK4).runs(Engine::InHouse));
   CHECK_THROWS_WITH(parseMethod("newton"),
-                    "unknown method 'newton' (classical, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody, mujoco)");
+                    "unknown method 'newton' (classical, articulated, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody, mujoco)");
   CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'") && Catch::Contains("rk8pd"));
 }
 
