@@ -72,9 +72,11 @@ Model chain(int n) {
 // One chain's timings (seconds per call) and the MuJoCo agreement check.
 struct Row {
   int n = 0, N = 0;
-  Timing classical, eigen, eigen_refined, eigen_n3, jacobi, simbody, mujoco, gemm;  // eigen_refined: eigen with refine 2
+  Timing classical, articulated, eigen, eigen_refined, eigen_n3, jacobi, simbody, mujoco, gemm;  // eigen_refined: eigen with refine 2
   bool has_mujoco = false;
   double mujoco_A_err = 0, mujoco_B_err = 0;  ///< max |diff| / max |in-house| at the initial state
+  double articulated_err = 0;  ///< articulated's u' vs classical's, max |diff| / max |classical|
+  double cond_A = 0;           ///< cond(A) at the initial state
 };
 
 Row measure(int n);
@@ -119,6 +121,11 @@ int main(int argc, char** argv) {
       if (rows.back().has_mujoco && std::max(rows.back().mujoco_A_err, rows.back().mujoco_B_err) > 1e-12) {
         std::fprintf(stderr, "eigenmass_bench: MuJoCo's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)\n",
                      n, rows.back().mujoco_A_err, rows.back().mujoco_B_err);
+        return 1;
+      }
+      if (rows.back().articulated_err > 1e-12 * rows.back().cond_A) {  // both solves err by ~eps cond(A)
+        std::fprintf(stderr, "eigenmass_bench: articulated's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n", n,
+                     rows.back().articulated_err, rows.back().cond_A);
         return 1;
       }
     }
@@ -167,6 +174,11 @@ Row measure(int n) {
   Eigen::VectorXd ye = eigen.initialState(m.q0(), m.u0()), de(ye.size());
   Eigen::VectorXd yj = ye;
   r.classical = secondsPerCall([&] { classical.rhs(0, yc.data(), dc.data()); });
+  Dynamics articulated(m, Method::Articulated);
+  Eigen::VectorXd da(yc.size());
+  r.articulated = secondsPerCall([&] { articulated.rhs(0, yc.data(), da.data()); });
+  r.articulated_err = relativeDifference(da, dc);
+  r.cond_A = conditionNumber(classical.workspace().A);
   r.eigen = secondsPerCall([&] { eigen.rhs(0, ye.data(), de.data()); });
   MethodOptions refine2;
   refine2.params["refine"] = 2;  // two residual corrections (docs/theory.md §8): 6 N^2 multiply-adds
@@ -196,9 +208,9 @@ double gemmFlops(int N) { return 2.0 * N * N * N; }
 void printTable(const std::vector<Row>& rows) {
   std::printf("Median of 7 batches, microseconds per call. mj = MuJoCo mj_forward; SB = Simbody realize(Acceleration);\n"
               "N3 / GEMM = the eigen N^3 part's flop rate over the machine's N x N matrix multiply.\n\n");
-  std::printf("| n | N | classical | eigen | eigen refine 2 | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
+  std::printf("| n | N | classical | articulated | articulated / classical | eigen | eigen refine 2 | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
               " | refine 2 / eigen | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const Row& r : rows) {
     const double us = 1e6;
     const double rate_n3 = eigenN3Flops(r.N) / r.eigen_n3.median, rate_gemm = gemmFlops(r.N) / r.gemm.median;
@@ -207,8 +219,8 @@ void printTable(const std::vector<Row>& rows) {
       std::snprintf(mj, sizeof mj, "%.2f", us * r.mujoco.median);
       std::snprintf(ratio_mj, sizeof ratio_mj, "%.2f", r.classical.median / r.mujoco.median);
     }
-    std::printf("| %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
-                us * r.classical.median, us * r.eigen.median, us * r.eigen_refined.median, us * r.eigen_n3.median,
+    std::printf("| %d | %d | %.2f | %.2f | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
+                us * r.classical.median, us * r.articulated.median, r.articulated.median / r.classical.median, us * r.eigen.median, us * r.eigen_refined.median, us * r.eigen_n3.median,
                 us * r.jacobi.median, us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median,
                 r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm, 1e-9 * rate_gemm);
   }
@@ -228,7 +240,8 @@ nlohmann::json timingJson(const char* name, int n, const Timing& t, int threads)
 nlohmann::json toJson(const std::vector<Row>& rows, int threads) {
   nlohmann::json results = nlohmann::json::array();
   for (const Row& r : rows) {
-    for (auto [name, t] : {std::pair<const char*, const Timing*>{"classical", &r.classical}, {"eigen", &r.eigen},
+    for (auto [name, t] : {std::pair<const char*, const Timing*>{"classical", &r.classical},
+                           {"articulated", &r.articulated}, {"eigen", &r.eigen},
                            {"eigen-refine2", &r.eigen_refined},
                            {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"gemm", &r.gemm}})
       results.push_back(timingJson(name, r.n, *t, threads));

@@ -227,13 +227,20 @@ struct Expected {
 };
 
 // Beyond the outcome and the failure kind, a few numbers are held to the
-// snapshot: classical's max pose error within a factor 3 (it is the accurate
-// method: a change there is a change of the physics or the reference) and
+// snapshot: the max pose error of classical and articulated (the in-house
+// methods without eigenfactors: accurate, so a change there is a change of
+// the physics or the reference) within a factor 3, and
 // every failure time within 10 % (where each method breaks is the gallery's point).
 constexpr double kPoseFactor = 3, kFailureTimeRel = 0.1;
 
+// Whether `method` solves A u' = B to round-off at every evaluation: in-house, no eigenfactors.
+bool accurateMethod(const std::string& method) {
+  Method id;
+  return findMethod(method, id) && info(id).engine == Engine::InHouse && !info(id).eigenfactor;
+}
+
 std::string numbersDiffer(const ExtremeEntry& e, const ExpectedMethod& m) {
-  if (e.method == "classical" && m.max_pose > 1e-12 &&
+  if (accurateMethod(e.method) && m.max_pose > 1e-12 &&
       !(e.max_pose <= kPoseFactor * m.max_pose && e.max_pose >= m.max_pose / kPoseFactor))
     return "max pose error " + gnum(e.max_pose, 3) + " rad, expected " + gnum(m.max_pose, 3) + " (within " + gnum(kPoseFactor) + "x)";
   if (e.failure_time && m.failure_t && std::abs(*e.failure_time - *m.failure_t) > kFailureTimeRel * *m.failure_t + 1e-9)
