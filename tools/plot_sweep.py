@@ -30,7 +30,7 @@ MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v"
            "euler": "P", "implicit": "X"}
 STYLES = {"rk4": "-", "rkf45": "--", "rk8pd": "-.", "bsimp": ":", "rkmerson": "-", "rk3": "--", "cpodes": "-.",
           "euler": ":", "implicit": "--"}
-COLORS = {"classical": "tab:blue", "eigen": "tab:orange", "eigen-jacobi": "tab:green", "eigen-jacobi-orth": "tab:olive",
+COLORS = {"classical": "tab:blue", "articulated": "tab:cyan", "eigen": "tab:orange", "eigen-jacobi": "tab:green", "eigen-jacobi-orth": "tab:olive",
           "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown", "simbody": "tab:gray", "mujoco": "tab:red"}
 
 
@@ -86,7 +86,9 @@ def cost_vs_size(rows, out):
         pts.sort(key=lambda r: int(r["nu"]))
         n = [int(p["nu"]) for p in pts]
         per_s = [num(p["cpu_median_s"]) / (num(p["failure_time_s"]) if p["status"] != "ok" else T_END[0]) for p in pts]
-        line, = a1.loglog(n, [num(p["cpu_per_rhs_s"]) * 1e6 for p in pts], marker="o", ms=3, label=label)
+        method = label.split(" ")[0]
+        line, = a1.loglog(n, [num(p["cpu_per_rhs_s"]) * 1e6 for p in pts], marker="o", ms=3, label=label,
+                          color=COLORS.get(method))
         a2.loglog(n, per_s, marker="o", ms=3, color=line.get_color(), label=label)
         for p, y in zip(pts, per_s):
             if p["status"] != "ok":
