@@ -1,10 +1,12 @@
 #include "io/atomic_file.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -40,10 +42,47 @@ void installInterruptCleanup() {
   std::signal(SIGTERM, removeTemporaryAndDie);
 }
 
+namespace {
+
+// Where `path` is written, and how: a regular file (or a new one) atomically;
+// a device, FIFO or socket straight into it, never replaced; a symbolic link
+// through to its target, the link kept.
+struct Target {
+  std::string path;
+  bool through = false;  ///< write into the file as it is (not a regular file)
+};
+
+Target resolveTarget(const std::string& path) {
+  struct stat st;
+  if (::lstat(path.c_str(), &st) != 0) return {path, false};  // a new file
+  std::string p = path;
+  if (S_ISLNK(st.st_mode)) {
+    if (::stat(path.c_str(), &st) != 0)
+      throw std::runtime_error(path + ": a symbolic link to a missing file; give the file itself");
+    p = std::filesystem::canonical(path).string();
+  }
+  if (S_ISDIR(st.st_mode)) throw std::runtime_error(path + ": is a folder, not a file");
+  return {p, !S_ISREG(st.st_mode)};
+}
+
+// Straight into a device or FIFO: its bytes go where the device sends them; a
+// write error (/dev/full) is an error.
+void writeThrough(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write the " + what);
+  write(out);
+  out.flush();
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace
+
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write) {
+  const Target target = resolveTarget(path);
+  if (target.through) return writeThrough(target.path, what, write);
   // One temporary per process: sweep workers may write the same file at once
   // (a scene's reference, run by whichever case needs it first); the last rename wins.
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const std::string tmp = target.path + ".tmp." + std::to_string(::getpid());
   TemporaryGuard guard(tmp);
   {
     std::ofstream out(tmp);
@@ -56,7 +95,7 @@ void writeAtomic(const std::string& path, const std::string& what, const std::fu
       throw std::runtime_error(path + ": write failed");
     }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (std::rename(tmp.c_str(), target.path.c_str()) != 0) {
     std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot rename the temporary " + what);
   }

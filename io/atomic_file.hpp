@@ -1,7 +1,11 @@
 #pragma once
 /// Output files appear whole or not at all: written to a temporary beside the
 /// target, then renamed. A reader never sees half a file, and an interrupted
-/// run leaves none.
+/// run leaves none. Only a regular file (or a new one) is replaced so: a
+/// character or block device or a FIFO is written into as it is (never
+/// replaced: `--out /dev/null` as root stays the device), and a symbolic link
+/// is followed, its target written atomically and the link kept (a link to a
+/// missing file is refused). docs/report-format.md says so.
 #include <functional>
 #include <ostream>
 #include <string>
