@@ -56,11 +56,21 @@ void prepareFolder(const std::string& option, const std::string& dir) {
   if (ec || !writableFolder(dir)) throw std::runtime_error(option + " " + dir + ": cannot write into this folder");
 }
 
-void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
+void refuseInputs(const std::string& option, const std::string& given, const std::vector<std::string>& written,
+                  const std::vector<std::string>& inputs) {
   std::error_code ec;
-  for (const std::string& in : inputs)
-    if (fs::equivalent(path, in, ec))
-      throw std::runtime_error(option + " " + path + ": is an input file; refusing to overwrite it");
+  for (const std::string& w : written)
+    for (const std::string& in : inputs)
+      if (!in.empty() && fs::equivalent(w, in, ec))
+        throw std::runtime_error(option + " " + given + (w == given ? ": is" : ": would write " + w + ", which is") +
+                                 " an input file; refusing to overwrite it");
+}
+
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs,
+                   const std::vector<std::string>& derived) {
+  std::error_code ec;
+  refuseInputs(option, path, {path}, inputs);
+  refuseInputs(option, path, derived, inputs);
   if (fs::is_directory(path, ec)) throw std::runtime_error(option + " " + path + ": is a folder, not a file");
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty()) prepareFolder(option, dir.string());
@@ -86,6 +96,14 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
   writeAtomic(path + ".json", "trajectory metadata", [&](std::ostream& out) { out << meta.dump(2) << "\n"; });
+}
+
+void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option) {
+  const bool fixed = info(integrator).fixed_step;
+  if (fixed && cmd.count(tol_option))
+    throw std::invalid_argument(tol_option + ": " + integratorName(integrator) + " takes a fixed step (" + dt_option + ")");
+  if (!fixed && cmd.count(dt_option))
+    throw std::invalid_argument(dt_option + ": " + integratorName(integrator) + " is adaptive (" + tol_option + ")");
 }
 
 CLI::Validator positiveFinite() {

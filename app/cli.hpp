@@ -30,9 +30,14 @@ int exitCode();
 void guarded(const std::function<int()>& body);
 
 /// Make ready to write `path` before any computation: its folder exists and
-/// takes a file, and it is none of `inputs` (never overwrite an input).
-/// Throws one line naming `option` and the path otherwise.
-void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs);
+/// takes a file, and neither it nor a file written beside it under a derived
+/// name (`derived`: "x.csv.json" beside "x.csv") is one of `inputs` (never
+/// overwrite an input). Throws one line naming `option` and the path otherwise.
+void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs,
+                   const std::vector<std::string>& derived = {});
+/// Throws one line naming `option` (given as `given`) when a file of `written` is one of `inputs`.
+void refuseInputs(const std::string& option, const std::string& given, const std::vector<std::string>& written,
+                  const std::vector<std::string>& inputs);
 /// The same for a folder that will receive files.
 void prepareFolder(const std::string& option, const std::string& dir);
 
@@ -51,6 +56,10 @@ struct SceneArg {
 };
 /// The positional `scene`, --balance-inertia and --lock-joint.
 void addSceneArg(CLI::App* cmd, SceneArg& s);
+
+/// A step option (`dt_option`) or a tolerance option (`tol_option`) given on
+/// `cmd` that `integrator` does not read is refused in one line, not ignored.
+void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option);
 
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();

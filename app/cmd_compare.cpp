@@ -1,5 +1,6 @@
 // `eigenmass compare`: several methods side by side against a reference, a
 // JSON report, optionally CSVs and the CI gate.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -24,6 +25,14 @@ struct CompareArgs {
   CompareOptions opt;
 };
 
+// The adaptive integrators engine `e` runs (what a reference may use).
+std::vector<std::string> adaptiveNames(Engine e) {
+  std::vector<std::string> names;
+  for (const IntegratorInfo& i : integratorTable())
+    if (i.runs(e) && !i.fixed_step) names.emplace_back(i.name);
+  return names;
+}
+
 // The options as given on the command line, resolved against the registry.
 CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   CompareOptions o = a.opt;
@@ -42,9 +51,35 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
                         : info(o.inhouse.integrator).runs(Engine::Mujoco) ? o.inhouse.integrator
                                                                             : defaultIntegrator(Engine::Mujoco);
   o.mujoco.dt = o.inhouse.dt;
+  refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");
+  refuseUnreadSetting(cmd, o.simbody.integrator, "--dt", "--simbody-tol");  // Simbody's schemes are all adaptive
+  // The reference honours a tolerance: a fixed-step scheme would run at its
+  // own default step and be reported as "tol ...".
+  if (info(o.reference.integrator).fixed_step)
+    throw std::invalid_argument("--reference-integrator: " + std::string(integratorName(o.reference.integrator)) +
+                                " takes a fixed step; the reference needs an adaptive integrator (" +
+                                joined(adaptiveNames(info(o.reference.method).engine)) + ")");
+  requireCompatible(o.reference.method, o.reference.integrator);
+  // Options of an engine none of --methods runs would mean nothing.
+  const auto runs = [&](Method m) { return std::find(o.methods.begin(), o.methods.end(), m) != o.methods.end(); };
+  for (const char* opt : {"--simbody-integrator", "--simbody-tol"})
+    if (cmd.count(opt) && !runs(Method::Simbody)) throw std::invalid_argument(std::string(opt) + ": simbody is not among --methods");
+  if (cmd.count("--mujoco-integrator") && !runs(Method::Mujoco))
+    throw std::invalid_argument("--mujoco-integrator: mujoco is not among --methods");
   o.grid = a.run.asked(cmd);
   for (RunSpec* s : {&o.inhouse, &o.simbody, &o.mujoco, &o.reference}) a.run.applyTo(*s);
   return o;
+}
+
+// The files --csv-dir receives: reference.csv and <method>.csv, each with its .json sidecar.
+std::vector<std::string> csvFiles(const std::string& dir, const std::vector<Method>& methods) {
+  std::vector<std::string> names = {"reference"}, files;
+  for (Method m : methods) names.emplace_back(methodName(m));
+  for (const std::string& n : names) {
+    files.push_back(dir + "/" + n + ".csv");
+    files.push_back(files.back() + ".json");
+  }
+  return files;
 }
 
 void writeCsvs(const ComparisonResult& r, const std::string& dir) {
@@ -77,8 +112,12 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   const std::vector<std::string> inputs = {a.scene.path, a.gate};
   const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
   prepareOutput("--out", out, inputs);
-  if (!a.csv_dir.empty()) prepareFolder("--csv-dir", a.csv_dir);
-  const ComparisonResult r = runComparison(scene, resolve(a, cmd), progress);
+  const CompareOptions options = resolve(a, cmd);
+  if (!a.csv_dir.empty()) {
+    prepareFolder("--csv-dir", a.csv_dir);
+    refuseInputs("--csv-dir", a.csv_dir, csvFiles(a.csv_dir, options.methods), inputs);
+  }
+  const ComparisonResult r = runComparison(scene, options, progress);
   nlohmann::json gate = nullptr;
   GateResult g;
   if (!a.gate.empty()) {

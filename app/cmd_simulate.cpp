@@ -36,17 +36,14 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
   const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
-  prepareOutput("--out", path, {a.scene.path});
+  prepareOutput("--out", path, {a.scene.path}, {path + ".json"});  // writeTrajectory's sidecar
   RunSpec s = a.spec;
   a.run.applyTo(s);
   s.method = parseMethod(a.method);
   // --tol alone selects an adaptive integrator for the in-house methods.
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
-  if (cmd.count("--tol") && s.fixedStep())
-    throw std::invalid_argument(std::string("--tol: ") + integratorName(s.integrator) + " takes a fixed step (--dt)");
-  if (cmd.count("--dt") && !s.fixedStep())
-    throw std::invalid_argument(std::string("--dt: ") + integratorName(s.integrator) + " is adaptive (--tol)");
+  refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
   const Trajectory tr = runMethod(scene.model, onGrid(s, scene, a.run.asked(cmd)));
   writeTrajectory(tr, path);
   printSummary(tr, path);

@@ -204,6 +204,14 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},
       {"simulate " + s + " --method newton", "--method: newton not in {classical,articulated,eigen,"},
       {"compare " + s + " --simbody-integrator rk4", "--simbody-integrator: rk4 not in {rkmerson,rk3,cpodes}"},
+      {"compare " + s + " --integrator rk4 --tol 1e-6", "--tol: rk4 takes a fixed step (--dt)"},
+      {"compare " + s + " --integrator bsimp --dt 1e-3", "--dt: bsimp is adaptive (--tol)"},
+      {"compare " + s + " --reference classical --reference-integrator rk4",
+       "--reference-integrator: rk4 takes a fixed step; the reference needs an adaptive integrator"},
+      {"compare " + s + " --methods classical --simbody-tol 1e-5", "--simbody-tol: simbody is not among --methods"},
+      {"compare " + s + " --methods classical --mujoco-integrator euler", "--mujoco-integrator: mujoco is not among --methods"},
+      {"simulate " + s + " --out " + s.substr(0, s.size() - 5), "would write " + s + ", which is an input file"},
+      {"extreme " + s + " --expect " + s, "--expect " + s + ": not an extreme summary (key 'cases' not found)"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {
@@ -224,14 +232,20 @@ TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming 
     std::ofstream(dir + "/" + name) << j.dump();
     return dir + "/" + name;
   };
-  nlohmann::json heavy = base;
+  nlohmann::json fast = base;  // omega^2 overflows: B is infinite at t = 0
+  fast["bodies"][0]["joint"]["u0"] = {1e200, 0, 0};
+  const std::string h = write("fast.json", fast);
+  nlohmann::json heavy = base;  // refused at load now, with its key (kMassMax)
   heavy["bodies"][0]["mass"] = 1e308;
-  const std::string h = write("heavy.json", heavy);
+  const std::string hv = write("heavy.json", heavy);
   for (const char* cmd : {"equations ", "simulate ", "compare "}) {
     const Run e = eigenmass(std::string(cmd) + h, true);
     INFO(cmd << e.out);
     CHECK(e.status == 2);
     CHECK(e.out.find(h + ": the equations at t = 0 are not finite") != std::string::npos);
+    const Run hr = eigenmass(std::string(cmd) + hv, true);
+    CHECK(hr.status == 2);
+    CHECK(hr.out.find(hv + ": bodies[0].mass: 1e+308 kg outside [1e-12, 1e+12]") != std::string::npos);
   }
   nlohmann::json locked = base;
   locked["bodies"][0]["joint"]["q0"] = {0.1, M_PI / 2, 0.3};
@@ -316,4 +330,21 @@ TEST_CASE("output lost on a full standard output is an error, not exit 0", "[cli
   CHECK(r.status == 2);
   CHECK(r.out == "eigenmass: error: standard output: write failed (full or closed)\n");
   CHECK(eigenmass("equations " + scene("pendulum5.json"), false, "/dev/null").status == 0);  // a device that takes it is fine
+}
+
+TEST_CASE("an output written under a derived name never overwrites an input: compare --csv-dir", "[cli][hostile]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_derived";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const char* name : {"classical.csv.json", "reference.csv"}) {
+    const std::string input = dir + "/" + name;
+    std::filesystem::copy_file(scene("chain02.json"), input, std::filesystem::copy_options::overwrite_existing);
+    const std::string before = em::readFile(input, "scene");
+    const Run r = eigenmass("compare " + input + " --methods classical --t-end 0.1 --csv-dir " + dir, true);
+    INFO(r.out);
+    CHECK(r.status == 2);
+    CHECK(r.out.find("--csv-dir " + dir + ": would write " + input + ", which is an input file") != std::string::npos);
+    CHECK(em::readFile(input, "scene") == before);
+    std::filesystem::remove(input);
+  }
 }
