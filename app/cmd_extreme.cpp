@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 #include "app/cli.hpp"
 #include "extreme/extreme.hpp"
@@ -91,7 +92,14 @@ int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
   const std::vector<std::string> files = sceneFiles(a.paths);
   const std::vector<ExtremeCase> cases = loadCases(a, files);
   nlohmann::json expected;
-  if (!a.expect.empty()) expected = parseJsonStrict(readFile(a.expect, "--expect"));
+  if (!a.expect.empty()) {
+    expected = parseJsonStrict(readFile(a.expect, "--expect"));
+    try {
+      validateExpected(expected);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error("--expect " + a.expect + ": " + e.what());
+    }
+  }
   std::vector<std::string> inputs = files;
   inputs.push_back(a.expect);
   const std::string summary = (fs::path(a.out_dir) / "extreme.json").string();

@@ -7,10 +7,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -80,6 +84,19 @@ struct Row {
 };
 
 Row measure(int n);
+
+// Whether --out can be written: a device or FIFO as it is (io/atomic_file.hpp),
+// else a probe file beside it can be created.
+bool writableOutput(const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(out, ec)) return false;
+  if (fs::exists(out, ec) && !fs::is_regular_file(out, ec)) return true;
+  const std::string probe = out + ".probe." + std::to_string(::getpid());
+  if (!std::ofstream(probe)) return false;
+  std::remove(probe.c_str());
+  return true;
+}
 void printTable(const std::vector<Row>& rows);
 nlohmann::json toJson(const std::vector<Row>& rows, int threads);
 
@@ -114,6 +131,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 #endif
+  if (!out.empty() && !writableOutput(out)) {  // now, not after the whole benchmark
+    std::fprintf(stderr, "eigenmass_bench: error: --out %s: cannot write here\n", out.c_str());
+    return 2;
+  }
   try {
     std::vector<Row> rows;
     for (int n : sizes) {

@@ -107,10 +107,13 @@ std::string diagnosis(const ExtremeEntry& e, const ExtremeCaseResult& c, const E
 std::string extremeMarkdown(const std::vector<ExtremeCaseResult>& cases, const nlohmann::json& provenance);
 
 /// Compare with a summary recorded earlier (a snapshot of this code's own
-/// output, tests/extreme/expected.json): outcomes and failure kinds, classical's
-/// max pose error within 3x and failure times within 10 %; one line per
+/// output, tests/extreme/expected.json): outcomes and failure kinds, the max
+/// pose error of classical and articulated within 3x and failure times within 10 %; one line per
 /// difference (empty when every entry matches). Every case x setting x method
 /// run must be in `expected`, made with the same t_end.
 std::vector<std::string> checkExpected(const std::vector<ExtremeCaseResult>& cases, const nlohmann::json& expected);
+/// Throws std::invalid_argument ("not an extreme summary (key 'cases' not
+/// found)") when `expected` is not a summary checkExpected can read: before any run.
+void validateExpected(const nlohmann::json& expected);
 
 }  // namespace em

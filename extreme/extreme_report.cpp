@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "extreme/extreme.hpp"
 #include "compare/provenance.hpp"
@@ -266,6 +267,16 @@ std::map<std::string, Expected> expectedRuns(const json& expected) {
 }
 
 }  // namespace
+
+void validateExpected(const json& expected) {
+  try {
+    expectedRuns(expected);
+  } catch (const json::exception& e) {
+    const std::string what = e.what();  // "[json.exception.out_of_range.403] key 'cases' not found"
+    const size_t at = what.find("] ");
+    throw std::invalid_argument("not an extreme summary (" + (at == std::string::npos ? what : what.substr(at + 2)) + ")");
+  }
+}
 
 std::vector<std::string> checkExpected(const std::vector<ExtremeCaseResult>& cases, const json& expected) {
   const std::map<std::string, Expected> want = expectedRuns(expected);

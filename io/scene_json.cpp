@@ -130,6 +130,8 @@ Mat3 inertia(const json& v, const std::string& path) {
   if (!(I[0] > kInertiaMinRatio * scale) || !(scale > 0))
     throw Err(path, "not positive definite (principal moments " + gnum(I[0]) + ", " + gnum(I[1]) + ", " +
                         gnum(I[2]) + ")");
+  if (!(scale >= kInertiaMin && scale <= kInertiaMax))
+    throw Err(path, "largest principal moment " + gnum(scale) + " kg m^2 outside [" + gnum(kInertiaMin) + ", " + gnum(kInertiaMax) + "]");
   if (I[0] + I[1] < I[2] * (1 - kInertiaRelTol))
     throw Err(path, "violates the triangle inequality (principal moments " + gnum(I[0]) + " + " + gnum(I[1]) +
                         " < " + gnum(I[2]) + ")");
@@ -226,6 +228,8 @@ BodySpec body(const json& v, const std::string& path) {
   b.parent = string(require(v, path, "parent"), at(path, "parent"));
   b.mass = number(require(v, path, "mass"), at(path, "mass"));
   if (!(b.mass > 0)) throw Err(at(path, "mass"), "must be > 0");
+  if (!(b.mass >= kMassMin && b.mass <= kMassMax))
+    throw Err(at(path, "mass"), gnum(b.mass) + " kg outside [" + gnum(kMassMin) + ", " + gnum(kMassMax) + "]");
   b.inertia = inertia(require(v, path, "inertia"), at(path, "inertia"));
   b.joint = joint(require(v, path, "joint"), at(path, "joint"));
   b.extra = extras(v);

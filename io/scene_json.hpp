@@ -11,6 +11,14 @@
 
 namespace em {
 
+/// Bounds of a body's mass (kg) and of its largest principal moment of inertia
+/// about the CM (kg m^2), for scenes and URDF imports alike: wide enough for
+/// any body a user models (the gallery's smallest: 1e-8 kg, 1.25e-11 kg m^2),
+/// narrow enough that products of masses, levers and inertias stay normal
+/// doubles (a 5e-324 kg body made Simbody throw; 1e308 kg overflows).
+inline constexpr double kMassMin = 1e-12, kMassMax = 1e12;
+inline constexpr double kInertiaMin = 1e-24, kInertiaMax = 1e24;
+
 /// A body as written in a scene: parent by name ("ground" or a body), file order.
 struct BodySpec {
   std::string name, parent;

@@ -227,9 +227,14 @@ MassPart bodyMass(const Walk& w, const std::string& link) {
   const MassPart s = combine(it == w.parts.end() ? std::vector<MassPart>{} : it->second);
   const std::string with = w.merged.count(link) ? " (with the links fixed to it)" : "";
   if (!(s.m > 0)) throw Err(linkAt(link), "no mass" + with + ": a moving link needs mass and inertia");
+  if (!(s.m >= kMassMin && s.m <= kMassMax))
+    throw Err(linkAt(link), "mass" + with + " " + gnum(s.m) + " kg outside [" + gnum(kMassMin) + ", " + gnum(kMassMax) + "]");
   const Vec3 I = principal(s.J);
   if (!(I[0] > kInertiaRelTol * I[2]))
     throw Err(linkAt(link), "inertia about the CM" + with + " not positive definite (principal moments " + moments(I) + ")");
+  if (!(I[2] >= kInertiaMin && I[2] <= kInertiaMax))
+    throw Err(linkAt(link), "inertia about the CM" + with + ": largest principal moment " + gnum(I[2]) + " kg m^2 outside [" +
+                                gnum(kInertiaMin) + ", " + gnum(kInertiaMax) + "]");
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "io/json_input.hpp"
+#include "io/scene_json.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -80,6 +81,8 @@ RunSpec runAt(const json& v, const std::string& path) {
     throw InputError(jsonPath(path, "integrator"), e.what());
   }
   const char* key = s.fixedStep() ? "dt" : "tolerance";
+  const char* other = s.fixedStep() ? "tolerance" : "dt";
+  if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(s.integrator)) + " takes " + key + ", not " + other);
   if (!v.contains(key)) throw InputError(jsonPath(path, key), std::string("missing (") + integratorName(s.integrator) + " takes a " + key + ")");
   (s.fixedStep() ? s.dt : s.tol) = positiveNumber(v[key], jsonPath(path, key));
   return s;
@@ -118,6 +121,9 @@ std::vector<std::string> scenesAt(const json& v, const std::string& plan_file) {
     const std::string at = jsonPath("scenes", i);
     const fs::path p = base / stringAt(list[i], at);
     if (!fs::is_regular_file(p)) throw InputError(at, "no such file: " + p.string());
+    // The stem names cases, result files, --list commands and CSV rows: the scene-name rule keeps it safe in all four.
+    if (!isSceneName(p.stem().string()))
+      throw InputError(at, "the file's stem must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
     if (!stems.insert(p.stem().string()).second) throw InputError(at, "a second scene named '" + p.stem().string() + "'");
     out.push_back(p.lexically_normal().string());
   }
@@ -193,9 +199,11 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
     throw InputError("format", "expected \"eigenmass-plan/1\"");
   p.name = stringAt(doc.value("name", json()), "name");
-  if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
-    throw InputError("name", "must be a non-empty file-name stem (no '/', '\\' or space)");
+  if (!isSceneName(p.name))
+    throw InputError("name", "must be letters, digits, '_' or '-' (1 to 64): it names the results folder, files and commands");
   if (doc.contains("description")) p.description = stringAt(doc["description"], "description");
+  if (std::any_of(p.description.begin(), p.description.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+    throw InputError("description", "a control character (newline, escape): it is printed in the tables as one line");
   p.scenes = scenesAt(doc.value("scenes", json()), p.file);
   p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");

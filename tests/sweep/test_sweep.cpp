@@ -145,6 +145,21 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   p["t_end"] = 1e7;
   CHECK_THAT(planError(p), Catch::Contains("(the plan key max_steps raises the budget)") &&
                                !Catch::Contains("--allow-long-run"));
+  p = smallPlan();  // what becomes a file name, a shell command or a CSV field keeps to the scene-name rule
+  p["name"] = "two\nlines";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: name: must be letters, digits"));
+  p["name"] = "esc\x1b[31m";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: name: must be letters, digits"));
+  p = smallPlan();
+  p["description"] = "a\nb";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: description: a control character"));
+  p = smallPlan();
+  fs::copy_file(test::sourcePath("data/scenes/chain02.json"), kDir + "/a,\"b.json", fs::copy_options::overwrite_existing);
+  p["scenes"][1] = "a,\"b.json";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[1]: the file's stem must be letters, digits"));
+  p = smallPlan();
+  p["reference"]["dt"] = 1e-3;  // beside its tolerance: one of them would be dropped
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: reference.dt:") && Catch::Contains("takes tolerance, not dt"));
   CHECK(planError(smallPlan()).empty());
 }
 
