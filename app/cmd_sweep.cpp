@@ -24,6 +24,10 @@ struct SweepArgs {
 int mergeInto(const Plan& plan, const std::string& dir) {
   std::vector<std::string> missing;
   const std::vector<CaseRecord> records = collectRecords(plan, dir, missing);
+  if (records.empty()) {  // an empty or foreign folder: no empty tables, no "merged"
+    std::fprintf(stderr, "sweep: no case result of plan '%s' in %s: nothing merged\n", plan.name.c_str(), dir.c_str());
+    return 2;
+  }
   std::fputs(writeMerged(plan, dir, records).c_str(), stdout);
   std::printf("merged: %s, %s\n", (fs::path(dir) / (plan.name + ".csv")).string().c_str(),
               (fs::path(dir) / (plan.name + ".md")).string().c_str());
@@ -72,11 +76,12 @@ void addSweep(CLI::App& app) {
                                           "and merge them: error against run time, cost against size (docs/sweep.md)");
   auto a = std::make_shared<SweepArgs>();
   cmd->add_option("plan", a->plan, "Plan file (eigenmass-plan/1; data/plans/)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/");
+  const auto nonEmpty = CLI::Validator([](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); }, "DIR");
+  cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/")->check(nonEmpty);
   cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core")->check(CLI::Range(1, 1024));
   cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop");
   cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop");
-  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop");
+  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop")->check(nonEmpty);
   cmd->callback([a] { guarded([&] { return runSweepCommand(*a); }); });
 }
 

@@ -59,7 +59,9 @@ Target resolveTarget(const std::string& path) {
   if (S_ISLNK(st.st_mode)) {
     if (::stat(path.c_str(), &st) != 0)
       throw std::runtime_error(path + ": a symbolic link to a missing file; give the file itself");
-    p = std::filesystem::canonical(path).string();
+    // A link to a regular file: its target, atomically; to a device or a pipe
+    // (/dev/stdout): through the link itself, which open() follows.
+    if (S_ISREG(st.st_mode)) p = std::filesystem::canonical(path).string();
   }
   if (S_ISDIR(st.st_mode)) throw std::runtime_error(path + ": is a folder, not a file");
   return {p, !S_ISREG(st.st_mode)};

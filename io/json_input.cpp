@@ -1,6 +1,7 @@
 #include "io/json_input.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -86,11 +87,19 @@ json parseJsonStrict(const std::string& text) {
 }
 
 std::string readFile(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a folder, not a " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the " + what);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
+  // Bounded: /dev/zero or a runaway file ends in one line, not in memory exhaustion.
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxInputBytes)
+      throw std::runtime_error(path + ": larger than " + std::to_string(kMaxInputBytes >> 20) + " MiB: not a " + what);
+  }
+  return text;
 }
 
 std::string printable(const std::string& text, size_t max_chars) {

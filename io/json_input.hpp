@@ -21,7 +21,10 @@ struct InputError : std::runtime_error {
 /// for a syntax error, the path for a duplicate key or an overflowing number.
 nlohmann::json parseJsonStrict(const std::string& text);
 
-/// The whole content of a file; throws std::runtime_error("path: cannot open ...").
+/// Largest input file read (scene, URDF, plan, tolerances, summary): 256 MiB.
+inline constexpr size_t kMaxInputBytes = size_t(256) << 20;
+/// The whole content of a file; throws std::runtime_error("path: cannot open
+/// ...", "is a folder", "larger than 256 MiB") in one line.
 std::string readFile(const std::string& path, const std::string& what);
 
 /// `text` safe for a one-line message: control and non-ASCII bytes escaped

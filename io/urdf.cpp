@@ -41,6 +41,9 @@ struct CapturedLog : console_bridge::OutputHandler {
 };
 
 urdf::ModelInterfaceSharedPtr parse(const std::string& text) {
+  // A xacro file parses as XML but its macros are not URDF: say what to do.
+  if (text.find("<xacro:") != std::string::npos)  // expanded files may keep the namespace declaration
+    throw Err("(urdf)", "a xacro file (xacro: elements): expand it first, `xacro FILE.xacro > FILE.urdf`");
   CapturedLog log;
   console_bridge::useOutputHandler(&log);
   urdf::ModelInterfaceSharedPtr m;
@@ -242,6 +245,7 @@ std::set<std::string> lockedJoints(const urdf::ModelInterface& u, const UrdfOpti
   std::set<std::string> locked;
   for (const std::string& name : opt.lock_joints) {
     if (!u.getJoint(name)) throw Err("--lock-joint", "no joint named '" + printable(name, 40) + "'");
+    if (u.getJoint(name)->type == urdf::Joint::FIXED) throw Err("--lock-joint", jointAt(name) + " is fixed already: nothing to lock");
     if (locked.insert(name).second) notes.push_back(jointAt(name) + ": held at zero (--lock-joint)");
   }
   return locked;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "io/json_input.hpp"
+#include "io/scene.hpp"
 #include "io/scene_json.hpp"
 #include "solver/text.hpp"
 
@@ -125,6 +126,11 @@ std::vector<std::string> scenesAt(const json& v, const std::string& plan_file) {
     if (!isSceneName(p.stem().string()))
       throw InputError(at, "the file's stem must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
     if (!stems.insert(p.stem().string()).second) throw InputError(at, "a second scene named '" + p.stem().string() + "'");
+    try {  // an invalid scene is refused here, once, not once per case at run time
+      loadScene(p.string());
+    } catch (const std::exception& e) {
+      throw InputError(at, e.what());
+    }
     out.push_back(p.lexically_normal().string());
   }
   return out;

@@ -212,6 +212,9 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --methods classical --mujoco-integrator euler", "--mujoco-integrator: mujoco is not among --methods"},
       {"simulate " + s + " --out " + s.substr(0, s.size() - 5), "would write " + s + ", which is an input file"},
       {"extreme " + s + " --expect " + s, "--expect " + s + ": not an extreme summary (key 'cases' not found)"},
+      {"compare " + s.substr(0, s.rfind('/')), "is a folder, not a scene"},
+      {"equations /dev/zero", "/dev/zero: larger than 256 MiB"},
+      {"sweep " + std::string(EM_SOURCE_DIR) + "/data/plans/paper.json --results ''", "--results: must not be empty"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {

@@ -166,6 +166,7 @@ TEST_CASE("a locked joint is merged like a fixed one and noted", "[urdf]") {
   REQUIRE(s.source.notes.size() == 1);
   CHECK_THAT(s.source.notes[0], Catch::Contains("wrist_3_joint") && Catch::Contains("--lock-joint"));
   CHECK_THAT(errorOf(path, {false, {"nope"}}), Catch::Contains("--lock-joint: no joint named 'nope'"));
+  CHECK_THAT(errorOf(path, {false, {"ee_fixed_joint"}}), Catch::Contains("--lock-joint: joint 'ee_fixed_joint' is fixed already"));
   // Options of the URDF importer are refused for a JSON scene rather than ignored.
   CHECK_THAT(errorOf(test::sourcePath("data/scenes/pendulum5.json"), {true, {}}),
              Catch::StartsWith("--balance-inertia: applies to URDF files only"));
