@@ -4,6 +4,8 @@
 /// `--help` lists exactly what runs.
 #include <functional>
 #include <map>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,19 @@ void addSceneArg(CLI::App* cmd, SceneArg& s);
 /// A step option (`dt_option`) or a tolerance option (`tol_option`) given on
 /// `cmd` that `integrator` does not read is refused in one line, not ignored.
 void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option);
+
+/// A list option (`option`) that names a value twice is refused in one line:
+/// its rows or reports would repeat or overwrite each other.
+template <class T>
+void refuseDuplicates(const std::string& option, const std::vector<T>& values) {
+  for (size_t i = 0; i < values.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (values[i] == values[j]) {
+        std::ostringstream v;
+        v << values[i];
+        throw std::invalid_argument(option + ": " + v.str() + " is listed twice");
+      }
+}
 
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();

@@ -52,6 +52,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
                                                                             : defaultIntegrator(Engine::Mujoco);
   o.mujoco.dt = o.inhouse.dt;
   refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");
+  refuseDuplicates("--thresholds", o.thresholds);
   refuseUnreadSetting(cmd, o.simbody.integrator, "--dt", "--simbody-tol");  // Simbody's schemes are all adaptive
   // The reference honours a tolerance: a fixed-step scheme would run at its
   // own default step and be reported as "tol ...".
@@ -146,7 +147,7 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
   auto* dt = cmd->add_option("--dt", o.inhouse.dt, "Fixed step of the in-house methods' fixed-step integrator (s)")
                  ->check(positiveFinite())
                  ->capture_default_str();
-  auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd)")
+  auto* tol = cmd->add_option("--tol", o.inhouse.tol, "Tolerance of adaptive in-house integrators (alone: selects rk8pd; refused with a fixed-step --integrator)")
                   ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);

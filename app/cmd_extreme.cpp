@@ -89,6 +89,7 @@ int checkAgainst(const std::vector<ExtremeCaseResult>& results, const nlohmann::
 }
 
 int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
+  refuseDuplicates("--runs", a.runs);
   const std::vector<std::string> files = sceneFiles(a.paths);
   const std::vector<ExtremeCase> cases = loadCases(a, files);
   nlohmann::json expected;

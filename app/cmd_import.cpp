@@ -38,6 +38,7 @@ void addImport(CLI::App& app) {
   auto* cmd = app.add_subcommand("import", "Write a URDF robot as the equivalent eigenmass-scene/1 file (docs/urdf.md)");
   auto a = std::make_shared<ImportArgs>();
   addSceneArg(cmd, a->robot);
+  cmd->get_option("scene")->description("URDF robot (.urdf; docs/urdf.md): a JSON scene is refused, it is one already");
   cmd->add_option("--out", a->out, "Scene file to write (never the input); default: standard output");
   cmd->callback([a] { guarded([&] { return runImport(*a); }); });
 }

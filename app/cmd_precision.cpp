@@ -20,6 +20,7 @@ struct PrecisionArgs {
 };
 
 int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
+  refuseDuplicates("--settings", a.opt.settings);
   const Scene scene = a.scene.load();
   checkInitialState(scene);
   const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -250,7 +251,10 @@ pid_t startCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
 
 // What the finished case's file says, for the progress line ("" when it ran to the end).
 std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus) {
-  if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (see above)";
+  if (WIFSIGNALED(wstatus))
+    return c.name + " could not be run: its worker was killed by signal " + std::to_string(WTERMSIG(wstatus)) + " (" +
+           strsignal(WTERMSIG(wstatus)) + ")";
+  if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (its error above)";
   const CaseRecord r = readCaseRecord(readJsonFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
   if (r.status == "ok") return "";
   return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";

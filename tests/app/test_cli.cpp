@@ -215,6 +215,9 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s.substr(0, s.rfind('/')), "is a folder, not a scene"},
       {"equations /dev/zero", "/dev/zero: larger than 256 MiB"},
       {"sweep " + std::string(EM_SOURCE_DIR) + "/data/plans/paper.json --results ''", "--results: must not be empty"},
+      {"precision " + s + " --settings 1e-3,1e-3", "--settings: 0.001 is listed twice"},
+      {"compare " + s + " --thresholds 0.1,0.1", "--thresholds: 0.1 is listed twice"},
+      {"extreme " + s + " --runs rk4:1e-3,rk4:1e-3", "--runs: rk4:1e-3 is listed twice"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {
