@@ -44,7 +44,13 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
   refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
-  const Trajectory tr = runMethod(scene.model, onGrid(s, scene, a.run.asked(cmd)));
+  const RunSpec spec = onGrid(s, scene, a.run.asked(cmd));
+  try {  // here, to name the option: the run checks it again
+    checkRunSpec(spec);
+  } catch (const SettingError& e) {
+    throw e.as(e.option());
+  }
+  const Trajectory tr = runMethod(scene.model, spec);
   writeTrajectory(tr, path);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;

@@ -49,6 +49,13 @@ ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tigh
 
 namespace {
 
+// The command-line option behind a refused setting of run i (the reference
+// and its tighter twin first, then the methods): what the user typed.
+std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
+  if (i < 2) return e.option("reference-");
+  return e.option(s.engine() == Engine::Simbody ? "simbody-" : "");
+}
+
 // Everything that can be refused is refused here, before the reference runs.
 void checkComparison(const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
@@ -57,7 +64,13 @@ void checkComparison(const CompareOptions& opt, const std::vector<RunSpec>& spec
   for (size_t i = 0; i < opt.methods.size(); ++i)
     if (std::count(opt.methods.begin(), opt.methods.begin() + i, opt.methods[i]))
       throw std::invalid_argument(std::string("method '") + methodName(opt.methods[i]) + "' is listed twice");
-  for (const RunSpec& s : specs) checkRunSpec(s);
+  for (size_t i = 0; i < specs.size(); ++i) {
+    try {
+      checkRunSpec(specs[i]);
+    } catch (const SettingError& e) {
+      throw e.as(settingOption(e, i, specs[i]));
+    }
+  }
 }
 
 }  // namespace

@@ -39,7 +39,13 @@ std::vector<RunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& 
                                                                              "rk4 and steps"));
     for (double setting : opt.settings) specs.push_back(onGrid(opt.specFor(method, setting), scene, opt.grid));
   }
-  for (const RunSpec& s : specs) checkRunSpec(s);
+  for (const RunSpec& s : specs) {
+    try {
+      checkRunSpec(s);
+    } catch (const SettingError& e) {
+      throw e.field == "tol" || e.field == "dt" ? e.as("--settings") : e.as(e.option());
+    }
+  }
   return specs;
 }
 
@@ -49,7 +55,11 @@ PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, vo
   const std::vector<RunSpec> specs = precisionSpecs(scene, opt);
   RunSpec ref_spec = onGrid(opt.reference, scene, opt.grid);
   ref_spec.diagnostics = false;
-  checkRunSpec(ref_spec);
+  try {
+    checkRunSpec(ref_spec);
+  } catch (const SettingError& e) {
+    throw e.as(e.option("reference-"));
+  }
   PrecisionResult r;
   r.scene_name = scene.model.name;
   r.scene_source = scene.source;

@@ -31,8 +31,18 @@ struct RunSpec {
 /// A run setting that cannot be used; `field` names it (t_end, output_dt, dt, tol).
 struct SettingError : std::invalid_argument {
   SettingError(const std::string& field, const std::string& what)
-      : std::invalid_argument(field + " " + what), field(field) {}
+      : std::invalid_argument(field + " " + what), field(field), detail(what) {}
   std::string field;
+  std::string detail;  ///< the message without the field
+  /// The same error told as the option the user typed: "--simbody-tol: Simbody's accuracy must be < 1, got 1".
+  std::invalid_argument as(const std::string& option) const { return std::invalid_argument(option + ": " + detail); }
+  /// The command line's option for the field: "--tol", "--dt", "--t-end", "--output-dt" (with `prefix`: "--simbody-tol").
+  std::string option(const std::string& prefix = "") const {
+    std::string o = field;
+    for (char& c : o)
+      if (c == '_') c = '-';
+    return field == "tol" || field == "dt" ? "--" + prefix + o : "--" + o;
+  }
 };
 
 /// Throws SettingError (or std::invalid_argument for a method and integrator

@@ -218,6 +218,10 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"precision " + s + " --settings 1e-3,1e-3", "--settings: 0.001 is listed twice"},
       {"compare " + s + " --thresholds 0.1,0.1", "--thresholds: 0.1 is listed twice"},
       {"extreme " + s + " --runs rk4:1e-3,rk4:1e-3", "--runs: rk4:1e-3 is listed twice"},
+      {"compare " + s + " --simbody-tol 1", "--simbody-tol: Simbody's accuracy must be < 1, got 1"},
+      {"compare " + s + " --reference-tol 1", "--reference-tol: Simbody's accuracy must be < 1, got 1"},
+      {"simulate " + s + " --method simbody --tol 2", "--tol: Simbody's accuracy must be < 1, got 2"},
+      {"precision " + s + " --reference-tol 5", "--reference-tol: Simbody's accuracy must be < 1, got 5"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {
