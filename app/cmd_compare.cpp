@@ -53,7 +53,6 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   o.mujoco.dt = o.inhouse.dt;
   refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");
   refuseDuplicates("--thresholds", o.thresholds);
-  refuseUnreadSetting(cmd, o.simbody.integrator, "--dt", "--simbody-tol");  // Simbody's schemes are all adaptive
   // The reference honours a tolerance: a fixed-step scheme would run at its
   // own default step and be reported as "tol ...".
   if (info(o.reference.integrator).fixed_step)

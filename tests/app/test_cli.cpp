@@ -342,6 +342,18 @@ TEST_CASE("output lost on a full standard output is an error, not exit 0", "[cli
   CHECK(eigenmass("equations " + scene("pendulum5.json"), false, "/dev/null").status == 0);  // a device that takes it is fine
 }
 
+TEST_CASE("compare takes --dt with rk4 and --tol with an adaptive integrator with Simbody and MuJoCo beside them", "[cli]") {
+  // The refusals of settings an integrator would not read must leave the
+  // meaningful combinations alone (a --dt once tripped over Simbody's adaptive scheme).
+  const std::string s = scene("chain02.json");
+  for (const std::string& args : {" --dt 5e-3", " --integrator rk4 --dt 5e-3", " --integrator rk8pd --tol 1e-8", " --tol 1e-8",
+                                  " --dt 5e-3 --simbody-tol 1e-5 --mujoco-integrator euler"}) {
+    const Run r = eigenmass("compare " + s + " --t-end 0.1 --out " + std::string(EM_BINARY_DIR) + "/cli_ok.json" + args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 0);
+  }
+}
+
 TEST_CASE("an output written under a derived name never overwrites an input: compare --csv-dir", "[cli][hostile]") {
   const std::string dir = std::string(EM_BINARY_DIR) + "/cli_derived";
   std::filesystem::remove_all(dir);

@@ -125,9 +125,9 @@ TEST_CASE("articulated closed forms: a free body falls with g and spins by Euler
   CHECK(wdot.norm() > 0.1);  // not vacuous
 }
 
-TEST_CASE("articulated closed form: the simple pendulum and the cart-pole's textbook acceleration", "[articulated][closedform]") {
-  // A point-like bob on a massless rod is the data scene's chain01 only
-  // approximately; here a revolute body with its CM at distance l: J_O th'' = -m g l sin th.
+TEST_CASE("articulated closed form: a physical pendulum's angular acceleration", "[articulated][closedform]") {
+  // A revolute body with its CM at distance l below the pivot: J_O th'' = -m g l sin th,
+  // J_O = J_xx + m l^2 (parallel axes).
   SceneSpec s;
   s.name = "pendulum";
   BodySpec b;
