@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <map>
+#include <set>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -369,4 +372,58 @@ TEST_CASE("an output written under a derived name never overwrites an input: com
     CHECK(em::readFile(input, "scene") == before);
     std::filesystem::remove(input);
   }
+}
+
+// Whether a --help text lists `option` whole ("--tol" is not "--tolerance").
+bool listsOption(const std::string& help, const std::string& option) {
+  for (size_t at = help.find(option); at != std::string::npos; at = help.find(option, at + 1)) {
+    const size_t after = at + option.size();
+    if (after == help.size() || !(std::isalnum(static_cast<unsigned char>(help[after])) || help[after] == '-')) return true;
+  }
+  return false;
+}
+
+TEST_CASE("every eigenmass option the README and docs name exists in that subcommand's --help", "[cli][docs]") {
+  // Docs that disagree with the tool are a defect (issue 28): each
+  // `eigenmass <sub> ... --option` written in README.md and docs/*.md must be
+  // an option `eigenmass <sub> --help` lists.
+  std::vector<std::string> files = {em::test::sourcePath("README.md")};
+  for (const auto& f : std::filesystem::directory_iterator(em::test::sourcePath("docs")))
+    if (f.path().extension() == ".md") files.push_back(f.path().string());
+  std::map<std::string, std::string> help;
+  int checked = 0;
+  for (const std::string& file : files) {
+    const std::string text = em::readFile(file, "doc");
+    for (size_t at = text.find("eigenmass "); at != std::string::npos; at = text.find("eigenmass ", at + 1)) {
+      size_t p = at + 10, q = p;
+      while (q < text.size() && std::islower(static_cast<unsigned char>(text[q]))) ++q;
+      const std::string sub = text.substr(p, q - p);
+      if (!std::set<std::string>{"equations", "simulate", "compare", "precision", "import", "crosscheck", "extreme", "sweep"}.count(sub))
+        continue;
+      if (!help.count(sub)) help[sub] = eigenmass(sub + " --help").out;
+      // The command runs to the end of its code span when it is inline (`...`,
+      // which Markdown may wrap), else to the end of its line (a trailing
+      // backslash continues it); and at most to a pipe, ';', '&&' or '#' comment.
+      size_t word = at;
+      while (word > 0 && !std::isspace(static_cast<unsigned char>(text[word - 1]))) --word;
+      const bool inline_code = text[word] == '`';
+      const char* stops = inline_code ? "`" : "`\n";
+      size_t end = text.find_first_of(stops, q);
+      while (end != std::string::npos && text[end] == '\n' && end > 0 && text[end - 1] == '\\') end = text.find_first_of(stops, end + 1);
+      std::string cmd = text.substr(q, end == std::string::npos ? std::string::npos : end - q);
+      for (const char* sep : {" | ", "; ", " && ", " # "})  // what follows belongs to another command or is a comment
+        if (const size_t cut = cmd.find(sep); cut != std::string::npos) cmd.resize(cut);
+      for (size_t o = cmd.find("--"); o != std::string::npos; o = cmd.find("--", o + 2)) {
+        if (o > 0 && std::string(" [(|").find(cmd[o - 1]) == std::string::npos) continue;  // not an option's start
+        size_t e = o + 2;
+        while (e < cmd.size() && (std::isalnum(static_cast<unsigned char>(cmd[e])) || cmd[e] == '-')) ++e;
+        const std::string option = cmd.substr(o, e - o);
+        if (option.size() < 3) continue;
+        INFO(file << ": eigenmass " << sub << " ... " << option);
+        CHECK(listsOption(help[sub], option));
+        ++checked;
+      }
+    }
+  }
+  CHECK(checked > 30);  // the docs do name options: the scan is not vacuous
 }
