@@ -46,11 +46,9 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
                                                                           : parseIntegrator(a.integrator);
   o.simbody.integrator = parseIntegrator(a.simbody_integrator);
-  // MuJoCo runs the in-house scheme when it has it (rk4: the same tableau), else its own rk4.
-  o.mujoco.integrator = !a.mujoco_integrator.empty()                           ? parseIntegrator(a.mujoco_integrator)
-                        : info(o.inhouse.integrator).runs(Engine::Mujoco) ? o.inhouse.integrator
-                                                                            : defaultIntegrator(Engine::Mujoco);
-  o.mujoco.dt = o.inhouse.dt;
+  o.mujocoFollowsInHouse();
+  if (!a.mujoco_integrator.empty()) o.mujoco.integrator = parseIntegrator(a.mujoco_integrator);
+  o.mujoco.dt = o.inhouse.dt;  // --mujoco-integrator runs at --dt (its help)
   refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");
   refuseDuplicates("--thresholds", o.thresholds);
   // The reference honours a tolerance: a fixed-step scheme would run at its

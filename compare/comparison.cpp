@@ -28,6 +28,12 @@ RunSpec CompareOptions::specFor(Method method) const {
   return s;
 }
 
+void CompareOptions::mujocoFollowsInHouse() {
+  const bool same_scheme = info(inhouse.integrator).runs(Engine::Mujoco);
+  mujoco.integrator = same_scheme ? inhouse.integrator : defaultIntegrator(Engine::Mujoco);
+  if (same_scheme) mujoco.dt = inhouse.dt;
+}
+
 ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
                              const CompareOptions& opt) {
   ComparisonResult r;

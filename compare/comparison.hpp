@@ -28,6 +28,9 @@ struct CompareOptions {
   CompareOptions();
   /// The settings a compared method runs with: `simbody`, `mujoco` or `inhouse`, by its engine.
   RunSpec specFor(Method method) const;
+  /// MuJoCo runs the in-house scheme at the in-house step when it has that
+  /// scheme (rk4: the same tableau), else its own rk4 at its default step.
+  void mujocoFollowsInHouse();
 };
 
 struct ComparisonResult {

@@ -161,10 +161,7 @@ CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const E
   o.second_engine = false;  // the gallery compares MuJoCo as a method; its floor would double the cost
   o.inhouse.integrator = s.integrator;
   (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
-  if (info(s.integrator).runs(Engine::Mujoco)) {  // the same scheme at the same step; else MuJoCo's rk4 at 1e-3
-    o.mujoco.integrator = s.integrator;
-    o.mujoco.dt = s.value;
-  }
+  o.mujocoFollowsInHouse();
   if (c.reference_tol) o.reference.tol = *c.reference_tol;
   for (RunSpec* spec : {&o.inhouse, &o.simbody, &o.mujoco, &o.reference}) spec->options = opt.options;
   o.grid = opt.grid;

@@ -56,6 +56,27 @@ void compareAtRandomStates(const Model& m, const std::string& name, int states, 
   }
 }
 
+// One body hanging from the ground on a joint of `type` at (q0, u0), its CM
+// `in_body` from the joint point (body frame).
+Model oneBody(JointType type, double mass, const Vec3& moments, const Vec3& in_body, const Eigen::VectorXd& q0,
+              const Eigen::VectorXd& u0, const Vec3& gravity = Vec3(0, 0, -9.81)) {
+  SceneSpec s;
+  s.name = "one_body";
+  s.gravity = gravity;
+  BodySpec b;
+  b.name = "body";
+  b.parent = "ground";
+  b.mass = mass;
+  b.inertia = moments.asDiagonal();
+  b.joint.type = type;
+  b.joint.axis[0] = Vec3::UnitX();
+  b.joint.in_body = in_body;
+  b.joint.q0 = q0;
+  b.joint.u0 = u0;
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
 std::vector<std::string> robotFiles() {
   std::vector<std::string> files;
   for (const char* dir : {"data/robots", "tests/robots"})
@@ -96,31 +117,19 @@ TEST_CASE("articulated u' equals classical's on random trees of all six joint ki
 TEST_CASE("articulated closed forms: a free body falls with g and spins by Euler's equations", "[articulated][closedform]") {
   // One free body, CM at the joint point: v' = g, and
   // J w' = -w x J w (the world-frame Euler equations) for the angular part.
-  SceneSpec s;
-  s.name = "free body";
-  s.gravity = Vec3(0.3, -1.0, -9.81);
-  BodySpec b;
-  b.name = "box";
-  b.parent = "ground";
-  b.mass = 2.0;
-  b.inertia = Vec3(0.2, 0.5, 0.6).asDiagonal();
-  b.joint.type = JointType::Free;
-  b.joint.in_body = Vec3::Zero();
+  const Vec3 g(0.3, -1.0, -9.81), moments(0.2, 0.5, 0.6);
   Eigen::VectorXd q0(7), u0(6);
   q0 << 1, 2, 3, Eigen::Vector4d(0.9, 0.1, -0.3, 0.2).normalized();
   u0 << 0.5, -0.2, 0.1, 1.0, -2.0, 0.7;
-  b.joint.q0 = q0;
-  b.joint.u0 = u0;
-  s.bodies.push_back(b);
-  const Model m = buildModel(s);
+  const Model m = oneBody(JointType::Free, 2.0, moments, Vec3::Zero(), q0, u0, g);
   Dynamics dyn(m, Method::Articulated);
   const Eigen::VectorXd ud = udotAt(dyn, m.q0(), m.u0());
   const Mat3 R = quatToMatrix(Vec4(q0.segment<4>(3)));
-  const Mat3 J = R * b.inertia * R.transpose();
+  const Mat3 J = R * Mat3(moments.asDiagonal()) * R.transpose();
   const Vec3 w = u0.tail<3>();
   const Vec3 wdot = -J.inverse() * w.cross(J * w);
   constexpr double kRoundoff = 1e-14;  // a few operations on O(1) numbers
-  CHECK((ud.head<3>() - s.gravity).norm() <= kRoundoff * s.gravity.norm());
+  CHECK((ud.head<3>() - g).norm() <= kRoundoff * g.norm());
   CHECK((ud.tail<3>() - wdot).norm() <= kRoundoff * 10 * wdot.norm());
   CHECK(wdot.norm() > 0.1);  // not vacuous
 }
@@ -128,20 +137,9 @@ TEST_CASE("articulated closed forms: a free body falls with g and spins by Euler
 TEST_CASE("articulated closed form: a physical pendulum's angular acceleration", "[articulated][closedform]") {
   // A revolute body with its CM at distance l below the pivot: J_O th'' = -m g l sin th,
   // J_O = J_xx + m l^2 (parallel axes).
-  SceneSpec s;
-  s.name = "pendulum";
-  BodySpec b;
-  b.name = "bob";
-  b.parent = "ground";
-  b.mass = 1.5;
-  b.inertia = Vec3(0.01, 0.02, 0.03).asDiagonal();
-  b.joint.type = JointType::Revolute;
-  b.joint.axis[0] = Vec3::UnitX();
-  b.joint.in_body = Vec3(0, 0, 0.8);  // CM 0.8 m below the pivot at rest
-  b.joint.q0 = Eigen::VectorXd::Constant(1, 0.7);
-  b.joint.u0 = Eigen::VectorXd::Constant(1, 1.3);
-  s.bodies.push_back(b);
-  const Model m = buildModel(s);
+  // CM 0.8 m below the pivot at rest, turned 0.7 rad about x at 1.3 rad/s.
+  const Model m = oneBody(JointType::Revolute, 1.5, Vec3(0.01, 0.02, 0.03), Vec3(0, 0, 0.8),
+                          Eigen::VectorXd::Constant(1, 0.7), Eigen::VectorXd::Constant(1, 1.3));
   Dynamics dyn(m, Method::Articulated);
   const double th = 0.7, l = 0.8, J_O = 0.01 + 1.5 * l * l;
   const double expected = -1.5 * 9.81 * l * std::sin(th) / J_O;
