@@ -101,6 +101,35 @@ json decimated(const std::vector<double>& v, size_t stride) {
   return a;
 }
 
+// The coordinate the figures draw against time (the paper's Fig. 3): the first
+// angle coordinate, else q_0, for the reference and every run, on the series grid.
+json coordinateSeries(const ComparisonResult& r, size_t stride) {
+  const Trajectory& ref = r.reference;
+  if (ref.q_names.empty()) return nullptr;
+  const int i = ref.angle_coords.empty() ? 0 : ref.angle_coords.front();
+  const auto column = [&](const Trajectory& tr) {
+    std::vector<double> v;  // (samples)
+    for (const Eigen::VectorXd& q : tr.q) v.push_back(q[i]);
+    return decimated(v, stride);
+  };
+  json j = {{"name", ref.q_names[i]}, {"index", i}, {"reference", column(ref)}, {"methods", json::object()}};
+  for (const Trajectory& tr : r.runs) j["methods"][tr.method()] = column(tr);
+  return j;
+}
+
+json seriesJson(const ComparisonResult& r, size_t stride) {
+  json series = {{"t", decimated(r.reference.t, stride)}, {"stride", stride}, {"methods", json::object()}};
+  for (const MethodMetrics& m : r.metrics)
+    series["methods"][m.name()] = {{"pose_error_rad", decimated(m.series.pose_rad, stride)},
+                                 {"position_error_m", decimated(m.series.position_m, stride)},
+                                 {"energy_error", decimated(m.series.energy_rel, stride)}};
+  // The reference against its tighter twin: the floor below which no error is resolved.
+  const ErrorSeries check = errorSeries(r.reference, r.tight, r.energy_scale);
+  series["reference_check"] = {{"pose_error_rad", decimated(check.pose_rad, stride)}};
+  series["coordinate"] = coordinateSeries(r, stride);
+  return series;
+}
+
 }  // namespace
 
 std::string thresholdKey(double th) {
@@ -138,11 +167,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
   for (const MethodMetrics& m : r.metrics) methods.push_back(methodJson(m, o.thresholds));
   const size_t n = r.reference.t.size();
   const size_t stride = std::max<size_t>(1, (n + max_series_points - 1) / std::max(1, max_series_points));
-  json series = {{"t", decimated(r.reference.t, stride)}, {"stride", stride}, {"methods", json::object()}};
-  for (const MethodMetrics& m : r.metrics)
-    series["methods"][m.name()] = {{"pose_error_rad", decimated(m.series.pose_rad, stride)},
-                                 {"position_error_m", decimated(m.series.position_m, stride)},
-                                 {"energy_error", decimated(m.series.energy_rel, stride)}};
+  const json series = seriesJson(r, stride);
   json horizon = perThreshold(o.thresholds, r.horizon);
   std::vector<std::string> names;
   for (Method m : o.methods) names.push_back(methodName(m));

@@ -91,6 +91,22 @@ TEST_CASE("series are decimated to at most the asked number of points", "[report
   CHECK(j["series"]["methods"]["eigen"]["pose_error_rad"].size() < n);  // stopped at 3 s
 }
 
+TEST_CASE("the figures' series: the reference check and the first angle of every run", "[report]") {
+  // The synthetic reference's tighter twin turns 1e-6 rad/s faster (synthetic.hpp): its
+  // pose error is 1e-6 t exactly; the eigen run turns 0.021 rad/s faster and stops at 3 s.
+  const json j = makeReport(synthetic());
+  const json& check = j["series"]["reference_check"]["pose_error_rad"];
+  REQUIRE(check.size() == j["series"]["t"].size());
+  CHECK(check.back().get<double>() == Approx(1e-5).epsilon(1e-6));
+  const json& c = j["series"]["coordinate"];
+  CHECK(c["name"] == "body.q0");
+  const size_t k = 100 / j["series"]["stride"].get<size_t>();  // the sample at t = 1 s
+  REQUIRE(j["series"]["t"][k].get<double>() == Approx(1.0));
+  CHECK(c["reference"][k].get<double>() == Approx(0.3));
+  CHECK(c["methods"]["eigen"][k].get<double>() == Approx(0.321));
+  CHECK(c["methods"]["eigen"].size() == j["series"]["methods"]["eigen"]["pose_error_rad"].size());
+}
+
 TEST_CASE("a report round-trips through its file and no temporary is left", "[report]") {
   const std::string path = std::string(EM_BINARY_DIR) + "/test_report.json";
   const json j = makeReport(synthetic());
