@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <set>
 
@@ -14,6 +15,8 @@ namespace em {
 
 using json = nlohmann::json;
 namespace fs = std::filesystem;
+
+std::string PlanScene::stem() const { return fs::path(file).stem().string(); }
 
 namespace {
 
@@ -113,25 +116,71 @@ PlanLine lineAt(const json& v, const std::string& path) {
   return line;
 }
 
-std::vector<std::string> scenesAt(const json& v, const std::string& plan_file) {
+bool boolAt(const json& v, const std::string& path) {
+  if (!v.is_boolean()) throw InputError(path, "expected true or false");
+  return v.get<bool>();
+}
+
+// A URDF's import options in a scene entry, as the CLI's --balance-inertia, --lock-joint, --floating-base.
+UrdfOptions urdfOptionsAt(const json& v, const std::string& at) {
+  UrdfOptions u;
+  if (v.contains("balance_inertia")) u.balance_inertia = boolAt(v["balance_inertia"], jsonPath(at, "balance_inertia"));
+  if (v.contains("floating_base")) u.floating_base = boolAt(v["floating_base"], jsonPath(at, "floating_base"));
+  if (v.contains("lock_joint")) {
+    const std::string lpath = jsonPath(at, "lock_joint");
+    const json joints = arrayAt(v["lock_joint"], lpath);
+    for (size_t k = 0; k < joints.size(); ++k) u.lock_joints.push_back(stringAt(joints[k], jsonPath(lpath, k)));
+  }
+  return u;
+}
+
+// The URDF import's errors name the CLI's options; a plan spells them as keys of the scene's entry.
+std::string planSpelling(std::string msg) {
+  const std::pair<const char*, const char*> names[] = {{"--balance-inertia", "\"balance_inertia\": true"},
+                                                       {"--lock-joint", "\"lock_joint\""},
+                                                       {"--floating-base", "\"floating_base\": true"}};
+  for (const auto& [cli, key] : names)
+    for (size_t at = msg.find(cli); at != std::string::npos; at = msg.find(cli, at + 1)) msg.replace(at, std::strlen(cli), key);
+  return msg;
+}
+
+// An entry of `scenes`: "path" or {"file": path, "balance_inertia", "lock_joint", "floating_base"}.
+PlanScene sceneAt(const json& v, const std::string& at, const fs::path& base) {
+  PlanScene s;
+  std::string file;
+  if (v.is_object()) {
+    onlyKeys(v, at, {"file", "balance_inertia", "lock_joint", "floating_base"});
+    file = stringAt(v.value("file", json()), jsonPath(at, "file"));
+    s.urdf = urdfOptionsAt(v, at);
+  } else {
+    file = stringAt(v, at);
+  }
+  const fs::path p = base / file;
+  if (!fs::is_regular_file(p)) throw InputError(at, "no such file: " + p.string());
+  if (s.urdf.any() && !isUrdfPath(p.string()))
+    throw InputError(at, "import options apply to URDF files only (" + p.string() + " is a scene)");
+  s.file = p.lexically_normal().string();
+  return s;
+}
+
+std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
   const json list = arrayAt(v, "scenes");
-  std::vector<std::string> out;
+  std::vector<PlanScene> out;
   std::set<std::string> stems;
   const fs::path base = fs::path(plan_file).parent_path();
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string at = jsonPath("scenes", i);
-    const fs::path p = base / stringAt(list[i], at);
-    if (!fs::is_regular_file(p)) throw InputError(at, "no such file: " + p.string());
+    const PlanScene s = sceneAt(list[i], at, base);
     // The stem names cases, result files, --list commands and CSV rows: the scene-name rule keeps it safe in all four.
-    if (!isSceneName(p.stem().string()))
+    if (!isSceneName(s.stem()))
       throw InputError(at, "the file's stem must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
-    if (!stems.insert(p.stem().string()).second) throw InputError(at, "a second scene named '" + p.stem().string() + "'");
+    if (!stems.insert(s.stem()).second) throw InputError(at, "a second scene named '" + s.stem() + "'");
     try {  // an invalid scene is refused here, once, not once per case at run time
-      loadScene(p.string());
+      loadScene(s.file, s.urdf);
     } catch (const std::exception& e) {
-      throw InputError(at, e.what());
+      throw InputError(at, planSpelling(e.what()));
     }
-    out.push_back(p.lexically_normal().string());
+    out.push_back(s);
   }
   return out;
 }
@@ -283,7 +332,7 @@ SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSp
   c.role = role;
   c.scene = scene;
   c.member = member;
-  c.scene_name = fs::path(p.scenes[scene]).stem().string();
+  c.scene_name = p.scenes[scene].stem();
   const std::string stem = p.ensemble ? c.scene_name + "." + memberTag(p, member) : c.scene_name;
   spec.t_end = p.t_end;
   spec.output_dt = p.output_dt;

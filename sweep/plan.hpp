@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compare/engines.hpp"
+#include "io/urdf.hpp"
 #include "sweep/ensemble.hpp"
 
 namespace em {
@@ -23,9 +24,16 @@ struct PlanLine {
 enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories };
 const char* planTableName(PlanTable t);
 
+/// A scene of a plan: an entry of `scenes`, a path or {"file", and a URDF's import options}.
+struct PlanScene {
+  std::string file;  ///< resolved against the plan's folder
+  UrdfOptions urdf;  ///< balance_inertia, lock_joint, floating_base (URDF only)
+  std::string stem() const;  ///< the file's stem: it names the cases
+};
+
 struct Plan {
   std::string name, description, file;
-  std::vector<std::string> scenes;  ///< paths, resolved against the plan's folder
+  std::vector<PlanScene> scenes;
   double t_end = 5, output_dt = 0.01;
   int repeats = 3;                  ///< timing: median of this many runs (>= 3)
   std::optional<RunSpec> reference;        ///< errors against it (absent: cost only)

@@ -45,6 +45,10 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
               {"max_steps", plan.options.max_steps},
               {"run", specKey(c.spec)},
               {"reference", plan.reference ? specKey(*plan.reference) : json()}};
+  const UrdfOptions& urdf = plan.scenes[c.scene].urdf;
+  if (urdf.any())  // a URDF's import options make another model from the same bytes
+    key["scene_import"] = {{"balance_inertia", urdf.balance_inertia}, {"lock_joint", urdf.lock_joints},
+                           {"floating_base", urdf.floating_base}};
   if (plan.ensemble) {  // absent without one: older results stay valid
     const Ensemble& e = *plan.ensemble;
     key["ensemble"] = {{"count", e.count}, {"seed", e.seed}, {"q", e.sigma_q}, {"u", e.sigma_u}};
@@ -155,11 +159,12 @@ bool doneWith(const Plan& plan, const SweepCase& c, const std::string& dir, cons
 
 bool caseDone(const Plan& plan, const SweepCase& c, const std::string& dir) {
   // The key needs only the scene file's hash: no need to build its model.
-  return doneWith(plan, c, dir, sha256Hex(readFile(plan.scenes[c.scene], "scene")));
+  return doneWith(plan, c, dir, sha256Hex(readFile(plan.scenes[c.scene].file, "scene")));
 }
 
 bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
-  const Scene scene = loadScene(plan.scenes[c.scene]);
+  const PlanScene& entry = plan.scenes[c.scene];
+  const Scene scene = loadScene(entry.file, entry.urdf);
   if (doneWith(plan, c, dir, scene.source.sha256)) return false;
   CaseRecord rec = baseRecord(c, scene);
   json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene.source.sha256)}};
