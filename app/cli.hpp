@@ -24,6 +24,7 @@ void addImport(CLI::App& app);
 void addCrossCheck(CLI::App& app);
 void addExtreme(CLI::App& app);
 void addSweep(CLI::App& app);
+void addPlot(CLI::App& app);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
 int exitCode();
 

@@ -1,5 +1,5 @@
 // The `eigenmass` command-line tool: equations, simulate, compare, precision, import, crosscheck,
-// extreme, sweep.
+// extreme, sweep, plot.
 // One exit-code scheme: 0 ok, 1 a run failed or the gate broke, 2 bad input
 // or options (CLI11's own parse errors included), 130/143 interrupted.
 #include <cstdio>
@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   em::cli::addCrossCheck(app);
   em::cli::addExtreme(app);
   em::cli::addSweep(app);
+  em::cli::addPlot(app);
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -390,16 +391,39 @@ TEST_CASE("every eigenmass option the README and docs name exists in that subcom
   std::vector<std::string> files = {em::test::sourcePath("README.md")};
   for (const auto& f : std::filesystem::directory_iterator(em::test::sourcePath("docs")))
     if (f.path().extension() == ".md") files.push_back(f.path().string());
+  // The subcommands, as `eigenmass --help` lists them: "  name   description".
+  std::set<std::string> subcommands;
+  {
+    std::istringstream lines(eigenmass("--help").out);
+    bool in_list = false;
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("Subcommands:", 0) == 0) in_list = true;
+      else if (in_list && line.size() > 2 && line[0] == ' ') subcommands.insert(line.substr(2, line.find(' ', 2) - 2));
+    }
+  }
+  REQUIRE(subcommands.count("compare"));
+  REQUIRE(subcommands.count("plot"));
   std::map<std::string, std::string> help;
-  int checked = 0;
+  int checked = 0, commands = 0;
   for (const std::string& file : files) {
     const std::string text = em::readFile(file, "doc");
     for (size_t at = text.find("eigenmass "); at != std::string::npos; at = text.find("eigenmass ", at + 1)) {
       size_t p = at + 10, q = p;
       while (q < text.size() && std::islower(static_cast<unsigned char>(text[q]))) ++q;
       const std::string sub = text.substr(p, q - p);
-      if (!std::set<std::string>{"equations", "simulate", "compare", "precision", "import", "crosscheck", "extreme", "sweep"}.count(sub))
-        continue;
+      // A command (the binary's path before it, or the start of a code span or
+      // of a line in a fenced block) names a subcommand that exists.
+      size_t fences = 0;  // ``` before it: odd inside a fenced block
+      for (size_t f = text.find("```"); f < at; f = text.find("```", f + 3)) ++fences;
+      const bool fenced = fences % 2 == 1;
+      const bool command = (at >= 4 && text.compare(at - 4, 4, "bin/") == 0) || (at > 0 && text[at - 1] == '`') ||
+                           (fenced && (at == 0 || text[at - 1] == '\n' || text[at - 1] == ' '));
+      if (command && !sub.empty() && q < text.size() && std::isspace(static_cast<unsigned char>(text[q]))) {
+        INFO(file << ": eigenmass " << sub);
+        CHECK(subcommands.count(sub));
+        ++commands;
+      }
+      if (!subcommands.count(sub)) continue;
       if (!help.count(sub)) help[sub] = eigenmass(sub + " --help").out;
       // The command runs to the end of its code span when it is inline (`...`,
       // which Markdown may wrap), else to the end of its line (a trailing
@@ -426,4 +450,153 @@ TEST_CASE("every eigenmass option the README and docs name exists in that subcom
     }
   }
   CHECK(checked > 30);  // the docs do name options: the scan is not vacuous
+  CHECK(commands > 30);
+}
+
+namespace {
+
+// A robot no file of the project holds: a torso on a hinge with two arms of two
+// links each, one arm's elbow on a slide.
+const char* kNewRobot = R"(<robot name="newbot">
+  <link name="base"/>
+  <link name="torso"><inertial><origin xyz="0 0 0.2"/><mass value="3"/><inertia ixx="0.05" iyy="0.05" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="l_upper"><inertial><origin xyz="0.15 0 0"/><mass value="1"/><inertia ixx="0.002" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="l_fore"><inertial><origin xyz="0.12 0 0"/><mass value="0.6"/><inertia ixx="0.001" iyy="0.005" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="r_upper"><inertial><origin xyz="-0.15 0 0"/><mass value="1"/><inertia ixx="0.002" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="r_fore"><inertial><origin xyz="-0.12 0 0"/><mass value="0.6"/><inertia ixx="0.001" iyy="0.005" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="waist" type="continuous"><parent link="base"/><child link="torso"/><axis xyz="0 0 1"/></joint>
+  <joint name="l_shoulder" type="revolute"><parent link="torso"/><child link="l_upper"/><origin xyz="0.1 0 0.4"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="l_elbow" type="revolute"><parent link="l_upper"/><child link="l_fore"/><origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="r_shoulder" type="revolute"><parent link="torso"/><child link="r_upper"/><origin xyz="-0.1 0 0.4" rpy="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="r_slide" type="prismatic"><parent link="r_upper"/><child link="r_fore"/><origin xyz="-0.3 0 0"/><axis xyz="1 0 0"/><limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>
+</robot>
+)";
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Does the SVG draw `text` as a text element (plot.py keeps text as text)?
+bool drawsText(const std::string& svg, const std::string& text) { return svg.find(">" + text + "<") != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("plot draws a new robot's report: a series and a legend entry per method, labelled axes, failures marked", "[cli][plot]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string robot = (dir / "newbot.urdf").string(), report = (dir / "newbot.report.json").string();
+  std::ofstream(robot) << kNewRobot;
+  REQUIRE(eigenmass("compare " + robot + " --t-end 1 --out " + report).status == 0);
+  const Run r = eigenmass("plot " + report + " --format svg");
+  REQUIRE(r.status == 0);
+  const std::string figures = (dir / "newbot.report.figures").string();  // the default folder, beside the report
+  CHECK(r.out == figures + "/newbot-coordinate.svg\n" + figures + "/newbot-divergence.svg\n" + figures + "/newbot-energy.svg\n");
+  const auto rep = nlohmann::json::parse(slurp(report));
+  const std::string div = slurp(figures + "/newbot-divergence.svg"), energy = slurp(figures + "/newbot-energy.svg"),
+                    coord = slurp(figures + "/newbot-coordinate.svg");
+  REQUIRE(rep["methods"].size() >= 8);
+  for (const auto& m : rep["methods"]) {  // every method, named with its scheme, in every figure
+    const std::string name = m["name"].get<std::string>() + " " + m["integrator"].get<std::string>();
+    INFO(name);
+    for (const std::string* svg : {&div, &energy, &coord}) CHECK(svg->find(">" + name + " ") != std::string::npos);
+  }
+  CHECK(drawsText(div, "time t, s"));
+  CHECK(drawsText(div, "max pose error against the reference, rad"));
+  CHECK(drawsText(div, "0.001 rad"));
+  CHECK(drawsText(div, "0.1 rad"));
+  CHECK(drawsText(div, "floor: reference vs its tol/100 run"));
+  CHECK(drawsText(energy, "|E(t) + W_diss(t) - E(0)| / max kinetic energy of the reference"));
+  CHECK(drawsText(coord, rep["series"]["coordinate"]["name"].get<std::string>() + ", rad"));
+  CHECK(div.find("failed-") == std::string::npos);  // nothing failed on this robot: no x drawn
+  // The same twice: the same bytes (no dates, fixed ids).
+  CHECK(eigenmass("plot " + report + " --format svg --out " + (dir / "again").string()).status == 0);
+  CHECK(slurp((dir / "again/newbot-divergence.svg").string()) == div);
+
+  // A run that stops is an x where it stopped, in each figure, and its legend says when and why.
+  const std::string lock = (dir / "lock.report.json").string();
+  REQUIRE(eigenmass("compare " + scene("extreme/gimbal_lock.json") + " --t-end 0.5 --methods classical,eigen,simbody --out " + lock)
+              .status == 0);  // a method that fails is a result of compare, not its error
+  REQUIRE(eigenmass("plot " + lock + " --format svg --out " + (dir / "lock").string()).status == 0);
+  const std::string ldiv = slurp((dir / "lock/gimbal_lock-divergence.svg").string());
+  CHECK(ldiv.find("id=\"failed-classical\"") != std::string::npos);
+  CHECK(ldiv.find("id=\"failed-eigen\"") != std::string::npos);
+  CHECK(ldiv.find("id=\"failed-simbody\"") == std::string::npos);
+  CHECK(ldiv.find("classical rk4 dt 0.001 (failed at 0.296 s: blow-up)") != std::string::npos);
+  // PNG by default, PDF on request.
+  REQUIRE(eigenmass("plot " + lock + " --out " + (dir / "png").string()).status == 0);
+  CHECK(slurp((dir / "png/gimbal_lock-energy.png").string()).substr(1, 3) == "PNG");
+  REQUIRE(eigenmass("plot " + lock + " --format pdf --out " + (dir / "pdf").string()).status == 0);
+  CHECK(slurp((dir / "pdf/gimbal_lock-energy.pdf").string()).substr(0, 5) == "%PDF-");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary as a grid of outcomes", "[cli][plot]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot_sweep";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // Work-precision on pendulum5 and on the locked gimbal, where every in-house run fails.
+  const nlohmann::json plan = {
+      {"format", "eigenmass-plan/1"}, {"name", "wp"},
+      {"scenes", {scene("pendulum5.json"), scene("extreme/gimbal_lock.json")}}, {"t_end", 0.4},
+      {"reference", {{"method", "simbody"}, {"integrator", "rkmerson"}, {"tolerance", 1e-10}}},
+      {"lines", {{{"methods", {"classical", "eigen"}}, {"integrator", "rk4"}, {"dt", {1e-2, 5e-3}}},
+                 {{"methods", {"classical"}}, {"integrator", "rk8pd"}, {"tolerance", {1e-6, 1e-8}}},
+                 {{"methods", {"simbody"}}, {"integrator", "rkmerson"}, {"tolerance", {1e-4, 1e-6}}}}},
+      {"tables", {"work-precision"}}};
+  std::ofstream((dir / "wp.json").string()) << plan.dump();
+  const std::string results = (dir / "wp").string();
+  REQUIRE(eigenmass("sweep " + (dir / "wp.json").string() + " --results " + results + " -j 2").status == 0);
+  const Run r = eigenmass("plot " + results + " --format svg --out " + (dir / "fig").string());
+  REQUIRE(r.status == 0);
+  for (const char* s : {"pendulum5", "gimbal_lock"}) {
+    const std::string svg = slurp((dir / "fig" / ("work-precision-" + std::string(s) + ".svg")).string());
+    INFO(s);
+    for (const char* panel : {"classical", "eigen", "simbody"}) CHECK(drawsText(svg, panel));  // a panel per method
+    for (const char* integ : {"rk4", "rk8pd", "rkmerson"}) CHECK(drawsText(svg, integ));      // a legend entry per integrator
+    CHECK(drawsText(svg, "max pose error, rad"));
+    CHECK(drawsText(svg, "CPU s (median of the repeats)"));
+  }
+  const std::string lock = slurp((dir / "fig/work-precision-gimbal_lock.svg").string());
+  CHECK(lock.find("id=\"failed-classical\"") != std::string::npos);
+  CHECK(lock.find("id=\"failed-eigen\"") != std::string::npos);
+
+  // The extreme summary the gallery test keeps: a cell per case and method, coloured by outcome.
+  const Run e = eigenmass("plot " + em::test::sourcePath("tests/extreme/expected.json") + " --format svg --out " + (dir / "x").string());
+  REQUIRE(e.status == 0);
+  const std::string grid = slurp((dir / "x/extreme-outcomes.svg").string());
+  CHECK(grid.find("id=\"cell-gimbal_lock-classical-failed\"") != std::string::npos);
+  CHECK(grid.find("id=\"cell-chain20-classical-ok\"") != std::string::npos);
+  for (const char* label : {"rk4 dt 0.001", "thin_rods", "articulated", "mujoco", "wrong"}) CHECK(drawsText(grid, label));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib names the package", "[cli][plot][hostile]") {
+  const auto err = [](const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(EM_BINARY_DIR) + "/bin/eigenmass plot " + args + " 2>&1 >/dev/null";
+    FILE* p = popen(cmd.c_str(), "r");
+    std::string out;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+    return std::make_pair(WEXITSTATUS(pclose(p)), out);
+  };
+  const std::string expected = em::test::sourcePath("tests/extreme/expected.json");
+  const auto py = err(expected + " --out /tmp/eigenmass_plot_nopy", "EIGENMASS_PYTHON=/nonexistent/python3");
+  CHECK(py.first == 2);
+  CHECK(py.second == "eigenmass: error: plot: /nonexistent/python3 cannot import matplotlib: install Debian's "
+                     "python3-matplotlib (apt-get install python3-matplotlib)\n");
+  const auto sc = err(scene("pendulum5.json"));
+  CHECK(sc.first == 2);
+  CHECK_THAT(sc.second, Catch::Contains("pendulum5.json: not a compare report, an extreme summary or a results folder"));
+  const auto folder = err(em::test::sourcePath("data"));
+  CHECK(folder.first == 2);
+  CHECK_THAT(folder.second, Catch::Contains("data: not a sweep's results folder"));
+  CHECK(err(expected + " --format jpg").first == 2);
+  CHECK(err(expected + " --csv-dir /tmp").first == 2);
+  CHECK(std::count(sc.second.begin(), sc.second.end(), '\n') == 1);
 }

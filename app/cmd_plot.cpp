@@ -1,0 +1,167 @@
+// `eigenmass plot`: the figures of a compare report, a sweep's results folder or
+// an extreme summary (docs/figures.md). The input and the output folder are
+// checked here, before anything is drawn; tools/plot.py draws with Debian's
+// python3-matplotlib into a temporary folder, and each figure is then moved
+// into --out by writeAtomic (the rules of every output: never an input, a
+// device written into, a link followed, never half a file).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
+
+namespace em::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PlotArgs {
+  std::string input, out, format = "png", csv_dir;
+};
+
+// The interpreter with Debian's matplotlib (`python3` on the PATH may be another);
+// EIGENMASS_PYTHON replaces it (the tests name a missing one).
+std::string python() {
+  const char* p = std::getenv("EIGENMASS_PYTHON");
+  return p && *p ? p : "/usr/bin/python3";
+}
+
+// Run argv[0] with argv, its standard output discarded (and its errors too when
+// `quiet`); its exit status, -1 when it could not run.
+int runProgram(const std::vector<std::string>& argv, bool quiet) {
+  std::cout.flush();
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    std::FILE* null = std::fopen("/dev/null", "w");
+    if (null) {
+      dup2(fileno(null), 1);
+      if (quiet) dup2(fileno(null), 2);
+    }
+    std::vector<char*> args;
+    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// The first sweep case file of a results folder names its plan; the merged CSV must be there.
+void checkResults(const std::string& dir) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".json") continue;
+    nlohmann::json j;
+    try {
+      j = parseJsonStrict(readFile(e.path().string(), "case"));
+    } catch (const std::exception&) {
+      continue;
+    }
+    if (j.value("format", "") != "eigenmass-sweep-case/1" || !j.contains("plan")) continue;
+    const std::string plan = j["plan"].get<std::string>();
+    if (!fs::exists(fs::path(dir) / (plan + ".csv")))
+      throw std::runtime_error(dir + ": no merged " + plan + ".csv (run `eigenmass sweep PLAN --merge " + dir + "` first)");
+    return;
+  }
+  throw std::runtime_error(dir + ": not a sweep's results folder (no eigenmass-sweep-case/1 file)");
+}
+
+// "report", "sweep" or "extreme", from what the input is.
+std::string kindOf(const PlotArgs& a) {
+  std::error_code ec;
+  if (fs::is_directory(a.input, ec)) {
+    checkResults(a.input);
+    return "sweep";
+  }
+  const nlohmann::json j = parseJsonStrict(readFile(a.input, "report"));
+  const std::string format = j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
+  if (format == "eigenmass-report/1" && j.contains("series")) return "report";
+  if (format == "eigenmass-report/1") throw std::runtime_error(a.input + ": key 'series' not found (a report without its series)");
+  if (format == "eigenmass-extreme/1" && j.contains("cases")) return "extreme";
+  throw std::runtime_error(a.input + ": not a compare report, an extreme summary or a results folder (key 'format' is '" +
+                           printable(format, 40) + "')");
+}
+
+// Beside the input: out/p5.report.json -> out/p5.report.figures; results/paper -> results/paper/figures.
+std::string defaultOut(const std::string& input, const std::string& kind) {
+  if (kind == "sweep") return (fs::path(input) / "figures").string();
+  fs::path p(input);
+  return (p.parent_path() / (p.stem().string() + ".figures")).string();
+}
+
+void checkPython() {
+  const std::string py = python();
+  if (runProgram({py, "-c", "import matplotlib"}, true) != 0)
+    throw std::runtime_error("plot: " + py + " cannot import matplotlib: install Debian's python3-matplotlib "
+                             "(apt-get install python3-matplotlib)");
+}
+
+std::string fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int runPlot(PlotArgs a) {
+  const std::string kind = kindOf(a);
+  if (!a.csv_dir.empty()) {
+    if (kind != "report") throw std::invalid_argument("--csv-dir: only a compare report's trajectories are drawn from it");
+    if (!fs::exists(fs::path(a.csv_dir) / "reference.csv"))
+      throw std::runtime_error("--csv-dir " + a.csv_dir + ": no reference.csv (the folder compare --csv-dir wrote)");
+  }
+  if (a.out.empty()) a.out = defaultOut(a.input, kind);
+  prepareFolder("--out", a.out);
+  checkPython();
+  char tmpl[] = "/tmp/eigenmass-plot-XXXXXX";
+  if (!mkdtemp(tmpl)) throw std::runtime_error("plot: cannot make a temporary folder");
+  const fs::path tmp(tmpl);
+  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.string(), a.format};
+  if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
+  const int status = runProgram(argv, false);
+  std::vector<fs::path> figures;
+  for (const auto& e : fs::directory_iterator(tmp)) figures.push_back(e.path());
+  std::sort(figures.begin(), figures.end());
+  if (status == 0)
+    for (const fs::path& f : figures) {
+      const std::string to = (fs::path(a.out) / f.filename()).string();
+      prepareOutput("--out", to, {a.input, a.csv_dir});
+      const std::string bytes = fileBytes(f);
+      writeAtomic(to, "figure", [&](std::ostream& o) { o << bytes; });
+      std::cout << to << "\n";
+    }
+  fs::remove_all(tmp);
+  if (status != 0) throw std::runtime_error("plot: drawing " + a.input + " failed (tools/plot.py exit " + std::to_string(status) + ")");
+  return 0;
+}
+
+}  // namespace
+
+void addPlot(CLI::App& app) {
+  auto* cmd = app.add_subcommand("plot", "Draw the figures of a compare report, a sweep's results folder or an extreme "
+                                         "summary (docs/figures.md; needs Debian's python3-matplotlib)");
+  auto a = std::make_shared<PlotArgs>();
+  cmd->add_option("input", a->input, "REPORT.json (compare --out), RESULTS_DIR (sweep) or an extreme summary")->required();
+  cmd->add_option("--out", a->out, "Folder for the figures; default: beside the input (X.report.figures/, RESULTS_DIR/figures/)");
+  cmd->add_option("--format", a->format, "png (default), svg or pdf (vector figures for papers)")
+      ->check(CLI::IsMember({"png", "svg", "pdf"}));
+  cmd->add_option("--csv-dir", a->csv_dir, "compare --csv-dir's folder: the coordinate figure from its trajectories "
+                                           "(for reports that keep no coordinate series)");
+  cmd->callback([a] { guarded([&] { return runPlot(*a); }); });
+}
+
+}  // namespace em::cli

@@ -1,0 +1,515 @@
+#!/usr/bin/python3
+"""The figures of any report or results folder eigenmass writes; run by
+`eigenmass plot` (docs/figures.md), which checks the input and the output
+folder first and moves the figures written into OUT to their place.
+
+    /usr/bin/python3 tools/plot.py report|sweep|extreme INPUT OUT png|svg|pdf [--csv-dir DIR]
+
+report   a compare report (eigenmass-report/1):
+         <scene>-divergence   each method's pose error against time, log scale,
+                              thresholds and the reference horizon marked,
+                              failures as x, the reference check as the floor
+         <scene>-energy       the energy balance error against time
+         <scene>-coordinate   the first angle against time (the paper's Fig. 3)
+sweep    a results folder (its merged <plan>.csv and case files):
+         work-precision-<scene>  small multiples, a panel per method
+         cost-vs-size            time per evaluation and per simulated second
+         fig3-<scene>, fig5-<scene>  trajectories, when the plan kept them
+         <plan>-cdf, <plan>-prediction  an ensemble's distributions
+extreme  an extreme summary (eigenmass-extreme/1):
+         extreme-outcomes     cases x methods coloured by outcome, a panel per setting
+
+One colour per method and one marker per integrator in every figure. Prints
+each file written, one per line. Needs Debian's python3-matplotlib.
+"""
+import argparse, csv, glob, json, math, os, sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+# Deterministic files: no dates, fixed SVG ids, text kept as text (editable, searchable).
+matplotlib.rcParams.update({"svg.hashsalt": "eigenmass", "svg.fonttype": "none", "pdf.fonttype": 42})
+
+MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v", "rk3": "<", "cpodes": ">",
+           "euler": "P", "implicit": "X"}
+COLORS = {"classical": "tab:blue", "articulated": "tab:cyan", "eigen": "tab:orange", "eigen-jacobi": "tab:green",
+          "eigen-jacobi-orth": "tab:olive", "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown",
+          "simbody": "tab:gray", "mujoco": "tab:red"}
+OUTCOME_COLORS = {"ok": "#4daf4a", "wrong": "#ff7f00", "failed": "#e41a1c"}
+FLOOR = 1e-17  # zero errors drawn here on log axes
+FORMAT = ["png"]
+WRITTEN = []
+
+
+def color(method):
+    return COLORS.get(method, "k")
+
+
+def marker(integrator):
+    return MARKERS.get(integrator, ".")
+
+
+def num(x):
+    if x in ("", None):
+        return math.nan
+    return float(x)
+
+
+def positive(values):
+    return [max(num(v), FLOOR) if not math.isnan(num(v)) else math.nan for v in values]
+
+
+def save(fig, out, stem):
+    path = os.path.join(out, "%s.%s" % (stem, FORMAT[0]))
+    fig.tight_layout()
+    meta = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[FORMAT[0]]
+    fig.savefig(path, dpi=110, metadata=meta)
+    plt.close(fig)
+    WRITTEN.append(os.path.basename(path))
+
+
+def mark_failure(ax, method, t, y, label=None):
+    """An x where a run stopped; its gid names the method (tests read it in the SVG)."""
+    (pt,) = ax.plot([t], [y], "x", color=color(method), ms=9, mew=2, label=label)
+    pt.set_gid("failed-" + method)
+
+
+def last_finite(ts, ys, t_stop):
+    pts = [(t, y) for t, y in zip(ts, ys) if not math.isnan(y) and t <= t_stop + 1e-12]
+    return pts[-1] if pts else (t_stop, FLOOR)
+
+
+# ----------------------------------------------------------------------------------------- report
+
+
+def report_figures(rep, out, csv_dir):
+    scene = rep["scene"]["name"]
+    s = rep["series"]
+    t = s["t"]
+    methods = {m["name"]: m for m in rep["methods"]}
+    inhouse = rep["options"]["inhouse"]
+    subtitle = "%s, in-house %s %s; reference %s %s tol %g; %s" % (
+        scene, inhouse["integrator"], " ".join("%s %g" % (k, v) for k, v in inhouse.items() if k != "integrator"),
+        rep["reference"]["engine"], rep["reference"]["integrator"], rep["reference"]["tolerance"],
+        rep["provenance"].get("date_utc", ""))
+    divergence(rep, t, s, methods, subtitle, out, scene)
+    energy(t, s, methods, subtitle, out, scene)
+    coordinate_figure(rep, t, s, methods, csv_dir, subtitle, out, scene)
+
+
+def method_label(m):
+    extra = m["outcome"] if m["outcome"] != "ok" else ""
+    if m["failure"]:
+        extra = "failed at %g s: %s" % (m["failure"]["t"], m["failure"]["kind"])
+    setting = "dt %g" % m["step"] if "step" in m else "tol %g" % m["tolerance"]
+    return "%s %s %s%s" % (m["name"], m["integrator"], setting, " (%s)" % extra if extra else "")
+
+
+def divergence(rep, t, s, methods, subtitle, out, scene):
+    fig, ax = plt.subplots(figsize=(9, 5.5))
+    check = s.get("reference_check")
+    if check:
+        ax.semilogy(t[: len(check["pose_error_rad"])], positive(check["pose_error_rad"]), color="k", lw=2.5,
+                    alpha=0.25, label="floor: reference vs its tol/%g run" % (
+                        rep["reference"]["tolerance"] / rep["reference"]["horizon_tolerance"]))
+    for name, m in methods.items():
+        y = positive(s["methods"][name]["pose_error_rad"])
+        ax.semilogy(t[: len(y)], y, color=color(name), lw=1.2, label=method_label(m))
+        if m["failure"]:
+            mark_failure(ax, name, *last_finite(t, y, m["failure"]["t"] or t[len(y) - 1]))
+    for th in rep["options"]["thresholds_rad"]:
+        ax.axhline(th, color="k", ls="--", lw=0.8)
+        ax.annotate("%g rad" % th, (t[0], th), fontsize=8, va="bottom")
+    notes = []
+    for key, h in rep["reference"]["horizon_s"].items():
+        if h is None:
+            notes.append("reference within %g rad of its check to t_end" % float(key.replace("p", ".")))
+        else:
+            ax.axvline(h, color="k", ls=":", lw=1)
+            ax.annotate("reference horizon %g rad: %g s" % (float(key.replace("p", ".")), h), (h, 1e-15),
+                        rotation=90, fontsize=7, ha="right", va="bottom")
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("max pose error against the reference, rad")
+    ax.set_title("Divergence from the reference: %s\n%s%s" % (scene, subtitle, ("\n" + "; ".join(notes)) if notes else ""),
+                 fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    save(fig, out, scene + "-divergence")
+
+
+def energy(t, s, methods, subtitle, out, scene):
+    fig, ax = plt.subplots(figsize=(9, 5))
+    for name, m in methods.items():
+        y = positive(s["methods"][name]["energy_error"])
+        ax.semilogy(t[: len(y)], y, color=color(name), lw=1.2, label=method_label(m))
+        if m["failure"]:
+            mark_failure(ax, name, *last_finite(t, y, m["failure"]["t"] or t[len(y) - 1]))
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("|E(t) + W_diss(t) - E(0)| / max kinetic energy of the reference")
+    ax.set_title("Energy balance error: %s\n%s" % (scene, subtitle), fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    save(fig, out, scene + "-energy")
+
+
+def coordinate_figure(rep, t, s, methods, csv_dir, subtitle, out, scene):
+    """The paper's Fig. 3: from the report's `coordinate` series, else --csv-dir's trajectories."""
+    c = s.get("coordinate")
+    if c:
+        name, ref = c["name"], (t, c["reference"])
+        runs = {m: (t[: len(c["methods"][m])], c["methods"][m]) for m in methods if m in c["methods"]}
+    elif csv_dir:
+        ref_cols = read_traj_csv(os.path.join(csv_dir, "reference.csv"))
+        name = first_angle(ref_cols)
+        ref = (ref_cols["t"], ref_cols[name])
+        runs = {}
+        for m in methods:
+            path = os.path.join(csv_dir, m + ".csv")
+            if os.path.exists(path):
+                cols = read_traj_csv(path)
+                runs[m] = (cols["t"], cols[name])
+    else:
+        print("note: the report keeps no coordinate series (an older report): give --csv-dir to draw the "
+              "coordinate figure", file=sys.stderr)
+        return
+    fig, ax = plt.subplots(figsize=(9, 5))
+    ax.plot(ref[0], ref[1], "k-", lw=3, alpha=0.3, label="reference (%s)" % rep["reference"]["engine"])
+    for m, (tm, v) in runs.items():
+        ax.plot(tm, v, color=color(m), lw=1, label=method_label(methods[m]))
+        f = methods[m]["failure"]
+        if f and v:
+            mark_failure(ax, m, tm[len(v) - 1], v[-1])
+        d = methods[m]["coordinate_divergence_time_s"].get("1e-1")
+        if d is not None:
+            ax.axvline(d, color=color(m), ls="--", lw=0.7)
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("%s, rad" % name)
+    ax.set_title("%s against time (the paper's Fig. 3; dashed: joint angles 0.1 rad off the reference)\n%s"
+                 % (name, subtitle), fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    save(fig, out, scene + "-coordinate")
+
+
+# ------------------------------------------------------------------------------------------ sweep
+
+
+def read_traj_csv(path):
+    with open(path) as f:
+        rd = csv.reader(f)
+        head = next(rd)
+        cols = {h: [] for h in head}
+        for row in rd:
+            for h, v in zip(head, row):
+                cols[h].append(num(v))
+    return cols
+
+
+def first_angle(cols):
+    names = [k for k in cols if ".q" in k]
+    return names[0]
+
+
+def sweep_figures(results, out):
+    cases = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(results, "*.json")))]
+    cases = [c for c in cases if c.get("format") == "eigenmass-sweep-case/1"]
+    plan, t_end = cases[0]["plan"], cases[0]["key"]["t_end"]
+    with open(os.path.join(results, plan + ".csv")) as f:
+        rows = list(csv.DictReader(f))
+    runs = [r for r in rows if r["role"] == "run"]
+    drawn = len(WRITTEN)
+    settings = {}
+    for r in runs:
+        if r["max_pose_error_rad"]:
+            settings.setdefault((r["scene"], r["method"], r["integrator"]), set()).add(r["setting"])
+    if any(len(s) > 1 for s in settings.values()) and not os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
+        work_precision(rows, out)
+    if len({r["nu"] for r in runs}) > 1:
+        cost_vs_size(runs, t_end, out)
+    trajectories(rows, results, out)
+    if os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
+        ensemble_cdf(plan, runs, t_end, out)
+        ensemble_prediction(plan, results, t_end, out)
+    if len(WRITTEN) == drawn:
+        sys.exit("%s: nothing to draw: no method ran at two settings against a reference, every scene has one size, "
+                 "no trajectory was kept and there is no ensemble" % results)
+
+
+def work_precision(rows, out):
+    """Small multiples: a panel per method in its colour, the other methods grey behind it."""
+    for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
+        lines = {}
+        for r in rows:
+            if r["scene"] == scene and r["role"] == "run" and r["max_pose_error_rad"]:
+                lines.setdefault((r["method"], r["integrator"]), []).append(r)
+        for pts in lines.values():
+            pts.sort(key=lambda r: -num(r["setting"]))
+        methods = list(dict.fromkeys(m for m, _ in lines))
+        if not methods:
+            continue
+        cols = min(3, len(methods))
+        nrows = (len(methods) + cols - 1) // cols
+        fig, axes = plt.subplots(nrows, cols, figsize=(4.4 * cols, 3.6 * nrows), sharex=True, sharey=True,
+                                 squeeze=False)
+        check = [r for r in rows if r["scene"] == scene and r["role"] == "check"]
+        for k, method in enumerate(methods):
+            ax = axes[k // cols][k % cols]
+            for (m, integ), pts in lines.items():
+                xs = [num(p["cpu_median_s"]) for p in pts]
+                ys = [max(num(p["max_pose_error_rad"]), FLOOR) for p in pts]
+                if m != method:
+                    ax.loglog(xs, ys, "-", color="0.85", lw=0.8, zorder=1)
+                    continue
+                ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
+                ax.loglog([xs[i] for i in ok], [ys[i] for i in ok], marker=marker(integ), color=color(m), ms=4,
+                          lw=1.2, label=integ, zorder=3)
+                for i, p in enumerate(pts):
+                    if p["status"] != "ok":
+                        mark_failure(ax, m, xs[i], ys[i])
+            if check:
+                ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
+            ax.set_title(method, color=color(method), fontsize=10)
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=7, title="integrator", title_fontsize=7)
+            if k // cols == nrows - 1 or k + cols >= len(methods):
+                ax.set_xlabel("CPU s (median of the repeats)")
+            if k % cols == 0:
+                ax.set_ylabel("max pose error, rad")
+        for k in range(len(methods), nrows * cols):
+            axes[k // cols][k % cols].set_visible(False)
+        fig.suptitle("Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
+                     "failure); dotted: the reference vs its check" % scene, fontsize=9)
+        save(fig, out, "work-precision-" + scene)
+
+
+def cost_vs_size(runs, t_end, out):
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
+    lines = {}
+    for r in runs:
+        lines.setdefault((r["method"], r["integrator"], r["setting"]), []).append(r)
+    for (method, integ, setting), pts in lines.items():
+        pts.sort(key=lambda r: int(r["nu"]))
+        n = [int(p["nu"]) for p in pts]
+        per_s = [num(p["cpu_median_s"]) / (num(p["failure_time_s"]) if p["status"] != "ok" else t_end) for p in pts]
+        label = "%s %s %s" % (method, integ, setting)
+        a1.loglog(n, [num(p["cpu_per_rhs_s"]) * 1e6 for p in pts], marker=marker(integ), ms=3, label=label,
+                  color=color(method))
+        a2.loglog(n, per_s, marker=marker(integ), ms=3, color=color(method), label=label)
+        for p, y in zip(pts, per_s):
+            if p["status"] != "ok":
+                mark_failure(a2, method, int(p["nu"]), y)
+    a1.set_xlabel("degrees of freedom n")
+    a1.set_ylabel("µs per right-hand-side evaluation")
+    a2.set_xlabel("degrees of freedom n")
+    a2.set_ylabel("CPU s per simulated second (x: failed, up to the failure)")
+    for a in (a1, a2):
+        a.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    fig.suptitle("Cost against size (the paper's Fig. 4)")
+    save(fig, out, "cost-vs-size")
+
+
+def trajectories(rows, results, out):
+    for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
+        ref_path = os.path.join(results, scene + ".reference.json")
+        if not os.path.exists(ref_path):
+            continue
+        with open(ref_path) as f:
+            tr = json.load(f).get("trajectory")
+        if not tr:
+            continue
+        ref = {"t": tr["t"], "energy": tr["energy"], "kinetic": tr["kinetic"]}
+        for i, name in enumerate(tr["q_names"]):
+            ref[name] = [q[i] for q in tr["q"]]
+        found = {}
+        for r in rows:
+            if r["scene"] == scene and r["role"] == "run":
+                path = os.path.join(results, "%s.%s.%s.%g.csv" % (scene, r["method"], r["integrator"],
+                                                                  float(r["setting"])))
+                if os.path.exists(path):
+                    found[r["method"]] = (r, read_traj_csv(path))
+        if found:
+            fig3(scene, ref, found, out)
+            fig5(scene, ref, found, out)
+
+
+def first_joint_to_leave(ref, runs):
+    """The coordinate some run leaves the reference by 0.1 rad on first (the figure's angle)."""
+    best = (math.inf, None)
+    qnames = [k for k in ref if ".q" in k]
+    for _, tr in runs.values():
+        for q in qnames:
+            for k, (a, b) in enumerate(zip(tr[q], ref[q])):
+                if abs(a - b) > 0.1:
+                    best = min(best, (tr["t"][k], q))
+                    break
+    return best[1] or qnames[-1]
+
+
+def fig3(scene, ref, runs, out):
+    q = first_joint_to_leave(ref, runs)
+    fig, ax = plt.subplots(figsize=(9, 5))
+    ax.plot(ref["t"], ref[q], "k-", lw=2.5, alpha=0.35, label="reference")
+    for method, (row, tr) in runs.items():
+        ax.plot(tr["t"], tr[q], lw=1, color=color(method), label="%s %s" % (method, row["integrator"]))
+        if row["status"] != "ok":
+            mark_failure(ax, method, tr["t"][-1], tr[q][-1])
+        if row["coord_beyond_1e-1_s"]:
+            t = float(row["coord_beyond_1e-1_s"])
+            ax.axvline(t, color=color(method), ls="--", lw=0.8)
+            ax.annotate("%s: 0.1 rad off at %.2f s" % (method, t), (t, ax.get_ylim()[1]), fontsize=7, rotation=90,
+                        va="top", ha="right", color=color(method))
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("%s, rad" % q)
+    ax.set_title("Fig. 3: %s of %s (dashed: the first joint coordinate 0.1 rad off the reference)" % (q, scene),
+                 fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    save(fig, out, "fig3-" + scene)
+
+
+def fig5(scene, ref, runs, out):
+    scale = max(ref["kinetic"]) or 1.0
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for method, (_, tr) in runs.items():
+        e0 = tr["energy"][0]
+        a1.plot(tr["t"], tr["energy"], lw=1, color=color(method), label=method)
+        a2.semilogy(tr["t"], [max(abs(e - e0) / scale, FLOOR) for e in tr["energy"]], lw=1, color=color(method),
+                    label=method)
+    a1.set_ylabel("total energy E, J")
+    a2.set_ylabel("|E(t) - E(0)| / max kinetic energy")
+    a2.set_xlabel("time t, s")
+    a1.set_title("Fig. 5: total energy of %s and its relative error" % scene, fontsize=9)
+    for a in (a1, a2):
+        a.grid(alpha=0.3, which="both")
+        a.legend(fontsize=8)
+    save(fig, out, "fig5-" + scene)
+
+
+DT_STYLES = ["-", "--", "-.", ":"]
+
+
+def ensemble_cdf(plan, runs, t_end, out):
+    """A row per method (its colour), a column per scene, a line style per step."""
+    scenes = sorted({r["scene"] for r in runs})
+    methods = list(dict.fromkeys(r["method"] for r in runs))
+    fig, axes = plt.subplots(len(methods), len(scenes), figsize=(4.6 * len(scenes), 2.6 * len(methods)),
+                             sharex=True, sharey=True, squeeze=False)
+    for i, method in enumerate(methods):
+        for j, scene in enumerate(scenes):
+            ax = axes[i][j]
+            mine = [r for r in runs if r["scene"] == scene and r["method"] == method]
+            settings = sorted({float(r["setting"]) for r in mine}, reverse=True)
+            t = []
+            for k, dt in enumerate(settings):
+                t = [num(r["coord_beyond_1e-1_s"]) for r in mine if float(r["setting"]) == dt]
+                crossed = sorted(x for x in t if not math.isnan(x))
+                xs = [0.0] + [x for x in crossed for _ in (0, 1)] + [t_end]
+                ys = [0.0] + [y for n in range(len(crossed)) for y in (n / len(t), (n + 1) / len(t))] + \
+                     [len(crossed) / len(t)]
+                ax.plot(xs, ys, DT_STYLES[k % len(DT_STYLES)], color=color(method), lw=1.4, label="dt %g" % dt)
+            ax.axvline(7.2, color="k", lw=0.8, ls=":")
+            ax.set_title("%s, %s (%d members)" % (method, scene, len(t)), fontsize=9)
+            ax.set_xlim(0, t_end)
+            ax.set_ylim(0, 1.02)
+            ax.grid(alpha=0.3)
+            if i == len(methods) - 1:
+                ax.set_xlabel("time t, s; dotted: the paper's 7.2 s")
+            if j == 0:
+                ax.set_ylabel("fraction beyond 0.1 rad")
+            if i == 0 and j == 0:
+                ax.legend(fontsize=7, loc="upper left")
+    save(fig, out, plan + "-cdf")
+
+
+def ensemble_prediction(plan, results, t_end, out):
+    path = os.path.join(results, plan + "-prediction.csv")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        pred = [p for p in csv.DictReader(f) if float(p["threshold"]) == 0.1 and p["predicted_s"] and p["measured_s"]]
+    scenes = sorted({p["scene"] for p in pred})
+    if not scenes:
+        return
+    fig, axes = plt.subplots(1, len(scenes), figsize=(4.8 * len(scenes), 4.4), sharey=True, squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        for method in dict.fromkeys(p["method"] for p in pred):
+            mine = [p for p in pred if p["scene"] == scene and p["method"] == method]
+            ax.scatter([float(p["predicted_s"]) for p in mine], [float(p["measured_s"]) for p in mine], s=6,
+                       color=color(method), alpha=0.5, label=method)
+        ax.plot([0, t_end * 1.5], [0, t_end * 1.5], "k:", lw=0.8)
+        ax.set_xlim(0, t_end * 1.5)
+        ax.set_ylim(0, t_end)
+        ax.set_title(scene + ": every member and step")
+        ax.set_xlabel("predicted from e(t0) and chi, s")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("measured: pose beyond 0.1 rad, s")
+    axes[0][0].legend(fontsize=8)
+    save(fig, out, plan + "-prediction")
+
+
+# ---------------------------------------------------------------------------------------- extreme
+
+
+def extreme_figures(summary, out):
+    cases = summary["cases"]
+    labels = list(dict.fromkeys(r["label"] for c in cases for r in c["runs"]))
+    methods = list(dict.fromkeys(m["name"] for c in cases for r in c["runs"] for m in r["methods"]))
+    outcomes = {}
+    for c in cases:
+        for r in c["runs"]:
+            for m in r["methods"]:
+                outcomes[(c["name"], r["label"], m["name"])] = m["outcome"]
+    fig, axes = plt.subplots(1, len(labels), figsize=(1.2 + 0.55 * len(methods) * len(labels), 1.4 + 0.32 * len(cases)),
+                             sharey=True, squeeze=False)
+    kinds = list(OUTCOME_COLORS) + sorted({o for o in outcomes.values()} - set(OUTCOME_COLORS))
+    for ax, label in zip(axes[0], labels):
+        for i, c in enumerate(cases):
+            for j, m in enumerate(methods):
+                o = outcomes.get((c["name"], label, m))
+                fc = OUTCOME_COLORS.get(o, "0.8") if o else "white"
+                ax.add_patch(plt.Rectangle((j, i), 1, 1, facecolor=fc, edgecolor="white", lw=1.5,
+                                           gid="cell-%s-%s-%s" % (c["name"], m, o or "not-run")))
+                if o == "failed":
+                    ax.plot(j + 0.5, i + 0.5, "x", color="k", ms=6)
+        ax.set_xlim(0, len(methods))
+        ax.set_ylim(len(cases), 0)
+        ax.set_xticks([j + 0.5 for j in range(len(methods))])
+        ax.set_xticklabels(methods, rotation=60, ha="right", fontsize=8)
+        for tick, m in zip(ax.get_xticklabels(), methods):
+            tick.set_color(color(m))
+        ax.set_yticks([i + 0.5 for i in range(len(cases))])
+        ax.set_yticklabels([c["name"] for c in cases], fontsize=8)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel("method")
+    axes[0][0].set_ylabel("case")
+    handles = [Patch(color=OUTCOME_COLORS.get(k, "0.8"), label=k) for k in kinds]
+    handles.append(Patch(facecolor="white", edgecolor="0.5", label="not run"))
+    fig.legend(handles=handles, loc="upper right", fontsize=8, ncol=len(handles))
+    fig.suptitle("Extreme cases: the outcome of every method (x failed)", fontsize=10, x=0.3)
+    save(fig, out, "extreme-outcomes")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("kind", choices=["report", "sweep", "extreme"])
+    ap.add_argument("input")
+    ap.add_argument("out")
+    ap.add_argument("format", choices=["png", "svg", "pdf"])
+    ap.add_argument("--csv-dir")
+    a = ap.parse_args()
+    FORMAT[0] = a.format
+    if a.kind == "sweep":
+        sweep_figures(a.input, a.out)
+    else:
+        with open(a.input) as f:
+            data = json.load(f)
+        (report_figures(data, a.out, a.csv_dir) if a.kind == "report" else extreme_figures(data, a.out))
+    for w in WRITTEN:
+        print(w)
+
+
+if __name__ == "__main__":
+    main()
