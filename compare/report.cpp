@@ -1,6 +1,9 @@
 #include "compare/report.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -101,12 +104,30 @@ json decimated(const std::vector<double>& v, size_t stride) {
   return a;
 }
 
-// The coordinate the figures draw against time (the paper's Fig. 3): the first
-// angle coordinate, else q_0, for the reference and every run, on the series grid.
+// The angle coordinate some run leaves the reference on first by the largest
+// threshold (the paper's Fig. 3 shows such an angle); the first angle when none
+// leaves; q_0 when no coordinate is an angle.
+int figureCoordinate(const ComparisonResult& r) {
+  const Trajectory& ref = r.reference;
+  if (ref.angle_coords.empty()) return 0;
+  const double th = *std::max_element(r.options.thresholds.begin(), r.options.thresholds.end());
+  int best = ref.angle_coords.front();
+  size_t first = SIZE_MAX;  // sample index of the earliest exceedance
+  for (const Trajectory& tr : r.runs)
+    for (int i : ref.angle_coords)
+      for (size_t k = 0; k < std::min({tr.q.size(), ref.q.size(), first}); ++k)
+        if (i < tr.q[k].size() && std::abs(tr.q[k][i] - ref.q[k][i]) > th) {
+          first = k, best = i;
+          break;
+        }
+  return best;
+}
+
+// That coordinate against time for the reference and every run, on the series grid.
 json coordinateSeries(const ComparisonResult& r, size_t stride) {
   const Trajectory& ref = r.reference;
   if (ref.q_names.empty()) return nullptr;
-  const int i = ref.angle_coords.empty() ? 0 : ref.angle_coords.front();
+  const int i = figureCoordinate(r);
   const auto column = [&](const Trajectory& tr) {
     std::vector<double> v;  // (samples)
     for (const Eigen::VectorXd& q : tr.q) v.push_back(q[i]);

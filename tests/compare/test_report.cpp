@@ -91,7 +91,7 @@ TEST_CASE("series are decimated to at most the asked number of points", "[report
   CHECK(j["series"]["methods"]["eigen"]["pose_error_rad"].size() < n);  // stopped at 3 s
 }
 
-TEST_CASE("the figures' series: the reference check and the first angle of every run", "[report]") {
+TEST_CASE("the figures' series: the reference check and the angle that leaves first, of every run", "[report]") {
   // The synthetic reference's tighter twin turns 1e-6 rad/s faster (synthetic.hpp): its
   // pose error is 1e-6 t exactly; the eigen run turns 0.021 rad/s faster and stops at 3 s.
   const json j = makeReport(synthetic());
@@ -105,6 +105,29 @@ TEST_CASE("the figures' series: the reference check and the first angle of every
   CHECK(c["reference"][k].get<double>() == Approx(0.3));
   CHECK(c["methods"]["eigen"][k].get<double>() == Approx(0.321));
   CHECK(c["methods"]["eigen"].size() == j["series"]["methods"]["eigen"]["pose_error_rad"].size());
+}
+
+TEST_CASE("the figure's coordinate is the angle a method leaves the reference on first", "[report]") {
+  // A second angle, constant in the reference, drifting at 0.2 rad/s in the run:
+  // it leaves by 0.1 rad at 0.5 s while the first angle stays within 1e-4.
+  const auto withSecond = [](Trajectory tr, double rate) {
+    tr.q_names = {"a.q0", "b.q0"};
+    tr.angle_coords = {0, 1};
+    for (size_t k = 0; k < tr.q.size(); ++k) tr.q[k] = Eigen::Vector2d(tr.q[k][0], 0.5 + rate * tr.t[k]);
+    return tr;
+  };
+  CompareOptions o;
+  o.methods = {Method::Classical};
+  const ComparisonResult r = compareRuns(withSecond(test::turning(Method::Simbody, 0, 0), 0),
+                                         withSecond(test::turning(Method::Simbody, 1e-6, 0), 0),
+                                         {withSecond(test::turning(Method::Classical, 1e-5, 0), 0.2)}, o);
+  const json c = makeReport(r)["series"]["coordinate"];
+  CHECK(c["name"] == "b.q0");
+  CHECK(c["index"] == 1);
+  const ComparisonResult still = compareRuns(withSecond(test::turning(Method::Simbody, 0, 0), 0),
+                                             withSecond(test::turning(Method::Simbody, 1e-6, 0), 0),
+                                             {withSecond(test::turning(Method::Classical, 1e-5, 0), 0)}, o);
+  CHECK(makeReport(still)["series"]["coordinate"]["name"] == "a.q0");  // none leaves: the first angle
 }
 
 TEST_CASE("a report round-trips through its file and no temporary is left", "[report]") {
