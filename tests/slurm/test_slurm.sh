@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# A sweep on a real single-node Slurm (docs/sweep.md, "On a Slurm cluster"):
+# starts munged (as user munge), slurmctld and slurmd on this machine with a
+# private configuration, submits a plan's cases as an array through
+# docs/sweep.sbatch with `sbatch --wait`, merges them, and checks that the
+# merged CSV equals the in-process sweep's (timing columns aside). It stops
+# everything it started, whatever happens.
+#
+#   tests/slurm/test_slurm.sh EIGENMASS SOURCE_DIR WORK_DIR
+#
+# Exit 0 passed, 1 failed, 77 skipped (ctest's SKIP_RETURN_CODE), with the reason.
+set -euo pipefail
+eigenmass=$1 src=$2 work=$3
+packages=(slurmctld slurmd slurm-client munge)
+
+skip() { echo "SKIPPED: $*"; exit 77; }
+fail() { echo "FAILED: $*" >&2; exit 1; }
+
+# Daemons run as root without systemd (slurmd starts jobs as their user; munged's key is root's to read).
+[ "$(id -u)" -eq 0 ] || skip "needs root: slurmd runs jobs as their user and munged's key is readable by root only"
+missing=()
+for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+if [ ${#missing[@]} -gt 0 ]; then  # as every ./run step: Debian's packages, installed when missing
+  echo "installing: ${missing[*]}"
+  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null ||
+    fail "apt-get install ${missing[*]}"
+fi
+
+rm -rf "$work"
+mkdir -p "$work"/{state,spool,log,munge,out}
+work=$(cd "$work" && pwd)
+pids=() munged_pid=""
+cleanup() {
+  scancel --quiet --full --user=root 2>/dev/null || true
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  if [ -n "$munged_pid" ]; then
+    kill "$munged_pid" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 "$munged_pid" 2>/dev/null || break; sleep 0.1; done
+  fi
+}
+trap cleanup EXIT
+
+# munged as user munge on a private socket, with the key Debian's package made.
+chown munge:munge "$work/munge"
+chmod 0755 "$work/munge"  # munged: the socket's folder must be searchable by all
+[ -s /etc/munge/munge.key ] || runuser -u munge -- mungekey --create --keyfile=/etc/munge/munge.key
+socket="$work/munge/munge.socket"
+runuser -u munge -- /usr/sbin/munged --socket="$socket" --pid-file="$work/munge/munged.pid" \
+  --log-file="$work/munge/munged.log" --seed-file="$work/munge/munged.seed" ||
+  fail "munged did not start: $(cat "$work/munge/munged.log" 2>/dev/null)"
+munged_pid=$(cat "$work/munge/munged.pid")  # it runs on as a daemon: stopped by its pid
+for _ in $(seq 50); do [ -S "$socket" ] && break; sleep 0.1; done
+[ -S "$socket" ] || fail "munged made no socket: $(cat "$work/munge/munged.log" 2>/dev/null)"
+
+# One node: this machine as slurmd -C sees it; ports away from a real cluster's 6817/6818.
+node=$(slurmd -C | head -1)
+host=$(hostname -s)
+cat >"$work/slurm.conf" <<EOF
+ClusterName=eigenmass-test
+SlurmctldHost=$host(127.0.0.1)
+SlurmctldPort=16817
+SlurmdPort=16818
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+AuthInfo=socket=$socket
+CredType=cred/munge
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+JobAcctGatherType=jobacct_gather/none
+MpiDefault=none
+ReturnToService=2
+StateSaveLocation=$work/state
+SlurmdSpoolDir=$work/spool
+SlurmctldPidFile=$work/slurmctld.pid
+SlurmdPidFile=$work/slurmd.pid
+SlurmctldLogFile=$work/log/slurmctld.log
+SlurmdLogFile=$work/log/slurmd.log
+$node NodeAddr=127.0.0.1 State=UNKNOWN
+PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
+EOF
+export SLURM_CONF="$work/slurm.conf"
+/usr/sbin/slurmctld -D -i -f "$SLURM_CONF" >"$work/log/slurmctld.out" 2>&1 &
+pids+=($!)
+/usr/sbin/slurmd -D -f "$SLURM_CONF" >"$work/log/slurmd.out" 2>&1 &
+pids+=($!)
+for _ in $(seq 100); do
+  state=$(sinfo --noheader --format=%t 2>/dev/null || true)
+  [ "$state" = idle ] && break
+  sleep 0.2
+done
+[ "$state" = idle ] || fail "the node is not idle (sinfo: '$state'); $(tail -5 "$work/log/slurmctld.log" "$work/log/slurmd.log" 2>&1)"
+echo "slurm: $(sinfo --version), node $host idle: $node"
+
+# A small plan: 2 scenes x (2 methods x 2 steps + Simbody) + references and checks = 14 cases.
+cat >"$work/plan.json" <<EOF
+{"format": "eigenmass-plan/1", "name": "slurm-small", "scenes": ["$src/data/scenes/pendulum5.json", "$src/data/scenes/chain02.json"],
+ "t_end": 0.5,
+ "reference": {"method": "simbody", "integrator": "rkmerson", "tolerance": 1e-10},
+ "reference_check": {"method": "classical", "integrator": "rk8pd", "tolerance": 1e-12},
+ "lines": [{"methods": ["classical", "eigen"], "integrator": "rk4", "dt": [0.01, 0.005]},
+           {"methods": ["simbody"], "integrator": "rkmerson", "tolerance": [1e-6]}],
+ "tables": ["work-precision"]}
+EOF
+"$eigenmass" sweep "$work/plan.json" --list --results "$work/cluster" >"$work/cases.txt"
+n=$(wc -l <"$work/cases.txt")
+[ "$n" -eq 14 ] || fail "expected 14 cases in the list, got $n"
+cd "$work/out"
+job=$(sbatch --parsable --wait --array="1-$n" "$src/docs/sweep.sbatch" "$work/cases.txt") ||
+  fail "sbatch --wait: the array did not end well ($(cat slurm-*.out 2>/dev/null | tail -5))"
+echo "array job $job: $n tasks done"
+tasks=$(ls slurm-"${job%%;*}"_*.out | wc -l)
+[ "$tasks" -eq "$n" ] || fail "expected $n task outputs, got $tasks"
+"$eigenmass" sweep "$work/plan.json" --merge "$work/cluster" >/dev/null
+"$eigenmass" sweep "$work/plan.json" --results "$work/local" -j 2 >/dev/null 2>&1
+
+# The merged CSVs equal, timing columns (cpu_*) aside.
+drop_timing() {
+  /usr/bin/python3 -c '
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+keep = [i for i, h in enumerate(rows[0]) if not h.startswith("cpu_")]
+for r in rows: print(",".join(r[i] for i in keep))' "$1"
+}
+drop_timing "$work/cluster/slurm-small.csv" >"$work/cluster.csv"
+drop_timing "$work/local/slurm-small.csv" >"$work/local.csv"
+rows=$(($(wc -l <"$work/cluster.csv") - 1))
+[ "$rows" -eq 14 ] || fail "expected 14 rows in the merged CSV, got $rows"
+diff "$work/cluster.csv" "$work/local.csv" >"$work/diff.txt" || fail "merged CSVs differ: $(head -5 "$work/diff.txt")"
+echo "PASSED: $n cases through Slurm array job $job equal the in-process sweep's ($rows rows, timing aside)"
