@@ -28,6 +28,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402
 
 # Deterministic files: no dates, fixed SVG ids, text kept as text (editable, searchable).
 matplotlib.rcParams.update({"svg.hashsalt": "eigenmass", "svg.fonttype": "none", "pdf.fonttype": 42})
@@ -270,6 +271,7 @@ def work_precision(rows, out):
                         mark_failure(ax, m, xs[i], ys[i])
             if check:
                 ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
+            ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
             ax.set_title(method, color=color(method), fontsize=10)
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7, title="integrator", title_fontsize=7)
