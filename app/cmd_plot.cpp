@@ -1,5 +1,5 @@
-// `eigenmass plot`: the figures of a compare report, a sweep's results folder or
-// an extreme summary (docs/figures.md). The input and the output folder are
+// `eigenmass plot`: the figures of a compare report, a precision file, a
+// trajectory, a sweep's results folder or an extreme summary (docs/figures.md). The input and the output folder are
 // checked here, before anything is drawn; tools/plot.py draws with Debian's
 // python3-matplotlib into a temporary folder, and each figure is then moved
 // into --out by writeAtomic (the rules of every output: never an input, a
@@ -80,23 +80,47 @@ void checkResults(const std::string& dir) {
   throw std::runtime_error(dir + ": not a sweep's results folder (no eigenmass-sweep-case/1 file)");
 }
 
-// "report", "sweep" or "extreme", from what the input is.
-std::string kindOf(const PlotArgs& a) {
+std::string formatOf(const nlohmann::json& j) {
+  return j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
+}
+
+// A trajectory CSV (simulate --out) is drawn with its sidecar, which says how it was made.
+void checkTrajectory(const std::string& csv) {
+  const std::string meta = csv + ".json";
+  if (!fs::exists(meta)) throw std::runtime_error(csv + ": no sidecar " + meta + " (the run that made it)");
+  if (formatOf(parseJsonStrict(readFile(meta, "trajectory metadata"))) != "eigenmass-trajectory-meta/1")
+    throw std::runtime_error(meta + ": not a trajectory's sidecar (key 'format' is not 'eigenmass-trajectory-meta/1')");
+}
+
+// What the input is: a kind tools/plot.py draws (docs/figures.md); the input it reads in `a.input`.
+std::string kindOf(PlotArgs& a) {
   std::error_code ec;
   if (fs::is_directory(a.input, ec)) {
     checkResults(a.input);
     return "sweep";
   }
+  const std::string ext = fs::path(a.input).extension().string();
+  if (ext == ".csv") {
+    checkTrajectory(a.input);
+    return "trajectory";
+  }
   const nlohmann::json j = parseJsonStrict(readFile(a.input, "report"));
-  const std::string format = j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
+  const std::string format = formatOf(j);
   if (format == "eigenmass-report/1" && j.contains("series")) return "report";
   if (format == "eigenmass-report/1") throw std::runtime_error(a.input + ": key 'series' not found (a report without its series)");
   if (format == "eigenmass-extreme/1" && j.contains("cases")) return "extreme";
-  throw std::runtime_error(a.input + ": not a compare report, an extreme summary or a results folder (key 'format' is '" +
-                           printable(format, 40) + "')");
+  if (format == "eigenmass-precision/1" && j.contains("points")) return "precision";
+  if (format == "eigenmass-trajectory-meta/1") {  // the sidecar given: draw its CSV
+    a.input = a.input.substr(0, a.input.size() - std::string(".json").size());
+    checkTrajectory(a.input);
+    return "trajectory";
+  }
+  throw std::runtime_error(a.input + ": not a report, a precision file, an extreme summary, a trajectory or a results "
+                           "folder (key 'format' is '" + printable(format, 40) + "')");
 }
 
-// Beside the input: out/p5.report.json -> out/p5.report.figures; results/paper -> results/paper/figures.
+// Beside the input: out/p5.report.json -> out/p5.report.figures, out/x.csv -> out/x.figures;
+// results/paper -> results/paper/figures.
 std::string defaultOut(const std::string& input, const std::string& kind) {
   if (kind == "sweep") return (fs::path(input) / "figures").string();
   fs::path p(input);
@@ -139,7 +163,7 @@ int runPlot(PlotArgs a) {
   if (status == 0)
     for (const fs::path& f : figures) {
       const std::string to = (fs::path(a.out) / f.filename()).string();
-      prepareOutput("--out", to, {a.input, a.csv_dir});
+      prepareOutput("--out", to, {a.input, a.input + ".json", a.csv_dir});
       const std::string bytes = fileBytes(f);
       writeAtomic(to, "figure", [&](std::ostream& o) { o << bytes; });
       std::cout << to << "\n";
@@ -152,10 +176,12 @@ int runPlot(PlotArgs a) {
 }  // namespace
 
 void addPlot(CLI::App& app) {
-  auto* cmd = app.add_subcommand("plot", "Draw the figures of a compare report, a sweep's results folder or an extreme "
-                                         "summary (docs/figures.md; needs Debian's python3-matplotlib)");
+  auto* cmd = app.add_subcommand("plot", "Draw the figures of a compare report, a precision file, a trajectory, a sweep's "
+                                         "results folder or an extreme summary (docs/figures.md; needs Debian's python3-matplotlib)");
   auto a = std::make_shared<PlotArgs>();
-  cmd->add_option("input", a->input, "REPORT.json (compare --out), RESULTS_DIR (sweep) or an extreme summary")->required();
+  cmd->add_option("input", a->input, "REPORT.json (compare --out), PRECISION.json (precision --out), a trajectory X.csv "
+                                     "(simulate --out, with its X.csv.json), RESULTS_DIR (sweep) or an extreme summary")
+      ->required();
   cmd->add_option("--out", a->out, "Folder for the figures; default: beside the input (X.report.figures/, RESULTS_DIR/figures/)");
   cmd->add_option("--format", a->format, "png (default), svg or pdf (vector figures for papers)")
       ->check(CLI::IsMember({"png", "svg", "pdf"}));

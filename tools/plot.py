@@ -3,7 +3,7 @@
 `eigenmass plot` (docs/figures.md), which checks the input and the output
 folder first and moves the figures written into OUT to their place.
 
-    /usr/bin/python3 tools/plot.py report|sweep|extreme INPUT OUT png|svg|pdf [--csv-dir DIR]
+    /usr/bin/python3 tools/plot.py report|sweep|extreme|precision|trajectory INPUT OUT png|svg|pdf [--csv-dir DIR]
 
 report   a compare report (eigenmass-report/1):
          <scene>-divergence   each method's pose error against time, log scale,
@@ -18,6 +18,10 @@ sweep    a results folder (its merged <plan>.csv and case files):
          <plan>-cdf, <plan>-prediction  an ensemble's distributions
 extreme  an extreme summary (eigenmass-extreme/1):
          extreme-outcomes     cases x methods coloured by outcome, a panel per setting
+precision  a precision file (eigenmass-precision/1):
+         <scene>-work-precision  error against CPU time and against the step or tolerance
+trajectory  a trajectory CSV (simulate --out) with its sidecar <csv>.json:
+         <stem>-state, <stem>-energy  coordinates and speeds, the energy balance error
 
 One colour per method and one marker per integrator in every figure. Prints
 each file written, one per line. Needs Debian's python3-matplotlib.
@@ -452,6 +456,81 @@ def ensemble_prediction(plan, results, t_end, out):
     save(fig, out, plan + "-prediction")
 
 
+# -------------------------------------------------------------------------------------- precision
+
+
+def precision_figures(prec, out):
+    """Error against CPU time and against the step or tolerance: a line per method and integrator."""
+    scene = prec["scene"]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    lines = {}
+    for p in prec["points"]:
+        lines.setdefault((p["method"], p["integrator"]), []).append(p)
+    for (method, integ), pts in lines.items():
+        setting = [p.get("step", p.get("tolerance")) for p in pts]
+        err = [max(num(p["max_pose_error_rad"]), FLOOR) for p in pts]
+        cpu = [num(p["run_time_s"]) for p in pts]
+        ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
+        for ax, xs in ((a1, cpu), (a2, setting)):
+            ax.loglog([xs[i] for i in ok], [err[i] for i in ok], marker=marker(integ), color=color(method), lw=1.2,
+                      ms=4, label="%s %s" % (method, integ))
+            for i, p in enumerate(pts):
+                if p["status"] != "ok":
+                    mark_failure(ax, method, xs[i], err[i])
+    a1.set_xlabel("CPU time of the run, s")
+    a2.set_xlabel("step dt, s, or tolerance")
+    a1.set_ylabel("max pose error against the reference, rad")
+    for a in (a1, a2):
+        a.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    ref = prec["reference"]
+    fig.suptitle("Work-precision on %s over %g s against %s %s tol %g (x: failed, error up to the failure)"
+                 % (scene, prec["t_end"], ref["method"], ref["integrator"], ref["tolerance"]), fontsize=9)
+    save(fig, out, scene + "-work-precision")
+
+
+# ------------------------------------------------------------------------------------- trajectory
+
+
+def trajectory_figures(csv_path, meta, out):
+    """One run (simulate --out): its angles and speeds, and its energy balance, against time."""
+    cols = read_traj_csv(csv_path)
+    stem = os.path.basename(csv_path)[: -len(".csv")]
+    method = meta["method"]
+    q = [k for k in cols if ".q" in k][:12]
+    u = [k for k in cols if ".u" in k][:12]
+    setting = "dt %g" % meta["dt"] if "dt" in meta else "tol %g" % meta["tolerance"]
+    title = "%s: %s %s %s" % (meta["scene"], method, meta["integrator"], setting)
+    if meta.get("failure"):
+        title += " (failed at %g s: %s)" % (meta["failure"]["t"], meta["failure"]["kind"])
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for ax, names, unit in ((a1, q, "coordinates (rad, m)"), (a2, u, "speeds (rad/s, m/s)")):
+        for name in names:
+            ax.plot(cols["t"], cols[name], lw=1, label=name)
+        if meta.get("failure") and cols["t"]:
+            for name in names:
+                mark_failure(ax, method, cols["t"][-1], cols[name][-1])
+        ax.set_ylabel(unit)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, ncol=2)
+    a2.set_xlabel("time t, s")
+    a1.set_title(title + ("; the first 12 of each" if len(q) == 12 else ""), fontsize=9)
+    save(fig, out, stem + "-state")
+    e0 = cols["energy"][0]
+    scale = max(cols["kinetic"]) or 1.0
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    ax.semilogy(cols["t"], [max(abs(e + w - e0) / scale, FLOOR) for e, w in zip(cols["energy"], cols["dissipated"])],
+                color=color(method), lw=1.2, label=method)
+    if meta.get("failure") and cols["t"]:
+        mark_failure(ax, method, cols["t"][-1], max(abs(cols["energy"][-1] + cols["dissipated"][-1] - e0) / scale, FLOOR))
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("|E(t) + W_diss(t) - E(0)| / max kinetic energy")
+    ax.set_title("Energy balance error: " + title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, out, stem + "-energy")
+
+
 # ---------------------------------------------------------------------------------------- extreme
 
 
@@ -496,7 +575,7 @@ def extreme_figures(summary, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("kind", choices=["report", "sweep", "extreme"])
+    ap.add_argument("kind", choices=["report", "sweep", "extreme", "precision", "trajectory"])
     ap.add_argument("input")
     ap.add_argument("out")
     ap.add_argument("format", choices=["png", "svg", "pdf"])
@@ -505,10 +584,14 @@ def main():
     FORMAT[0] = a.format
     if a.kind == "sweep":
         sweep_figures(a.input, a.out)
+    elif a.kind == "trajectory":  # INPUT is the CSV; its sidecar <csv>.json says how it was made
+        with open(a.input + ".json") as f:
+            trajectory_figures(a.input, json.load(f), a.out)
     else:
         with open(a.input) as f:
             data = json.load(f)
-        (report_figures(data, a.out, a.csv_dir) if a.kind == "report" else extreme_figures(data, a.out))
+        {"report": lambda: report_figures(data, a.out, a.csv_dir), "extreme": lambda: extreme_figures(data, a.out),
+         "precision": lambda: precision_figures(data, a.out)}[a.kind]()
     for w in WRITTEN:
         print(w)
 

@@ -576,6 +576,45 @@ TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary a
   fs::remove_all(dir);
 }
 
+TEST_CASE("plot draws a precision file and one run's trajectory, failures marked", "[cli][plot]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot_runs";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // The locked gimbal: eigen stops near 0.28 s at both steps, classical finishes at dt 5e-3 only.
+  const std::string prec = (dir / "lock.precision.json").string();
+  REQUIRE(eigenmass("precision " + scene("extreme/gimbal_lock.json") +
+                    " --t-end 1 --methods classical,eigen --integrator rk4 --settings 1e-2,5e-3 --out " + prec).status != 2);
+  const auto points = nlohmann::json::parse(slurp(prec))["points"];
+  const Run r = eigenmass("plot " + prec + " --format svg");
+  REQUIRE(r.status == 0);
+  const std::string svg = slurp((dir / "lock.precision.figures/gimbal_lock-work-precision.svg").string());
+  for (const char* label : {"classical rk4", "eigen rk4", "CPU time of the run, s", "step dt, s, or tolerance",
+                            "max pose error against the reference, rad"})
+    CHECK(drawsText(svg, label));
+  size_t failed = 0;  // an x per failed point in each of the two panels
+  for (const auto& p : points) failed += p["status"] != "ok";
+  REQUIRE(failed >= 2);
+  size_t drawn = 0;
+  for (size_t at = svg.find("id=\"failed-"); at != std::string::npos; at = svg.find("id=\"failed-", at + 1)) ++drawn;
+  CHECK(drawn == 2 * failed);
+
+  // One run from simulate: its CSV, or its sidecar, gives the state and the energy balance.
+  const std::string csv = (dir / "run.csv").string();
+  REQUIRE(eigenmass("simulate " + scene("extreme/gimbal_lock.json") + " --method classical --t-end 1 --out " + csv).status == 1);
+  REQUIRE(eigenmass("plot " + csv + ".json --format svg").status == 0);
+  const std::string state = slurp((dir / "run.figures/run-state.svg").string());
+  CHECK(drawsText(state, "time t, s"));
+  CHECK(state.find("failed at 0.296 s: blow-up") != std::string::npos);
+  CHECK(state.find("id=\"failed-classical\"") != std::string::npos);
+  CHECK(fs::exists(dir / "run.figures/run-energy.svg"));
+  fs::remove(csv + ".json");  // without its sidecar a CSV is not drawn: nothing says what made it
+  const Run bare = eigenmass("plot " + csv, true);
+  CHECK(bare.status == 2);
+  CHECK_THAT(bare.out, Catch::Contains("run.csv: no sidecar"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib names the package", "[cli][plot][hostile]") {
   const auto err = [](const std::string& args, const std::string& env = "") {
     const std::string cmd = env + " " + std::string(EM_BINARY_DIR) + "/bin/eigenmass plot " + args + " 2>&1 >/dev/null";
@@ -592,7 +631,7 @@ TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib nam
                      "python3-matplotlib (apt-get install python3-matplotlib)\n");
   const auto sc = err(scene("pendulum5.json"));
   CHECK(sc.first == 2);
-  CHECK_THAT(sc.second, Catch::Contains("pendulum5.json: not a compare report, an extreme summary or a results folder"));
+  CHECK_THAT(sc.second, Catch::Contains("pendulum5.json: not a report, a precision file, an extreme summary, a trajectory"));
   const auto folder = err(em::test::sourcePath("data"));
   CHECK(folder.first == 2);
   CHECK_THAT(folder.second, Catch::Contains("data: not a sweep's results folder"));
