@@ -70,14 +70,15 @@ TEST_CASE("a malformed scene is one line on stderr and exit status 2", "[cli][sc
 }
 
 TEST_CASE("a run over 2 s shows its progress on stderr when asked and only then", "[cli][progress]") {
-  // 400 s of pendulum5 at rk4 dt 1e-3 take ~3 s of CPU here: past the 2 s
-  // after which progress shows. stderr is a pipe here, not a terminal.
+  // 1000 s of pendulum5 at rk4 dt 1e-3 take ~6 s of CPU here: well past the 2 s
+  // after which progress shows (400 s, 2.3 s since classical got faster, was too
+  // close to it). stderr is a pipe here, not a terminal.
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_progress.csv";
-  const std::string run = "simulate " + scene("pendulum5.json") + " --t-end 400 --out " + out;
+  const std::string run = "simulate " + scene("pendulum5.json") + " --t-end 1000 --out " + out;
   const Run asked = eigenmass(run + " --progress", true);
   CHECK(asked.status == 0);
   CHECK(asked.out.find("pendulum5 classical/rk4: t = ") != std::string::npos);
-  CHECK(asked.out.find(" / 400 s, elapsed ") != std::string::npos);
+  CHECK(asked.out.find(" / 1000 s, elapsed ") != std::string::npos);
   CHECK(asked.out.find(", ETA ") != std::string::npos);
   const Run quiet = eigenmass(run, true);
   CHECK(quiet.status == 0);
