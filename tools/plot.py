@@ -75,6 +75,16 @@ def save(fig, out, stem):
     WRITTEN.append(os.path.basename(path))
 
 
+def label_pair(a1, a2, labels1, labels2):
+    """Two log-log panels side by side: (x, y) labels each (None: shared), grids, the legend on the first."""
+    for ax, (x, y) in ((a1, labels1), (a2, labels2)):
+        ax.set_xlabel(x)
+        if y:
+            ax.set_ylabel(y)
+        ax.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+
+
 def mark_failure(ax, method, t, y, label=None):
     """An x where a run stopped; its gid names the method (tests read it in the SVG)."""
     (pt,) = ax.plot([t], [y], "x", color=color(method), ms=9, mew=2, label=label)
@@ -306,13 +316,8 @@ def cost_vs_size(runs, t_end, out):
         for p, y in zip(pts, per_s):
             if p["status"] != "ok":
                 mark_failure(a2, method, int(p["nu"]), y)
-    a1.set_xlabel("degrees of freedom n")
-    a1.set_ylabel("µs per right-hand-side evaluation")
-    a2.set_xlabel("degrees of freedom n")
-    a2.set_ylabel("CPU s per simulated second (x: failed, up to the failure)")
-    for a in (a1, a2):
-        a.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=7)
+    label_pair(a1, a2, ("degrees of freedom n", "µs per right-hand-side evaluation"),
+               ("degrees of freedom n", "CPU s per simulated second (x: failed, up to the failure)"))
     fig.suptitle("Cost against size (the paper's Fig. 4)")
     save(fig, out, "cost-vs-size")
 
@@ -477,12 +482,8 @@ def precision_figures(prec, out):
             for i, p in enumerate(pts):
                 if p["status"] != "ok":
                     mark_failure(ax, method, xs[i], err[i])
-    a1.set_xlabel("CPU time of the run, s")
-    a2.set_xlabel("step dt, s, or tolerance")
-    a1.set_ylabel("max pose error against the reference, rad")
-    for a in (a1, a2):
-        a.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=7)
+    label_pair(a1, a2, ("CPU time of the run, s", "max pose error against the reference, rad"),
+               ("step dt, s, or tolerance", None))
     ref = prec["reference"]
     fig.suptitle("Work-precision on %s over %g s against %s %s tol %g (x: failed, error up to the failure)"
                  % (scene, prec["t_end"], ref["method"], ref["integrator"], ref["tolerance"]), fontsize=9)

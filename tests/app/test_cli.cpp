@@ -480,6 +480,14 @@ std::string slurp(const std::string& path) {
   return s.str();
 }
 
+// An empty folder under the system's temporary folder.
+std::filesystem::path freshDir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 // Does the SVG draw `text` as a text element (plot.py keeps text as text)?
 bool drawsText(const std::string& svg, const std::string& text) { return svg.find(">" + text + "<") != std::string::npos; }
 
@@ -487,9 +495,7 @@ bool drawsText(const std::string& svg, const std::string& text) { return svg.fin
 
 TEST_CASE("plot draws a new robot's report: a series and a legend entry per method, labelled axes, failures marked", "[cli][plot]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("eigenmass_test_plot");
   const std::string robot = (dir / "newbot.urdf").string(), report = (dir / "newbot.report.json").string();
   std::ofstream(robot) << kNewRobot;
   REQUIRE(eigenmass("compare " + robot + " --t-end 1 --out " + report).status == 0);
@@ -538,9 +544,7 @@ TEST_CASE("plot draws a new robot's report: a series and a legend entry per meth
 
 TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary as a grid of outcomes", "[cli][plot]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot_sweep";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("eigenmass_test_plot_sweep");
   // Work-precision on pendulum5 and on the locked gimbal, where every in-house run fails.
   const nlohmann::json plan = {
       {"format", "eigenmass-plan/1"}, {"name", "wp"},
@@ -579,9 +583,7 @@ TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary a
 
 TEST_CASE("plot draws a precision file and one run's trajectory, failures marked", "[cli][plot]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_plot_runs";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("eigenmass_test_plot_runs");
   // The locked gimbal: eigen stops near 0.28 s at both steps, classical finishes at dt 5e-3 only.
   const std::string prec = (dir / "lock.precision.json").string();
   REQUIRE(eigenmass("precision " + scene("extreme/gimbal_lock.json") +
