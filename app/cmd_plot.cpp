@@ -1,9 +1,9 @@
 // `eigenmass plot`: the figures of a compare report, a precision file, a
-// trajectory, a sweep's results folder or an extreme summary (docs/figures.md). The input and the output folder are
-// checked here, before anything is drawn; tools/plot.py draws with Debian's
-// python3-matplotlib into a temporary folder, and each figure is then moved
-// into --out by writeAtomic (the rules of every output: never an input, a
-// device written into, a link followed, never half a file).
+// trajectory, a sweep's results folder or an extreme summary (docs/figures.md).
+// The input and the output folder are checked here, before anything is drawn;
+// tools/plot.py draws with Debian's python3-matplotlib into a temporary folder,
+// and each figure is then moved into --out by writeAtomic (the rules of every
+// output: never an input, a device written into, a link followed, never half a file).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -134,6 +134,20 @@ void checkPython() {
                              "(apt-get install python3-matplotlib)");
 }
 
+// A private folder under /tmp for the script's figures, removed however the command ends.
+struct ScratchFolder {
+  fs::path path;
+  ScratchFolder() {
+    char tmpl[] = "/tmp/eigenmass-plot-XXXXXX";
+    if (!mkdtemp(tmpl)) throw std::runtime_error("plot: cannot make a temporary folder in /tmp");
+    path = tmpl;
+  }
+  ~ScratchFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
 std::string fileBytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;
@@ -151,25 +165,23 @@ int runPlot(PlotArgs a) {
   if (a.out.empty()) a.out = defaultOut(a.input, kind);
   prepareFolder("--out", a.out);
   checkPython();
-  char tmpl[] = "/tmp/eigenmass-plot-XXXXXX";
-  if (!mkdtemp(tmpl)) throw std::runtime_error("plot: cannot make a temporary folder");
-  const fs::path tmp(tmpl);
-  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.string(), a.format};
+  const ScratchFolder tmp;
+  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.path.string(), a.format};
   if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
   const int status = runProgram(argv, false);
-  std::vector<fs::path> figures;
-  for (const auto& e : fs::directory_iterator(tmp)) figures.push_back(e.path());
-  std::sort(figures.begin(), figures.end());
-  if (status == 0)
-    for (const fs::path& f : figures) {
-      const std::string to = (fs::path(a.out) / f.filename()).string();
-      prepareOutput("--out", to, {a.input, a.input + ".json", a.csv_dir});
-      const std::string bytes = fileBytes(f);
-      writeAtomic(to, "figure", [&](std::ostream& o) { o << bytes; });
-      std::cout << to << "\n";
-    }
-  fs::remove_all(tmp);
+  if (status == 2 && fs::exists(tmp.path / "error.txt"))  // the input's shape is not its format's: its one line
+    throw std::runtime_error(printable(fileBytes(tmp.path / "error.txt"), 300));
   if (status != 0) throw std::runtime_error("plot: drawing " + a.input + " failed (tools/plot.py exit " + std::to_string(status) + ")");
+  std::vector<fs::path> figures;
+  for (const auto& e : fs::directory_iterator(tmp.path)) figures.push_back(e.path());
+  std::sort(figures.begin(), figures.end());
+  for (const fs::path& f : figures) {
+    const std::string to = (fs::path(a.out) / f.filename()).string();
+    prepareOutput("--out", to, {a.input, a.input + ".json", a.csv_dir});
+    const std::string bytes = fileBytes(f);
+    writeAtomic(to, "figure", [&](std::ostream& o) { o << bytes; });
+    std::cout << to << "\n";
+  }
   return 0;
 }
 

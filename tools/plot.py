@@ -24,7 +24,9 @@ trajectory  a trajectory CSV (simulate --out) with its sidecar <csv>.json:
          <stem>-state, <stem>-energy  coordinates and speeds, the energy balance error
 
 One colour per method and one marker per integrator in every figure. Prints
-each file written, one per line. Needs Debian's python3-matplotlib.
+each file written, one per line. An input of the right format but not of its
+shape exits 2 with its one-line reason in OUT/error.txt. Needs Debian's
+python3-matplotlib.
 """
 import argparse, csv, glob, json, math, os, sys
 
@@ -45,6 +47,8 @@ COLORS = {"classical": "tab:blue", "articulated": "tab:cyan", "eigen": "tab:oran
 OUTCOME_COLORS = {"ok": "#4daf4a", "wrong": "#ff7f00", "failed": "#e41a1c"}
 FLOOR = 1e-17  # zero errors drawn here on log axes
 FORMAT = ["png"]
+KINDS = {"report": "a compare report", "sweep": "a sweep's merged results", "extreme": "an extreme summary",
+         "precision": "a precision file", "trajectory": "a trajectory"}
 WRITTEN = []
 
 
@@ -583,6 +587,19 @@ def main():
     ap.add_argument("--csv-dir")
     a = ap.parse_args()
     FORMAT[0] = a.format
+    try:
+        draw(a)
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError) as e:
+        # A file of the right format but not of its shape: one line for eigenmass to print (exit 2).
+        with open(os.path.join(a.out, "error.txt"), "w") as f:
+            what = "key %s not found" % e if isinstance(e, KeyError) else "%s: %s" % (type(e).__name__, e)
+            f.write("%s: %s (not the shape of %s; nothing drawn)" % (a.input, what[:200].replace("\n", " "), KINDS[a.kind]))
+        sys.exit(2)
+    for w in WRITTEN:
+        print(w)
+
+
+def draw(a):
     if a.kind == "sweep":
         sweep_figures(a.input, a.out)
     elif a.kind == "trajectory":  # INPUT is the CSV; its sidecar <csv>.json says how it was made
@@ -593,8 +610,6 @@ def main():
             data = json.load(f)
         {"report": lambda: report_figures(data, a.out, a.csv_dir), "extreme": lambda: extreme_figures(data, a.out),
          "precision": lambda: precision_figures(data, a.out)}[a.kind]()
-    for w in WRITTEN:
-        print(w)
 
 
 if __name__ == "__main__":

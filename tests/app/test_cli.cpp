@@ -638,6 +638,13 @@ TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib nam
   const auto folder = err(em::test::sourcePath("data"));
   CHECK(folder.first == 2);
   CHECK_THAT(folder.second, Catch::Contains("data: not a sweep's results folder"));
+  // A file of the right format but not its shape: one line naming the missing key, nothing drawn.
+  const std::string bad = (std::filesystem::temp_directory_path() / "eigenmass_test_plot_bad.json").string();
+  std::ofstream(bad) << R"({"format": "eigenmass-extreme/1", "cases": [{"name": "x"}]})";
+  const auto shape = err(bad + " --out " + (std::filesystem::temp_directory_path() / "eigenmass_test_plot_bad").string());
+  CHECK(shape.first == 2);
+  CHECK(shape.second == "eigenmass: error: " + bad + ": key 'runs' not found (not the shape of an extreme summary; nothing drawn)\n");
+  std::filesystem::remove(bad);
   CHECK(err(expected + " --format jpg").first == 2);
   CHECK(err(expected + " --csv-dir /tmp").first == 2);
   CHECK(std::count(sc.second.begin(), sc.second.end(), '\n') == 1);
