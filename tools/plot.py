@@ -147,14 +147,14 @@ def divergence(rep, t, s, methods, subtitle, out, scene):
             notes.append("reference within %g rad of its check to t_end" % float(key.replace("p", ".")))
         else:
             ax.axvline(h, color="k", ls=":", lw=1)
-            ax.annotate("reference horizon %g rad: %g s" % (float(key.replace("p", ".")), h), (h, 1e-15),
-                        rotation=90, fontsize=7, ha="right", va="bottom")
+            ax.annotate("reference horizon %g rad: %g s" % (float(key.replace("p", ".")), h), (h, 0.98),
+                        xycoords=ax.get_xaxis_transform(), rotation=90, fontsize=7, ha="right", va="top")
     ax.set_xlabel("time t, s")
     ax.set_ylabel("max pose error against the reference, rad")
     ax.set_title("Divergence from the reference: %s\n%s%s" % (scene, subtitle, ("\n" + "; ".join(notes)) if notes else ""),
                  fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, loc="best")
     save(fig, out, scene + "-divergence")
 
 
