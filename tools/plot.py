@@ -243,9 +243,13 @@ def sweep_figures(results, out):
     for r in runs:
         if r["max_pose_error_rad"]:
             settings.setdefault((r["scene"], r["method"], r["integrator"]), set()).add(r["setting"])
-    if any(len(s) > 1 for s in settings.values()) and not os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
+    # Work-precision when a method ran at several settings; cost against size when each
+    # ran at one setting per scene over three sizes or more (a work-precision plan's
+    # few scenes of different sizes are no size sweep).
+    several = any(len(s) > 1 for s in settings.values())
+    if several and not os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
         work_precision(rows, out)
-    if len({r["nu"] for r in runs}) > 1:
+    if not several and len({r["nu"] for r in runs}) >= 3:
         cost_vs_size(runs, t_end, out)
     trajectories(rows, results, out)
     if os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
