@@ -317,7 +317,7 @@ def cost_vs_size(runs, t_end, out):
         pts.sort(key=lambda r: int(r["nu"]))
         n = [int(p["nu"]) for p in pts]
         per_s = [num(p["cpu_median_s"]) / (num(p["failure_time_s"]) if p["status"] != "ok" else t_end) for p in pts]
-        label = "%s %s %s" % (method, integ, setting)
+        label = "%s %s %g" % (method, integ, float(setting))
         a1.loglog(n, [num(p["cpu_per_rhs_s"]) * 1e6 for p in pts], marker=marker(integ), ms=3, label=label,
                   color=color(method))
         a2.loglog(n, per_s, marker=marker(integ), ms=3, color=color(method), label=label)
