@@ -11,10 +11,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "app/cli.hpp"
 #include "io/atomic_file.hpp"
@@ -61,6 +59,11 @@ int runProgram(const std::vector<std::string>& argv, bool quiet) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+// The file's "format" key, "" when it has none.
+std::string formatOf(const nlohmann::json& j) {
+  return j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
+}
+
 // The first sweep case file of a results folder names its plan; the merged CSV must be there.
 void checkResults(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -71,17 +74,13 @@ void checkResults(const std::string& dir) {
     } catch (const std::exception&) {
       continue;
     }
-    if (j.value("format", "") != "eigenmass-sweep-case/1" || !j.contains("plan")) continue;
+    if (formatOf(j) != "eigenmass-sweep-case/1" || !j.contains("plan")) continue;
     const std::string plan = j["plan"].get<std::string>();
     if (!fs::exists(fs::path(dir) / (plan + ".csv")))
       throw std::runtime_error(dir + ": no merged " + plan + ".csv (run `eigenmass sweep PLAN --merge " + dir + "` first)");
     return;
   }
   throw std::runtime_error(dir + ": not a sweep's results folder (no eigenmass-sweep-case/1 file)");
-}
-
-std::string formatOf(const nlohmann::json& j) {
-  return j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
 }
 
 // A trajectory CSV (simulate --out) is drawn with its sidecar, which says how it was made.
@@ -148,13 +147,6 @@ struct ScratchFolder {
   }
 };
 
-std::string fileBytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int runPlot(PlotArgs a) {
   const std::string kind = kindOf(a);
   if (!a.csv_dir.empty()) {
@@ -170,7 +162,7 @@ int runPlot(PlotArgs a) {
   if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
   const int status = runProgram(argv, false);
   if (status == 2 && fs::exists(tmp.path / "error.txt"))  // the input's shape is not its format's: its one line
-    throw std::runtime_error(printable(fileBytes(tmp.path / "error.txt"), 300));
+    throw std::runtime_error(printable(readFile((tmp.path / "error.txt").string(), "error"), 300));
   if (status != 0) throw std::runtime_error("plot: drawing " + a.input + " failed (tools/plot.py exit " + std::to_string(status) + ")");
   std::vector<fs::path> figures;
   for (const auto& e : fs::directory_iterator(tmp.path)) figures.push_back(e.path());
@@ -178,7 +170,7 @@ int runPlot(PlotArgs a) {
   for (const fs::path& f : figures) {
     const std::string to = (fs::path(a.out) / f.filename()).string();
     prepareOutput("--out", to, {a.input, a.input + ".json", a.csv_dir});
-    const std::string bytes = fileBytes(f);
+    const std::string bytes = readFile(f.string(), "figure");
     writeAtomic(to, "figure", [&](std::ostream& o) { o << bytes; });
     std::cout << to << "\n";
   }

@@ -351,7 +351,7 @@ TEST_CASE("compare takes --dt with rk4 and --tol with an adaptive integrator wit
   // The refusals of settings an integrator would not read must leave the
   // meaningful combinations alone (a --dt once tripped over Simbody's adaptive scheme).
   const std::string s = scene("chain02.json");
-  for (const std::string& args : {" --dt 5e-3", " --integrator rk4 --dt 5e-3", " --integrator rk8pd --tol 1e-8", " --tol 1e-8",
+  for (const char* args : {" --dt 5e-3", " --integrator rk4 --dt 5e-3", " --integrator rk8pd --tol 1e-8", " --tol 1e-8",
                                   " --dt 5e-3 --simbody-tol 1e-5 --mujoco-integrator euler"}) {
     const Run r = eigenmass("compare " + s + " --t-end 0.1 --out " + std::string(EM_BINARY_DIR) + "/cli_ok.json" + args, true);
     INFO(args << " -> " << r.out);
@@ -473,12 +473,7 @@ const char* kNewRobot = R"(<robot name="newbot">
 </robot>
 )";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return em::readFile(path, "figure"); }
 
 // An empty folder under the system's temporary folder.
 std::filesystem::path freshDir(const std::string& name) {
@@ -621,16 +616,15 @@ TEST_CASE("plot draws a precision file and one run's trajectory, failures marked
 }
 
 TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib names the package", "[cli][plot][hostile]") {
-  const auto err = [](const std::string& args, const std::string& env = "") {
-    const std::string cmd = env + " " + std::string(EM_BINARY_DIR) + "/bin/eigenmass plot " + args + " 2>&1 >/dev/null";
-    FILE* p = popen(cmd.c_str(), "r");
-    std::string out;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-    return std::make_pair(WEXITSTATUS(pclose(p)), out);
+  // Exit status and standard error (stdout discarded), as the eigenmass() helper gives them.
+  const auto err = [](const std::string& args) {
+    const Run r = eigenmass("plot " + args, false, "/dev/null");
+    return std::make_pair(r.status, r.out);
   };
   const std::string expected = em::test::sourcePath("tests/extreme/expected.json");
-  const auto py = err(expected + " --out /tmp/eigenmass_plot_nopy", "EIGENMASS_PYTHON=/nonexistent/python3");
+  setenv("EIGENMASS_PYTHON", "/nonexistent/python3", 1);  // the child inherits it
+  const auto py = err(expected + " --out /tmp/eigenmass_plot_nopy");
+  unsetenv("EIGENMASS_PYTHON");
   CHECK(py.first == 2);
   CHECK(py.second == "eigenmass: error: plot: /nonexistent/python3 cannot import matplotlib: install Debian's "
                      "python3-matplotlib (apt-get install python3-matplotlib)\n");

@@ -8,9 +8,7 @@
 set -euo pipefail
 src=$(cd "$1" && pwd) bin=$(cd "$2" && pwd) work=$3
 rm -rf "$work"
-mkdir -p "$work/build"
-for d in data docs tools; do ln -s "$src/$d" "$work/$d"; done
-ln -s "$bin/bin" "$work/build/bin"
+"$src/tests/docs/readme_folder.sh" "$src" "$bin/bin" "$work"
 cd "$work"
 run_block() {  # HEADING, COMMANDS
   local start=$SECONDS

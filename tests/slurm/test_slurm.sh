@@ -97,9 +97,7 @@ echo "slurm: $(sinfo --version), node $host idle: $node"
 
 # The README's Slurm task, as written, in a folder that sees what the README's
 # folder has (data/, docs/, build/bin/), then the same plan in one process.
-mkdir -p "$work/readme/build" "$work/readme/out"
-for d in data docs tools; do ln -s "$src/$d" "$work/readme/$d"; done
-ln -s "$(dirname "$eigenmass")" "$work/readme/build/bin"
+"$src/tests/docs/readme_folder.sh" "$src" "$(dirname "$eigenmass")" "$work/readme"
 block=$("$src/tests/docs/readme_block.sh" "$src/README.md" "Run a sweep on a Slurm cluster")
 [ -n "$block" ] || fail "README.md has no block under '### Run a sweep on a Slurm cluster'"
 cd "$work/readme"
