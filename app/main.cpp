@@ -11,21 +11,6 @@
 #include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
 
-namespace {
-
-// What a command printed must have reached standard output (a full disk, a
-// closed file): otherwise it says so in one line and fails with 2, as an
-// output file that cannot be written does.
-int finish(int code) {
-  std::cout.flush();
-  const bool lost = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout);
-  if (!lost) return code;
-  std::fputs("eigenmass: error: standard output: write failed (full or closed)\n", stderr);
-  return code == 0 ? 2 : code;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   em::setCommandLine(argc, argv);
   em::installInterruptCleanup();
@@ -48,9 +33,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return finish(app.exit(e));  // --help, --version
+    if (e.get_exit_code() == 0) return em::finishStandardOutput("eigenmass", app.exit(e));  // --help, --version
     std::fprintf(stderr, "eigenmass: error: %s (see --help)\n", e.what());
     return 2;
   }
-  return finish(em::cli::exitCode());
+  // What a command printed must have reached standard output, as an output
+  // file that cannot be written fails with 2.
+  return em::finishStandardOutput("eigenmass", em::cli::exitCode());
 }

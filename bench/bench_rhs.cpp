@@ -21,6 +21,7 @@
 
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
+#include "io/atomic_file.hpp"
 #include "io/scene.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
@@ -152,7 +153,7 @@ int main(int argc, char** argv) {
     }
     printTable(rows);
     if (!out.empty()) writeJsonAtomic(toJson(rows, threads), out);
-    return 0;
+    return finishStandardOutput("eigenmass_bench", 0);  // a table lost to a full disk is an error
   } catch (const std::exception& e) {
     std::fprintf(stderr, "eigenmass_bench: error: %s\n", e.what());
     return 2;

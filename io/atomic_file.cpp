@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <stdexcept>
 
 namespace em {
@@ -101,6 +102,14 @@ void writeAtomic(const std::string& path, const std::string& what, const std::fu
     std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot rename the temporary " + what);
   }
+}
+
+int finishStandardOutput(const char* program, int code) {
+  std::cout.flush();
+  const bool lost = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout);
+  if (!lost) return code;
+  std::fprintf(stderr, "%s: error: standard output: write failed (full or closed)\n", program);
+  return code == 0 ? 2 : code;
 }
 
 }  // namespace em

@@ -20,4 +20,9 @@ void writeAtomic(const std::string& path, const std::string& what, const std::fu
 /// of the signal as before (exit status 130 or 143 in a shell). Programs call it once.
 void installInterruptCleanup();
 
+/// A program's exit code once what it printed must have reached standard
+/// output: `code`, or 2 (with one line on standard error, `program` naming
+/// it) when the writes failed (a full disk, a closed file). Programs end with it.
+int finishStandardOutput(const char* program, int code);
+
 }  // namespace em

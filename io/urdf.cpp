@@ -40,9 +40,22 @@ struct CapturedLog : console_bridge::OutputHandler {
   }
 };
 
+// Whether `e` or an element under it is a xacro element (<xacro:...>).
+// Comments are not elements: expanded files such as PAL's TALOS keep
+// `<xacro:...>` text inside comments, and the namespace declaration too.
+bool hasXacroElement(const TiXmlElement* e) {
+  for (; e; e = e->NextSiblingElement()) {
+    if (std::string(e->Value()).rfind("xacro:", 0) == 0) return true;
+    if (hasXacroElement(e->FirstChildElement())) return true;
+  }
+  return false;
+}
+
 urdf::ModelInterfaceSharedPtr parse(const std::string& text) {
   // A xacro file parses as XML but its macros are not URDF: say what to do.
-  if (text.find("<xacro:") != std::string::npos)  // expanded files may keep the namespace declaration
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  if (!doc.Error() && hasXacroElement(doc.RootElement()))
     throw Err("(urdf)", "a xacro file (xacro: elements): expand it first, `xacro FILE.xacro > FILE.urdf`");
   CapturedLog log;
   console_bridge::useOutputHandler(&log);

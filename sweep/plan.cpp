@@ -221,6 +221,9 @@ void readMethodParams(const json& doc, MethodOptions& options) {
   }
 }
 
+// Largest ensemble.perturb.q: one radian (metre) of standard deviation.
+constexpr double kMaxSigmaQ = 1;
+
 // "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}}.
 Ensemble ensembleAt(const json& v) {
   onlyKeys(v, "ensemble", {"count", "seed", "perturb"});
@@ -241,6 +244,12 @@ Ensemble ensembleAt(const json& v) {
   };
   e.sigma_q = sigma("q");
   e.sigma_u = sigma("u");
+  // Members are nearby states: a draw lies within 8.6 sigma (53-bit Box-Muller),
+  // so sigma_q <= 1 keeps every member within 8.6 rad (m) of the scene's state,
+  // inside the bounds the scene's own q0 is held to (io/scene_json.cpp).
+  if (e.sigma_q > kMaxSigmaQ)
+    throw InputError("ensemble.perturb.q", gnum(e.sigma_q) + " beyond " + gnum(kMaxSigmaQ) +
+                                               " rad (m): an ensemble perturbs a state to nearby states");
   if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
     throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");
   return e;

@@ -186,3 +186,13 @@ TEST_CASE("every malformed URDF fails with one line naming the file and the link
     CHECK(message.find('\n') == std::string::npos);
   }
 }
+
+TEST_CASE("xacro text inside XML comments does not make an expanded URDF a xacro file", "[urdf]") {
+  // PAL's published TALOS files keep <xacro:...> lines in comments (issue 42, bug 1).
+  const std::string commented = robot("<!-- <xacro:include filename=\"arm.xacro\"/> -->" +
+                                      link("arm", inertial("0 0 0", "0 0 0", 1, kDiag123)) +
+                                      joint("j1", "continuous", "base", "arm", "0 0 1", "0 0 0"));
+  const UrdfScene s = importUrdf(commented, "commented.urdf", {});
+  CHECK(s.spec.bodies.size() == 1);
+  CHECK_THROWS_WITH(importUrdf(robot("<xacro:arm parent=\"base\"/>"), "x.urdf", {}), Catch::Contains("a xacro file"));
+}

@@ -27,8 +27,12 @@ if [ ${#missing[@]} -gt 0 ]; then  # as every ./run step: Debian's packages, ins
 fi
 
 rm -rf "$work"
-mkdir -p "$work"/{state,spool,log,munge}
+mkdir -p "$work"/{state,spool,log}
 work=$(cd "$work" && pwd)
+# munged runs as user munge, which must reach its socket, key, log and seed:
+# the work folder may lie where munge cannot (a clone under /root, mode 0700),
+# so munged's state lives in a fresh folder of its own that munge owns.
+munge_dir=$(mktemp -d /tmp/eigenmass-munge.XXXXXX)
 pids=() munged_pid=""
 cleanup() {
   scancel --quiet --full --user=root 2>/dev/null || true
@@ -38,20 +42,23 @@ cleanup() {
     kill "$munged_pid" 2>/dev/null || true
     for _ in $(seq 50); do kill -0 "$munged_pid" 2>/dev/null || break; sleep 0.1; done
   fi
+  rm -rf "$munge_dir"
 }
 trap cleanup EXIT
 
 # munged as user munge on a private socket, with the key Debian's package made.
-chown munge:munge "$work/munge"
-chmod 0755 "$work/munge"  # munged: the socket's folder must be searchable by all
+chown munge:munge "$munge_dir"
+chmod 0755 "$munge_dir"  # munged: the socket's folder must be searchable by all
 [ -s /etc/munge/munge.key ] || runuser -u munge -- mungekey --create --keyfile=/etc/munge/munge.key
-socket="$work/munge/munge.socket"
-runuser -u munge -- /usr/sbin/munged --socket="$socket" --pid-file="$work/munge/munged.pid" \
-  --log-file="$work/munge/munged.log" --seed-file="$work/munge/munged.seed" ||
-  fail "munged did not start: $(cat "$work/munge/munged.log" 2>/dev/null)"
-munged_pid=$(cat "$work/munge/munged.pid")  # it runs on as a daemon: stopped by its pid
+runuser -u munge -- test -r /etc/munge/munge.key -a -w "$munge_dir" ||
+  fail "user munge cannot read /etc/munge/munge.key or write $munge_dir (owner and modes: $(stat -c '%U %a' /etc/munge/munge.key "$munge_dir" | tr '\n' ' '))"
+socket="$munge_dir/munge.socket"
+runuser -u munge -- /usr/sbin/munged --socket="$socket" --pid-file="$munge_dir/munged.pid" \
+  --log-file="$munge_dir/munged.log" --seed-file="$munge_dir/munged.seed" ||
+  fail "munged (as user munge, state in $munge_dir) did not start: $(cat "$munge_dir/munged.log" 2>/dev/null)"
+munged_pid=$(cat "$munge_dir/munged.pid")  # it runs on as a daemon: stopped by its pid
 for _ in $(seq 50); do [ -S "$socket" ] && break; sleep 0.1; done
-[ -S "$socket" ] || fail "munged made no socket: $(cat "$work/munge/munged.log" 2>/dev/null)"
+[ -S "$socket" ] || fail "munged made no socket in $munge_dir: $(cat "$munge_dir/munged.log" 2>/dev/null)"
 
 # One node: this machine as slurmd -C sees it; ports away from a real cluster's 6817/6818.
 node=$(slurmd -C | head -1)

@@ -131,6 +131,8 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb: q or u must be > 0"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"q", -1e-3}}}};
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: must be a finite number >= 0"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e6}}}};  // issue 42, bug 11: a member ran at 2.5e6 rad
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: 1e+06 beyond 1 rad (m)"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"w", 1e-3}}}};
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.w: unknown key"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e-3}}}};
