@@ -2,6 +2,7 @@
 // JSON report, optionally CSVs and the CI gate.
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include "app/cli.hpp"
@@ -13,17 +14,26 @@ namespace em::cli {
 
 namespace {
 
+// What the command line says of another engine as a compared method.
+struct EngineArgs {
+  std::string integrator;  ///< --<engine>-integrator ("" for a fixed-step engine: the in-house scheme where it has it)
+  double tol = kEngineTol; ///< --<engine>-tol (engines with an adaptive scheme)
+};
+
 struct CompareArgs {
   SceneArg scene;
   std::string out, csv_dir, gate;
-  std::string reference = methodName(Method::Simbody), reference_integrator;
+  std::string reference = methodName(referenceMethod()), reference_integrator;
   std::string integrator = integratorName(defaultIntegrator(Engine::InHouse));
-  std::string simbody_integrator = integratorName(defaultIntegrator(Engine::Simbody));
-  std::string mujoco_integrator;
+  std::map<Engine, EngineArgs> engines;  ///< every other engine's options, one entry each
   std::vector<std::string> methods = methodNames();
   RunArgs run;
   CompareOptions opt;
 };
+
+// An engine runs at the in-house step, on the in-house scheme where it has it (MuJoCo).
+bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
+std::string engineOption(Engine e, const char* what) { return std::string("--") + engineName(e) + "-" + what; }
 
 // The adaptive integrators engine `e` runs (what a reference may use).
 std::vector<std::string> adaptiveNames(Engine e) {
@@ -45,10 +55,11 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   // --tol alone selects an adaptive integrator for the in-house methods.
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
                                                                           : parseIntegrator(a.integrator);
-  o.simbody.integrator = parseIntegrator(a.simbody_integrator);
-  o.mujocoFollowsInHouse();
-  if (!a.mujoco_integrator.empty()) o.mujoco.integrator = parseIntegrator(a.mujoco_integrator);
-  o.mujoco.dt = o.inhouse.dt;  // --mujoco-integrator runs at --dt (its help)
+  o.enginesFollowInHouse();  // a fixed-step engine's --<engine>-integrator runs at --dt (its help)
+  for (const auto& [e, ea] : a.engines) {
+    if (!ea.integrator.empty()) o.engines[e].integrator = parseIntegrator(ea.integrator);
+    o.engines[e].tol = ea.tol;
+  }
   refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");
   refuseDuplicates("--thresholds", o.thresholds);
   // The reference honours a tolerance: a fixed-step scheme would run at its
@@ -60,12 +71,12 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   requireCompatible(o.reference.method, o.reference.integrator);
   // Options of an engine none of --methods runs would mean nothing.
   const auto runs = [&](Method m) { return std::find(o.methods.begin(), o.methods.end(), m) != o.methods.end(); };
-  for (const char* opt : {"--simbody-integrator", "--simbody-tol"})
-    if (cmd.count(opt) && !runs(Method::Simbody)) throw std::invalid_argument(std::string(opt) + ": simbody is not among --methods");
-  if (cmd.count("--mujoco-integrator") && !runs(Method::Mujoco))
-    throw std::invalid_argument("--mujoco-integrator: mujoco is not among --methods");
+  for (Engine e : otherEngines())
+    for (const char* what : {"integrator", "tol"})
+      if (const CLI::Option* opt = cmd.get_option_no_throw(engineOption(e, what)); opt && opt->count() && !runs(info(e).method))
+        throw std::invalid_argument(opt->get_name() + ": " + engineName(e) + " is not among --methods");
   o.grid = a.run.asked(cmd);
-  for (RunSpec* s : {&o.inhouse, &o.simbody, &o.mujoco, &o.reference}) a.run.applyTo(*s);
+  for (RunSpec* s : o.allSpecs()) a.run.applyTo(*s);
   return o;
 }
 
@@ -136,6 +147,26 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   return a.gate.empty() ? 0 : gateVerdict(g, a.gate);
 }
 
+// --<engine>-integrator and, for an engine with an adaptive scheme, --<engine>-tol.
+void addEngineOptions(CLI::App* cmd, Engine e, EngineArgs& ea) {
+  const std::string name = engineName(e), fallback = integratorName(defaultIntegrator(e));
+  if (followsInHouse(e)) {
+    cmd->add_option(engineOption(e, "integrator"), ea.integrator,
+                    helpWithNames("Integrator of the compared " + name + " method, at --dt (default: the in-house one when " +
+                                      name + " has it, else " + fallback + ")", integratorNames(e)))
+        ->check(integratorValidator(e));
+  } else {
+    ea.integrator = fallback;
+    cmd->add_option(engineOption(e, "integrator"), ea.integrator, helpWithNames("Integrator of the compared " + name + " method", integratorNames(e)))
+        ->check(integratorValidator(e))
+        ->capture_default_str();
+  }
+  if (hasAdaptiveScheme(e))  // an engine with a scheme that takes a tolerance (Simbody)
+    cmd->add_option(engineOption(e, "tol"), ea.tol, "Accuracy of the compared " + name + " method")
+        ->check(positiveFinite())
+        ->capture_default_str();
+}
+
 void addRunOptions(CLI::App* cmd, CompareArgs& a) {
   CompareOptions& o = a.opt;
   cmd->add_option("--integrator", a.integrator, helpWithNames("Integrator of the in-house methods", integratorNames(Engine::InHouse)))
@@ -148,23 +179,13 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
                   ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);
-  cmd->add_option("--simbody-integrator", a.simbody_integrator,
-                  helpWithNames("Integrator of the compared simbody method", integratorNames(Engine::Simbody)))
-      ->check(integratorValidator(Engine::Simbody))
-      ->capture_default_str();
-  cmd->add_option("--mujoco-integrator", a.mujoco_integrator,
-                  helpWithNames("Integrator of the compared mujoco method, at --dt (default: the in-house one when "
-                                "MuJoCo has it, else rk4)", integratorNames(Engine::Mujoco)))
-      ->check(integratorValidator(Engine::Mujoco));
-  cmd->add_option("--simbody-tol", o.simbody.tol, "Accuracy of the compared simbody method")
-      ->check(positiveFinite())
-      ->capture_default_str();
+  for (Engine e : otherEngines()) addEngineOptions(cmd, e, a.engines[e]);
   addRunOptions(cmd, a.run, "Common output grid (s)");
 }
 
 void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
   cmd->add_option("--reference", a.reference, "Reference engine: simbody or classical (in-house)")
-      ->check(CLI::IsMember({methodName(Method::Simbody), methodName(Method::Classical)}))
+      ->check(CLI::IsMember({methodName(referenceMethod()), methodName(Method::Classical)}))
       ->capture_default_str();
   cmd->add_option("--reference-integrator", a.reference_integrator,
                   "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)")

@@ -23,7 +23,7 @@ int printEquations(const SceneArg& file, Engine engine) {
   const Scene scene = file.load();
   checkInitialState(scene);
   const Model& m = scene.model;
-  const Equations e = engine == Engine::Simbody ? simbodyEquations(m) : inhouseEquations(m);
+  const Equations e = engineEquations(m, engine);
   nlohmann::json j;
   j["scene"] = m.name;
   j["engine"] = engineName(engine);
@@ -45,12 +45,12 @@ void addEquations(CLI::App& app) {
   auto scene = std::make_shared<SceneArg>();
   auto engine = std::make_shared<std::string>(engineName(Engine::InHouse));
   addSceneArg(cmd, *scene);
-  cmd->add_option("--engine", *engine, "Who forms the equations: inhouse (Wittenburg) or simbody")
-      ->check(CLI::IsMember({engineName(Engine::InHouse), engineName(Engine::Simbody)}))
+  std::vector<std::string> engines;
+  for (Engine e : enginesWithEquations()) engines.emplace_back(engineName(e));
+  cmd->add_option("--engine", *engine, helpWithNames("Who forms the equations (inhouse: Wittenburg)", engines))
+      ->check(CLI::IsMember(engines))
       ->capture_default_str();
-  cmd->callback([=] {
-    guarded([&] { return printEquations(*scene, *engine == engineName(Engine::Simbody) ? Engine::Simbody : Engine::InHouse); });
-  });
+  cmd->callback([=] { guarded([&] { return printEquations(*scene, parseEngine(*engine)); }); });
 }
 
 }  // namespace em::cli

@@ -56,6 +56,17 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   return tr.failed() ? 1 : 0;
 }
 
+// "In-house: rk4, ... (default rk4); simbody: rkmerson, ... (default rkmerson); mujoco: ..."
+std::string integratorsHelp() {
+  std::string help;
+  for (const EngineInfo& e : engineTable()) {
+    const bool fixed_only = !hasAdaptiveScheme(e.id);
+    help += std::string(help.empty() ? "In-house" : std::string("; ") + e.name) + ": " + joined(integratorNames(e.id)) +
+            " (default " + integratorName(e.fixed_default) + (fixed_only ? ", fixed step --dt)" : ")");
+  }
+  return help;
+}
+
 }  // namespace
 
 void addSimulate(CLI::App& app) {
@@ -65,14 +76,7 @@ void addSimulate(CLI::App& app) {
   cmd->add_option("--method", a->method, helpWithNames("Method", methodNames()))
       ->check(methodValidator())
       ->capture_default_str();
-  cmd->add_option("--integrator", a->integrator,
-                  "In-house: " + joined(integratorNames(Engine::InHouse)) + " (default " +
-                      integratorName(defaultIntegrator(Engine::InHouse)) + "); simbody: " +
-                      joined(integratorNames(Engine::Simbody)) + " (default " +
-                      integratorName(defaultIntegrator(Engine::Simbody)) + "); mujoco: " +
-                      joined(integratorNames(Engine::Mujoco)) + " (default " +
-                      integratorName(defaultIntegrator(Engine::Mujoco)) + ", fixed step --dt)")
-      ->check(integratorValidator());
+  cmd->add_option("--integrator", a->integrator, integratorsHelp())->check(integratorValidator());
   auto* dt = cmd->add_option("--dt", a->spec.dt, "Fixed step of fixed-step integrators (s)")
                  ->check(positiveFinite())
                  ->capture_default_str();

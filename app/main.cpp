@@ -10,10 +10,12 @@
 #include "app/cli.hpp"
 #include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
+#include "reference/engine.hpp"
 
 int main(int argc, char** argv) {
   em::setCommandLine(argc, argv);
   em::installInterruptCleanup();
+  em::useEngines();  // every engine's row in the registry before the options are built from it
   CLI::App app{"eigenmass: cross-validation harness for rigid multibody dynamics", "eigenmass"};
   app.set_version_flag("--version", em::versionText());
   app.require_subcommand(1);

@@ -13,25 +13,34 @@ CompareOptions::CompareOptions() : reference(referenceRun()) {
   inhouse.method = Method::Classical;
   inhouse.integrator = defaultIntegrator(Engine::InHouse);
   inhouse.dt = 1e-3;
-  simbody.method = Method::Simbody;
-  simbody.integrator = defaultIntegrator(Engine::Simbody);
-  simbody.tol = 1e-6;
-  mujoco.method = Method::Mujoco;
-  mujoco.integrator = defaultIntegrator(Engine::Mujoco);
-  mujoco.dt = 1e-3;
+  for (Engine e : otherEngines()) {
+    RunSpec& s = engines[e];
+    s.method = info(e).method;
+    s.integrator = defaultIntegrator(e);
+    s.dt = 1e-3;
+    s.tol = kEngineTol;
+  }
 }
 
 RunSpec CompareOptions::specFor(Method method) const {
   const Engine e = info(method).engine;
-  RunSpec s = e == Engine::Simbody ? simbody : e == Engine::Mujoco ? mujoco : inhouse;
+  RunSpec s = e == Engine::InHouse ? inhouse : engines.at(e);
   s.method = method;
   return s;
 }
 
-void CompareOptions::mujocoFollowsInHouse() {
-  const bool same_scheme = info(inhouse.integrator).runs(Engine::Mujoco);
-  mujoco.integrator = same_scheme ? inhouse.integrator : defaultIntegrator(Engine::Mujoco);
-  if (same_scheme) mujoco.dt = inhouse.dt;
+std::vector<RunSpec*> CompareOptions::allSpecs() {
+  std::vector<RunSpec*> all = {&inhouse, &reference};
+  for (auto& [e, s] : engines) all.push_back(&s);
+  return all;
+}
+
+void CompareOptions::enginesFollowInHouse() {
+  for (auto& [e, s] : engines) {
+    if (!info(defaultIntegrator(e)).fixed_step) continue;
+    s.integrator = info(inhouse.integrator).runs(e) ? inhouse.integrator : defaultIntegrator(e);
+    s.dt = inhouse.dt;
+  }
 }
 
 ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
@@ -59,7 +68,8 @@ namespace {
 // and its tighter twin first, then the methods): what the user typed.
 std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
   if (i < 2) return e.option("reference-");
-  return e.option(s.engine() == Engine::Simbody ? "simbody-" : "");
+  // Another engine's tolerance is its own option (--simbody-tol); a step follows --dt.
+  return e.option(s.engine() != Engine::InHouse && e.field == "tol" ? std::string(engineName(s.engine())) + "-" : "");
 }
 
 // Everything that can be refused is refused here, before the reference runs.
@@ -100,17 +110,18 @@ Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& 
   return runMethod(scene.model, s);
 }
 
-// MuJoCo rk4 at kSecondEngineDt (or the output step, if finer) on the reference's grid.
+// The second engine's rk4 at kSecondEngineDt (or the output step, if finer) on the reference's grid.
 void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns& out, void (*progress)(const std::string&)) {
   RunSpec s = reference;
-  s.method = Method::Mujoco;
-  s.integrator = Integrator::RK4;
+  s.method = info(parseEngine(kSecondEngine)).method;
+  s.integrator = parseIntegrator(kSecondEngineScheme);
   s.dt = reference.output_dt / std::ceil(reference.output_dt / kSecondEngineDt - 1e-9);
   s.options.max_steps = HUGE_VAL;  // its cost is the floor's, asked for by the comparison
+  const std::string label = std::string(kSecondEngine) + "/" + kSecondEngineScheme;
   try {
-    out.second_engine = runLabelled(scene, s, "second engine mujoco/rk4 dt " + gnum(s.dt), progress);
+    out.second_engine = runLabelled(scene, s, "second engine " + label + " dt " + gnum(s.dt), progress);
   } catch (const std::exception& e) {
-    out.second_engine_skipped = std::string("mujoco: ") + e.what();
+    out.second_engine_skipped = std::string(kSecondEngine) + ": " + e.what();
   }
 }
 
@@ -207,7 +218,8 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
   o << "\n";
   if (r.second_engine_metrics) {
     const MethodMetrics& m = *r.second_engine_metrics;
-    o << "second engine: mujoco/rk4 dt " << gnum(r.second_engine->run.dt) << " against the reference: max pose "
+    o << "second engine: " << r.second_engine->method() << "/" << r.second_engine->integrator() << " dt "
+      << gnum(r.second_engine->run.dt) << " against the reference: max pose "
       << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time.value_or(0)) + " s)" : "")
       << ", the two independent engines' distance: errors below it are not resolved\n";
   } else if (!r.second_engine_skipped.empty()) {

@@ -1,6 +1,7 @@
 #pragma once
 /// One comparison: several methods on one scene against a reference, all on one
 /// output grid (the main job of the harness; docs/report-format.md).
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,11 +12,16 @@
 
 namespace em {
 
+/// Tolerance of another engine as a compared method when none is asked (Simbody's accuracy).
+constexpr double kEngineTol = 1e-6;
+
 struct CompareOptions {
   std::vector<Method> methods;  ///< default: every method of the registry, in table order
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
-  RunSpec simbody;           ///< Simbody as a compared method (rkmerson, accuracy 1e-6)
-  RunSpec mujoco;            ///< MuJoCo as a compared method (its rk4, dt 1e-3: the in-house default's scheme and step)
+  /// Every other engine as a compared method, one spec each: its default
+  /// integrator, dt 1e-3, tolerance kEngineTol (Simbody: rkmerson at 1e-6;
+  /// MuJoCo: its rk4 at 1e-3, the in-house default's scheme and step).
+  std::map<Engine, RunSpec> engines;
   RunSpec reference;         ///< the reference run (referenceRun(): Simbody rkmerson, accuracy 1e-10)
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
   Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
@@ -26,11 +32,13 @@ struct CompareOptions {
   bool second_engine = true;
 
   CompareOptions();
-  /// The settings a compared method runs with: `simbody`, `mujoco` or `inhouse`, by its engine.
+  /// The settings a compared method runs with: its engine's, or `inhouse`.
   RunSpec specFor(Method method) const;
-  /// MuJoCo runs the in-house scheme at the in-house step when it has that
-  /// scheme (rk4: the same tableau), else its own rk4 at its default step.
-  void mujocoFollowsInHouse();
+  /// Every spec, the reference's included (to apply options common to all).
+  std::vector<RunSpec*> allSpecs();
+  /// A fixed-step engine runs the in-house scheme when it has that scheme
+  /// (rk4: the same tableau), else its own default, at the in-house step.
+  void enginesFollowInHouse();
 };
 
 struct ComparisonResult {
@@ -55,7 +63,10 @@ struct ComparisonResult {
   std::string second_engine_skipped;
 };
 
-/// The second engine's step: fine enough that rk4's own error (~dt^4) is below the reference's tolerance.
+/// The second engine, beside the reference: the distance of two independent engines.
+constexpr const char* kSecondEngine = "mujoco";
+/// Its scheme and step: fine enough that rk4's own error (~dt^4) is below the reference's tolerance.
+constexpr const char* kSecondEngineScheme = "rk4";
 constexpr double kSecondEngineDt = 1e-4;
 
 /// Throws for settings that cannot run (SettingError, a method named twice,

@@ -5,8 +5,7 @@
 #include <random>
 
 #include "io/json_input.hpp"
-#include "reference/mujoco_peer.hpp"
-#include "reference/simbody_reference.hpp"
+#include "reference/engine.hpp"
 #include "solver/formation.hpp"
 
 namespace em {
@@ -24,18 +23,18 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
   return {ws.A, ws.B, ws.A.llt().solve(ws.B)};
 }
 
-// MuJoCo as it can take the scene: its own URDF reader, else the Model as MJCF.
-std::unique_ptr<MujocoPeer> mujocoFor(const Scene& scene, const UrdfOptions& urdf) {
-  if (scene.source.format != "urdf") return std::make_unique<MujocoPeer>(scene.model);
-  return std::make_unique<MujocoPeer>(scene.model, readFile(scene.source.file, "URDF file"), scene.source_joints,
-                                      urdf.lock_joints, urdf.balance_inertia,
-                                      urdf.floating_base ? kFloatingBaseJoint : "");
+// An engine's model as it can take the scene: its own URDF reader, else the Model.
+std::unique_ptr<EngineModel> engineModel(const EngineRow& row, const Scene& scene, const UrdfOptions& urdf) {
+  if (scene.source.format != "urdf" || !row.urdf) return row.model(scene.model);
+  const UrdfSource source{readFile(scene.source.file, "URDF file"), scene.source_joints, urdf.lock_joints,
+                          urdf.balance_inertia, urdf.floating_base ? kFloatingBaseJoint : ""};
+  return row.urdf(scene.model, source);
 }
 
-// The model with MuJoCo's compiled mass properties in place of the in-house
-// ones, joint points kept: what remains between it and MuJoCo is not inertia.
+// The model with an engine's compiled mass properties in place of the in-house
+// ones, joint points kept: what remains between it and the engine is not inertia.
 Model withMass(const Model& m, const std::vector<CompiledMass>& mj) {
-  std::vector<Vec3> point(m.n()), cm_mj(m.n());  // joint point and MuJoCo's CM, world, zero configuration
+  std::vector<Vec3> point(m.n()), cm_mj(m.n());  // joint point and the engine's CM, world, zero configuration
   std::vector<Vec3> cm(m.n());
   for (int i = 0; i < m.n(); ++i) {  // parents first: the in-house CMs at zero coordinates
     const Body& b = m.bodies[i];
@@ -53,12 +52,36 @@ Model withMass(const Model& m, const std::vector<CompiledMass>& mj) {
   return buildModel(m.name, m.gravity, defs);
 }
 
-void compare(const Model& m, MujocoPeer& mj, const std::string& engine, int k, const Eigen::VectorXd& q,
+// One engine at the states of a crosscheck, and its "<name>-mass" twin
+// where it compiles its own masses.
+struct Checked {
+  std::string name;
+  std::unique_ptr<EngineModel> model;
+  std::optional<Model> with_mass;
+};
+
+void compare(const Model& m, EngineModel& engine, const std::string& name, int k, const Eigen::VectorXd& q,
              const Eigen::VectorXd& u, CrossCheck& c) {
   const Inhouse in = inhouseAt(m, q, u);
-  mj.setState(q, u);
-  mj.forward();
-  c.rows.push_back({k, engine, relativeDifference(mj.massMatrix(), in.A), relativeDifference(mj.rhs(), in.B), relativeDifference(mj.acceleration(), in.udot)});
+  const EngineEquations e = engine.at(q, u);
+  c.rows.push_back({k, name, relativeDifference(e.A, in.A), relativeDifference(e.B, in.B), relativeDifference(e.udot, in.udot)});
+}
+
+std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf, CrossCheck& c) {
+  std::vector<Checked> out;
+  for (Engine e : otherEngines()) {
+    const EngineRow& row = engineRow(e);
+    if (!row.model) continue;
+    try {
+      Checked k{row.name, engineModel(row, scene, urdf), std::nullopt};
+      const std::vector<CompiledMass> mass = k.model->compiledMass();
+      if (!mass.empty()) k.with_mass = withMass(scene.model, mass);
+      out.push_back(std::move(k));
+    } catch (const std::exception& ex) {
+      c.skipped.push_back(std::string(row.name) + ": " + ex.what());
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -68,29 +91,20 @@ double relativeDifference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
   return (x - y).cwiseAbs().maxCoeff() / (scale > 0 ? scale : 1.0);
 }
 
+std::string massRowName(const std::string& engine) { return engine + "-mass"; }
+
 CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed) {
   const Model& m = scene.model;
   CrossCheck c;
-  SimbodyReference simbody(m);
-  std::unique_ptr<MujocoPeer> mujoco;
-  try {
-    mujoco = mujocoFor(scene, urdf);
-  } catch (const std::exception& e) {
-    c.skipped.push_back(std::string("mujoco: ") + e.what());
-  }
-  std::optional<Model> with_mj_mass;
-  if (mujoco) with_mj_mass = withMass(m, mujoco->compiledMass());
+  std::vector<Checked> engines = checkedEngines(scene, urdf, c);
   std::mt19937 rng(seed);
   Eigen::VectorXd q = m.q0(), u = m.u0();
   for (int k = 0; k <= states; ++k) {
     if (k > 0) randomState(m, rng, q, u);
-    const Inhouse in = inhouseAt(m, q, u);
-    simbody.setState(q, u);
-    c.rows.push_back({k, "simbody", relativeDifference(simbody.massMatrix(), in.A), relativeDifference(simbody.rhs(), in.B),
-                      relativeDifference(simbody.udot(), in.udot)});
-    if (!mujoco) continue;
-    compare(m, *mujoco, "mujoco", k, q, u, c);
-    compare(*with_mj_mass, *mujoco, kMujocoMass, k, q, u, c);
+    for (Checked& e : engines) {
+      compare(m, *e.model, e.name, k, q, u, c);
+      if (e.with_mass) compare(*e.with_mass, *e.model, massRowName(e.name), k, q, u, c);
+    }
   }
   return c;
 }

@@ -1,8 +1,8 @@
 #pragma once
 /// The in-house equations against independent engines at many states: A, B
-/// and u' at the initial state and at random ones, against Simbody (the same
-/// Model as a Simbody system) and MuJoCo (for a URDF, MuJoCo's own reading of
-/// the file; for a JSON scene, the Model as MJCF, ball joints excepted).
+/// and u' at the initial state and at random ones, against every engine whose
+/// row gives equations at a state (reference/engine.hpp): for a URDF, the
+/// engine's own reading of the file where it has one (MuJoCo), else the Model.
 #include <string>
 #include <vector>
 
@@ -22,9 +22,9 @@ struct CrossCheckRow {
 /// max|x - y| / max|y| (1 in place of a zero max|y|): how far x is from y, relative to y's largest entry.
 double relativeDifference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y);
 
-/// The engine name of the rows that hand the in-house formation MuJoCo's
-/// compiled masses, CMs and inertias: what differs there is not inertia.
-constexpr const char* kMujocoMass = "mujoco-mass";
+/// The name of the rows that hand the in-house formation an engine's compiled
+/// masses, CMs and inertias (MuJoCo's: "mujoco-mass"): what differs there is not inertia.
+std::string massRowName(const std::string& engine);
 
 struct CrossCheck {
   std::vector<CrossCheckRow> rows;

@@ -4,8 +4,7 @@
 #include <stdexcept>
 
 #include "compare/progress.hpp"
-#include "reference/mujoco_engine.hpp"
-#include "reference/simbody_reference.hpp"
+#include "reference/engine.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
@@ -16,6 +15,11 @@ RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid) {
   spec.t_end = grid.t_end.value_or(scene.t_end);
   spec.output_dt = grid.output_dt.value_or(scene.output_dt);
   return spec;
+}
+
+Method referenceMethod() {
+  useEngines();
+  return info(parseEngine(kReferenceEngine)).method;
 }
 
 RunSpec referenceRun(Method method) {
@@ -33,12 +37,8 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
 Trajectory runMethod(const Model& m, const RunSpec& spec) {
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
-  switch (spec.engine()) {
-    case Engine::InHouse: return simulate(m, spec, observe);
-    case Engine::Simbody: return SimbodyReference(m).simulate(spec, observe);
-    case Engine::Mujoco: return simulateMujoco(m, spec, observe);
-  }
-  throw std::logic_error("runMethod: an engine without a runner");
+  if (spec.engine() == Engine::InHouse) return simulate(m, spec, observe);
+  return engineRow(spec.engine()).simulate(m, spec, observe);
 }
 
 namespace {
@@ -86,11 +86,19 @@ Equations inhouseEquations(const Model& m) {
   return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
 }
 
-Equations simbodyEquations(const Model& m) {
-  SimbodyReference ref(m);
-  const Eigen::MatrixXd A = ref.massMatrix();
-  const Eigen::VectorXd B = ref.rhs(), udot = ref.udot();
-  return toFileOrder(m, A, B, udot, ref.kineticEnergy(), ref.potentialEnergy());
+Equations engineEquations(const Model& m, Engine e) {
+  if (e == Engine::InHouse) return inhouseEquations(m);
+  const EngineRow& row = engineRow(e);
+  if (!row.model) throw std::invalid_argument(std::string(row.name) + " gives no equations at a state");
+  const EngineEquations q = row.model(m)->at(m.q0(), m.u0());
+  return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
+}
+
+std::vector<Engine> enginesWithEquations() {
+  std::vector<Engine> out = {Engine::InHouse};
+  for (Engine e : otherEngines())
+    if (engineRow(e).model) out.push_back(e);
+  return out;
 }
 
 }  // namespace em

@@ -1,9 +1,10 @@
 #pragma once
-/// Runs one method on either engine (the one place that knows both), and the
-/// one place where a scene's run defaults and the reference's defaults apply
-/// (the engines' integrators themselves are the registry's engine table).
+/// Runs one method on its engine (the one dispatch point: the in-house
+/// integrators, or the engine's row, reference/engine.hpp), and the one place
+/// where a scene's run defaults and the reference's defaults apply.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io/scene.hpp"
 #include "solver/trajectory.hpp"
@@ -19,9 +20,14 @@ struct Grid {
 /// (simulate.t_end, simulate.output_dt): the one place scene defaults apply.
 RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid);
 
+/// The engine whose method is the reference when nothing else is asked.
+constexpr const char* kReferenceEngine = "simbody";
+/// The method of that engine.
+Method referenceMethod();
+
 /// The reference run of `method` when nothing else is asked: its engine's
 /// adaptive integrator (Simbody RK-Merson, in-house rk8pd) at kReferenceTol.
-RunSpec referenceRun(Method method = Method::Simbody);
+RunSpec referenceRun(Method method = referenceMethod());
 
 /// The integrator an engine runs when the user names none; a tolerance given
 /// alone selects its adaptive one (the registry's engine table).
@@ -43,6 +49,10 @@ struct Equations {
   double kinetic = 0, potential = 0;
 };
 Equations inhouseEquations(const Model& m);
-Equations simbodyEquations(const Model& m);
+/// The same from engine `e` (its row's model; throws std::invalid_argument
+/// for an engine that gives no equations at a state).
+Equations engineEquations(const Model& m, Engine e);
+/// The engines whose rows give equations at a state, the in-house one first.
+std::vector<Engine> enginesWithEquations();
 
 }  // namespace em

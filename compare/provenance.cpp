@@ -1,5 +1,7 @@
 #include "compare/provenance.hpp"
 
+#include "reference/engine.hpp"
+
 #include <chrono>
 #include <ctime>
 #include <fstream>
@@ -57,6 +59,13 @@ std::string eigenVersion() {
          std::to_string(EIGEN_MINOR_VERSION);
 }
 
+// Every engine's library by its engine's name, then the in-house solver's.
+nlohmann::json libraries() {
+  nlohmann::json l = {{"eigen", eigenVersion()}, {"gsl", GSL_VERSION}};
+  for (const EngineRow& r : engineRows()) l[r.name] = r.version();
+  return l;
+}
+
 }  // namespace
 
 void setCommandLine(int argc, char** argv) {
@@ -68,7 +77,7 @@ nlohmann::json provenance() {
   return {{"command_line", g_command_line},
           {"eigenmass_version", EM_VERSION},
           {"git_commit", EM_GIT_COMMIT},
-          {"libraries", {{"simbody", EM_SIMBODY_VERSION}, {"eigen", eigenVersion()}, {"gsl", GSL_VERSION}}},
+          {"libraries", libraries()},
           {"compiler", __VERSION__},
           {"flags", EM_CXX_FLAGS},
           {"cpu", cpuModel()},
@@ -77,8 +86,10 @@ nlohmann::json provenance() {
 }
 
 std::string versionText() {
-  return std::string("eigenmass ") + EM_VERSION + " (commit " + EM_GIT_COMMIT + "); Simbody " + EM_SIMBODY_VERSION +
-         ", Eigen " + eigenVersion() + ", GSL " + GSL_VERSION + "; " + __VERSION__;
+  std::string engines;
+  for (const EngineRow& r : engineRows()) engines += std::string(engines.empty() ? "" : ", ") + r.name + " " + r.version();
+  return std::string("eigenmass ") + EM_VERSION + " (commit " + EM_GIT_COMMIT + "); engines: " + engines + "; Eigen " +
+         eigenVersion() + ", GSL " + GSL_VERSION + "; " + __VERSION__;
 }
 
 nlohmann::json sceneSourceJson(const SceneSource& s) {

@@ -195,18 +195,17 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
   const RunSpec& ref = r.reference.run;
   json scene = {{"name", r.scene_name}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}};
   scene.update(sceneSourceJson(r.scene_source));
+  json options = {{"methods", names},
+                  {"inhouse", runSpec(o.inhouse)},
+                  {"t_end", r.t_end},
+                  {"output_dt", r.output_dt},
+                  {"thresholds_rad", o.thresholds},
+                  {"energy_scale_J", r.energy_scale},
+                  {"energy_scale_definition", "largest kinetic energy of the reference run"}};
+  for (const auto& [e, spec] : o.engines) options[engineName(e)] = runSpec(spec);  // one spec per engine
   return {{"format", "eigenmass-report/1"},
           {"scene", scene},
-          {"options",
-           {{"methods", names},
-            {"inhouse", runSpec(o.inhouse)},
-            {"simbody", runSpec(o.simbody)},
-            {"mujoco", runSpec(o.mujoco)},
-            {"t_end", r.t_end},
-            {"output_dt", r.output_dt},
-            {"thresholds_rad", o.thresholds},
-            {"energy_scale_J", r.energy_scale},
-            {"energy_scale_definition", "largest kinetic energy of the reference run"}}},
+          {"options", options},
           {"reference",
            {{"engine", engineName(ref.engine())},
             {"method", r.reference.method()},

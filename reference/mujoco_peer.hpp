@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "reference/engine.hpp"
 #include "solver/model.hpp"
 #include "solver/trajectory.hpp"
 
@@ -31,14 +32,6 @@ namespace em {
 /// The MJCF of `m` as (file name, text): "scene.xml" first, then the files it
 /// includes (MuJoCo's parser allows 100 nested elements per file).
 std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m);
-
-/// A body's mass properties as MuJoCo compiled them, in the world at the zero
-/// configuration: mass, CM, inertia about the CM (world axes).
-struct CompiledMass {
-  double m = 0;
-  Vec3 c = Vec3::Zero();
-  Mat3 J = Mat3::Zero();
-};
 
 class MujocoPeer {
  public:

@@ -1,5 +1,6 @@
 #include "solver/registry.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 
@@ -20,17 +21,18 @@ const MethodParam kBlockGap = {"block_gap", 3e-2, 0, 1, false,
 
 }  // namespace
 
-const std::vector<EngineInfo>& engineTable() {
-  static const std::vector<EngineInfo> table = {
-      {Engine::InHouse, "inhouse", Integrator::RK4, Integrator::RK8PD},
-      {Engine::Simbody, "simbody", Integrator::RKMerson, Integrator::RKMerson},
-      {Engine::Mujoco, "mujoco", Integrator::RK4, Integrator::RK4},  // MuJoCo 2.2 has no adaptive scheme
+namespace {
+
+// The tables themselves: built-in rows, then what addEngine and addMethod add.
+std::deque<EngineInfo>& engines() {
+  static std::deque<EngineInfo> table = {
+      {Engine::InHouse, "inhouse", Integrator::RK4, Integrator::RK8PD, HUGE_VAL, Method::Classical},
   };
   return table;
 }
 
-const std::vector<MethodInfo>& methodTable() {
-  static const std::vector<MethodInfo> table = {
+std::deque<MethodInfo>& methods() {
+  static std::deque<MethodInfo> table = {
       {Method::Classical, "classical", Engine::InHouse, Correction::None, ExtraState::None, false, makeClassical, {},
        "Cholesky of A every evaluation (paper method a)"},
       {Method::Articulated, "articulated", Engine::InHouse, Correction::None, ExtraState::None, false, makeArticulated, {},
@@ -46,34 +48,29 @@ const std::vector<MethodInfo>& methodTable() {
        "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)"},
       {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CD, true,
        makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step"},
-      {Method::Simbody, "simbody", Engine::Simbody, Correction::None, ExtraState::None, false, nullptr, {},
-       "Simbody's own O(n) recursive dynamics: the independent engine"},
-      {Method::Mujoco, "mujoco", Engine::Mujoco, Correction::None, ExtraState::None, false, nullptr, {},
-       "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step"},
   };
   return table;
 }
 
-const std::vector<IntegratorInfo>& integratorTable() {
-  static const std::vector<IntegratorInfo> table = {
-      {Integrator::RK4, "rk4", {Engine::InHouse, Engine::Mujoco}, true, rk4Step, nullptr,
-       "classical four-stage Runge-Kutta, fixed step (in-house: hand-written; mujoco: MuJoCo's RK4, the same tableau)"},
+std::deque<IntegratorInfo>& integrators() {
+  static std::deque<IntegratorInfo> table = {
+      {Integrator::RK4, "rk4", {Engine::InHouse}, true, rk4Step, nullptr,
+       "classical four-stage Runge-Kutta, fixed step (one tableau: every engine that lists it runs this scheme)"},
       {Integrator::RKF45, "rkf45", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rkf45,
        "GSL Runge-Kutta-Fehlberg (4, 5), adaptive"},
       {Integrator::RK8PD, "rk8pd", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rk8pd,
        "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive"},
       {Integrator::BSIMP, "bsimp", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_bsimp,
        "GSL implicit Bulirsch-Stoer, adaptive (stiff)"},
-      {Integrator::RKMerson, "rkmerson", {Engine::Simbody}, false, nullptr, nullptr, "Simbody Runge-Kutta-Merson, adaptive"},
-      {Integrator::RK3, "rk3", {Engine::Simbody}, false, nullptr, nullptr, "Simbody Runge-Kutta 3, adaptive"},
-      {Integrator::CPodes, "cpodes", {Engine::Simbody}, false, nullptr, nullptr, "Simbody CPodes (implicit BDF), adaptive"},
-      {Integrator::Euler, "euler", {Engine::Mujoco}, true, nullptr, nullptr,
-       "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step"},
-      {Integrator::Implicit, "implicit", {Engine::Mujoco}, true, nullptr, nullptr,
-       "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step"},
   };
   return table;
 }
+
+}  // namespace
+
+const std::deque<EngineInfo>& engineTable() { return engines(); }
+const std::deque<MethodInfo>& methodTable() { return methods(); }
+const std::deque<IntegratorInfo>& integratorTable() { return integrators(); }
 
 const std::vector<FailureInfo>& failureTable() {
   static const std::vector<FailureInfo> table = {
@@ -95,16 +92,16 @@ const std::vector<FailureInfo>& failureTable() {
 
 namespace {
 
-template <class Row, class Id>
-const Row& row(const std::vector<Row>& table, Id id) {
-  for (const Row& r : table)
+template <class Table, class Id>
+const auto& row(const Table& table, Id id) {
+  for (const auto& r : table)
     if (r.id == id) return r;
   throw std::logic_error("registry: an id without a row");
 }
 
-template <class Row, class Id>
-bool find(const std::vector<Row>& table, const std::string& name, Id& out) {
-  for (const Row& r : table)
+template <class Table, class Id>
+bool find(const Table& table, const std::string& name, Id& out) {
+  for (const auto& r : table)
     if (name == r.name) {
       out = r.id;
       return true;
@@ -112,10 +109,10 @@ bool find(const std::vector<Row>& table, const std::string& name, Id& out) {
   return false;
 }
 
-template <class Row>
-std::vector<std::string> names(const std::vector<Row>& table) {
+template <class Table>
+std::vector<std::string> names(const Table& table) {
   std::vector<std::string> n;
-  for (const Row& r : table) n.emplace_back(r.name);
+  for (const auto& r : table) n.emplace_back(r.name);
   return n;
 }
 
@@ -131,6 +128,71 @@ const char* failureName(Failure f) { return row(failureTable(), f).name; }
 
 bool findMethod(const std::string& name, Method& out) { return find(methodTable(), name, out); }
 bool findIntegrator(const std::string& name, Integrator& out) { return find(integratorTable(), name, out); }
+bool findEngine(const std::string& name, Engine& out) { return find(engineTable(), name, out); }
+
+bool hasAdaptiveScheme(Engine e) {
+  for (const IntegratorInfo& i : integratorTable())
+    if (i.runs(e) && !i.fixed_step) return true;
+  return false;
+}
+
+std::vector<Engine> otherEngines() {
+  std::vector<Engine> e;
+  for (const EngineInfo& r : engineTable())
+    if (r.id != Engine::InHouse) e.push_back(r.id);
+  return e;
+}
+
+Engine parseEngine(const std::string& name) {
+  Engine e;
+  if (!findEngine(name, e)) throw std::invalid_argument("unknown engine '" + name + "' (" + joined(names(engineTable())) + ")");
+  return e;
+}
+
+namespace {
+
+bool nameTaken(const std::string& name) {
+  Method m;
+  Engine e;
+  return findMethod(name, m) || findEngine(name, e);
+}
+
+// The integrator row of another engine's scheme: the row of that name (one
+// name, one scheme), now also listing `e`, or a new row.
+Integrator schemeRow(const EngineScheme& s, Engine e) {
+  Integrator id;
+  if (findIntegrator(s.name, id)) {
+    IntegratorInfo& r = integrators()[static_cast<size_t>(id)];
+    if (r.fixed_step != s.fixed_step) throw std::logic_error(std::string("registry: scheme ") + s.name + " differs");
+    r.engines.push_back(e);
+    return id;
+  }
+  id = static_cast<Integrator>(integrators().size());
+  integrators().push_back({id, s.name, {e}, s.fixed_step, nullptr, nullptr, s.summary});
+  return id;
+}
+
+}  // namespace
+
+Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
+                 const char* fixed_default, const char* adaptive_default, double max_tol) {
+  if (nameTaken(name)) throw std::logic_error(std::string("registry: the name ") + name + " is taken");
+  const Engine e = static_cast<Engine>(engines().size());
+  const Method m = static_cast<Method>(methods().size());
+  engines().push_back({e, name, Integrator::RK4, Integrator::RK4, max_tol, m});
+  methods().push_back({m, name, e, Correction::None, ExtraState::None, false, nullptr, {}, summary});
+  for (const EngineScheme& s : schemes) schemeRow(s, e);
+  engines().back().fixed_default = parseIntegrator(fixed_default);
+  engines().back().adaptive_default = parseIntegrator(adaptive_default);
+  return e;
+}
+
+Method addMethod(MethodInfo row) {
+  if (nameTaken(row.name)) throw std::invalid_argument(std::string("the method name '") + row.name + "' is taken");
+  row.id = static_cast<Method>(methods().size());
+  methods().push_back(row);
+  return row.id;
+}
 
 Method parseMethod(const std::string& name) {
   Method m;

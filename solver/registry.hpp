@@ -1,10 +1,14 @@
 #pragma once
 /// One table per kind of thing (MuJoCo's one enum and one name table): the
 /// engines, the methods, the integrators and the failures, with the
-/// properties every other part reads instead of comparing names. Adding a
-/// method is its enum value, its row here (its options and properties are
-/// columns), its own file and its CMake line; adding a fixed-step integrator
-/// is its enum value, its row and its step function (solver/steppers.hpp).
+/// properties every other part reads instead of comparing names. Adding an
+/// in-house method is its enum value, its row here (its options and
+/// properties are columns), its own file and its CMake line; adding a
+/// fixed-step integrator is its enum value, its row and its step function
+/// (solver/steppers.hpp). Another engine, or a method from outside (a
+/// plugin, a Python function), is added at run time (addEngine, addMethod):
+/// its ids follow the built-in ones, and only its name is ever written down.
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,19 +21,25 @@ namespace em {
 struct Model;
 class MethodImpl;
 
-/// Who runs a method or an integrator.
-enum class Engine { InHouse, Simbody, Mujoco };
+/// Who runs a method or an integrator: the in-house code, or another engine
+/// (ids from 1 on, in the order addEngine was told of them).
+enum class Engine : int { InHouse };
 
-enum class Method { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi, Simbody, Mujoco };
+/// The in-house methods; an engine's method and a method from outside
+/// (addMethod) take the ids after them.
+enum class Method : int { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi };
 
-enum class Integrator { RK4, RKF45, RK8PD, BSIMP, RKMerson, RK3, CPodes, Euler, Implicit };
+/// The in-house integrators; another engine's own schemes take the ids after them.
+enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP };
 
-/// An engine's row: its name and the integrators it runs when none is named.
+/// An engine's row: its name, the integrators it runs when none is named, and its method.
 struct EngineInfo {
   Engine id;
   const char* name;
   Integrator fixed_default;     ///< when nothing is asked (in-house rk4)
   Integrator adaptive_default;  ///< when a tolerance alone is asked, and for reference runs
+  double max_tol;               ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
+  Method method;                ///< the method it runs (in-house: the reference's, classical)
 };
 
 /// Tolerance of a reference run when none is asked (with the engine's adaptive default).
@@ -106,7 +116,7 @@ enum class Failure {
   RefinementDiverged,     ///< a residual correction of u' grew the residual (the refine option)
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
-  Engine,                 ///< another engine (Simbody, MuJoCo) threw or warned
+  Engine,                 ///< another engine (Simbody, MuJoCo, ...) threw or warned
 };
 
 struct FailureInfo {
@@ -115,11 +125,30 @@ struct FailureInfo {
   const char* summary;
 };
 
-/// The tables, in the order every listing uses.
-const std::vector<EngineInfo>& engineTable();
-const std::vector<MethodInfo>& methodTable();
-const std::vector<IntegratorInfo>& integratorTable();
+/// The tables, in the order every listing uses (built-in rows first, then
+/// what was added, in order; a row's address never changes).
+const std::deque<EngineInfo>& engineTable();
+const std::deque<MethodInfo>& methodTable();
+const std::deque<IntegratorInfo>& integratorTable();
 const std::vector<FailureInfo>& failureTable();
+
+/// Another engine's integrator, as addEngine takes it: a name already in the
+/// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
+struct EngineScheme {
+  const char* name;
+  bool fixed_step;
+  const char* summary;
+};
+/// Another engine, its method (named as the engine) and its schemes, added
+/// to the tables; `fixed_default` and `adaptive_default` name two of its
+/// schemes. Throws std::logic_error for a name already taken. Not thread-safe:
+/// add before any run starts.
+Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
+                 const char* fixed_default, const char* adaptive_default, double max_tol);
+/// A method from outside (a plugin, a Python function) run by the in-house
+/// integrators through `make`; its row's id is set here. Throws
+/// std::invalid_argument for a name already taken.
+Method addMethod(MethodInfo row);
 
 const EngineInfo& info(Engine e);
 const MethodInfo& info(Method m);
@@ -129,13 +158,19 @@ const char* methodName(Method m);
 const char* integratorName(Integrator i);
 const char* failureName(Failure f);
 
-/// The method or integrator of that name; throws std::invalid_argument
+/// The method, integrator or engine of that name; throws std::invalid_argument
 /// naming every known one ("unknown method 'x' (classical, ...)").
 Method parseMethod(const std::string& name);
 Integrator parseIntegrator(const std::string& name);
+Engine parseEngine(const std::string& name);
 /// The same without throwing.
 bool findMethod(const std::string& name, Method& out);
 bool findIntegrator(const std::string& name, Integrator& out);
+bool findEngine(const std::string& name, Engine& out);
+/// Whether engine `e` runs a scheme that takes a tolerance.
+bool hasAdaptiveScheme(Engine e);
+/// Every engine but the in-house code, in table order.
+std::vector<Engine> otherEngines();
 
 /// Names in table order, optionally of one engine only (CLI validators, help).
 std::vector<std::string> methodNames();

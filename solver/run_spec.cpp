@@ -47,9 +47,9 @@ void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
   const long intervals = outputIntervals(s.t_end, s.output_dt);
   if (!s.fixedStep()) {
     requirePositive("tol", s.tol);
-    // Simbody asserts (SIGABRT) on an accuracy >= 1: bounded here, before any run.
-    if (s.engine() == Engine::Simbody && !(s.tol < 1))
-      throw SettingError("tol", "Simbody's accuracy must be < 1, got " + gnum(s.tol));
+    // An engine may bound it (Simbody asserts, SIGABRT, on an accuracy >= 1): before any run.
+    if (const double max = info(s.engine()).max_tol; !(s.tol < max))
+      throw SettingError("tol", std::string(engineName(s.engine())) + "'s tolerance must be < " + gnum(max) + ", got " + gnum(s.tol));
     return;
   }
   const double steps = double(intervals) * double(stepsPerOutput(s.output_dt, s.dt));

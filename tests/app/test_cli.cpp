@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engines.hpp"
 #include "support.hpp"
 
 namespace {
@@ -228,10 +229,10 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"precision " + s + " --settings 1e-3,1e-3", "--settings: 0.001 is listed twice"},
       {"compare " + s + " --thresholds 0.1,0.1", "--thresholds: 0.1 is listed twice"},
       {"extreme " + s + " --runs rk4:1e-3,rk4:1e-3", "--runs: rk4:1e-3 is listed twice"},
-      {"compare " + s + " --simbody-tol 1", "--simbody-tol: Simbody's accuracy must be < 1, got 1"},
-      {"compare " + s + " --reference-tol 1", "--reference-tol: Simbody's accuracy must be < 1, got 1"},
-      {"simulate " + s + " --method simbody --tol 2", "--tol: Simbody's accuracy must be < 1, got 2"},
-      {"precision " + s + " --reference-tol 5", "--reference-tol: Simbody's accuracy must be < 1, got 5"},
+      {"compare " + s + " --simbody-tol 1", "--simbody-tol: simbody's tolerance must be < 1, got 1"},
+      {"compare " + s + " --reference-tol 1", "--reference-tol: simbody's tolerance must be < 1, got 1"},
+      {"simulate " + s + " --method simbody --tol 2", "--tol: simbody's tolerance must be < 1, got 2"},
+      {"precision " + s + " --reference-tol 5", "--reference-tol: simbody's tolerance must be < 1, got 5"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {
@@ -280,7 +281,9 @@ TEST_CASE("the version flag and a trajectory's sidecar say how it was produced",
   const Run v = eigenmass("--version");
   CHECK(v.status == 0);
   CHECK(v.out.rfind("eigenmass ", 0) == 0);
-  CHECK(v.out.find("Simbody") != std::string::npos);
+  // Every engine of the table with its library's version (issue 42: --version omitted MuJoCo).
+  for (const em::EngineRow& row : em::engineRows()) CHECK_THAT(v.out, Catch::Contains(std::string(row.name) + " " + row.version()));
+  CHECK_THAT(v.out, Catch::Contains("simbody 3.") && Catch::Contains("mujoco 2.2"));
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_sidecar/chain02.csv";
   const Run r = eigenmass("simulate " + scene("chain02.json") + " --t-end 0.1 --out " + out);
   REQUIRE(r.status == 0);
@@ -292,6 +295,7 @@ TEST_CASE("the version flag and a trajectory's sidecar say how it was produced",
                         "date_utc"})
     CHECK(meta["provenance"].contains(k));
   CHECK(meta["provenance"]["command_line"].get<std::string>().find("simulate") != std::string::npos);
+  for (const em::EngineRow& row : em::engineRows()) CHECK(meta["provenance"]["libraries"][row.name] == row.version());
 }
 
 TEST_CASE("import writes the URDF as a scene that loads back, never over its input", "[cli][urdf]") {

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/comparison.hpp"
+#include "engines.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -35,8 +36,8 @@ TEST_CASE("an unknown method or a bad threshold is refused before any run", "[co
   o.thresholds = {0.1, -1};
   CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("thresholds must be > 0"));
   o.thresholds = {0.1};
-  o.simbody.integrator = Integrator::RK4;  // a compared method's settings are checked before any run
-  o.methods = {Method::Simbody};
+  o.engines[em::test::engine("simbody")].integrator = Integrator::RK4;  // a compared method's settings are checked before any run
+  o.methods = {em::test::method("simbody")};
   CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("integrator 'rk4' is not one of simbody's"));
 }
 
@@ -53,7 +54,7 @@ TEST_CASE("a failed reference is said in the table", "[comparison]") {
 TEST_CASE("the in-house classical method can be the reference", "[comparison]") {
   CompareOptions o;
   o.grid.t_end = 0.2;
-  o.methods = {Method::Classical, Method::Simbody};
+  o.methods = {Method::Classical, em::test::method("simbody")};
   o.reference = referenceRun(Method::Classical);
   o.reference.tol = 1e-11;
   const ComparisonResult r = runComparison(test::sceneData("chain02.json"), o);

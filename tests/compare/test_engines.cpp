@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/engines.hpp"
+#include "engines.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -9,7 +10,7 @@ using namespace em;
 TEST_CASE("in-house and Simbody equations agree in file order on every scene", "[crosscheck][runner]") {
   for (const auto& name : test::dataScenes()) {
     const Model m = test::loadData(name);
-    const Equations a = inhouseEquations(m), b = simbodyEquations(m);
+    const Equations a = inhouseEquations(m), b = engineEquations(m, em::test::engine("simbody"));
     INFO(name);
     CHECK(test::relErr(a.A, b.A) <= 1e-12);
     CHECK(test::relErr(a.eigenvalues, b.eigenvalues) <= 1e-12);
@@ -31,8 +32,8 @@ TEST_CASE("runMethod dispatches to both engines and rejects unknown names", "[ru
   s.t_end = 0.1;
   s.output_dt = 0.05;
   CHECK(runMethod(m, s).method() == "classical");
-  s.method = Method::Simbody;
-  s.integrator = chosenIntegrator(Engine::Simbody, false);
+  s.method = em::test::method("simbody");
+  s.integrator = chosenIntegrator(em::test::engine("simbody"), false);
   const Trajectory t = runMethod(m, s);
   CHECK(t.method() == "simbody");
   CHECK(t.integrator() == "rkmerson");
@@ -51,7 +52,7 @@ TEST_CASE("scene defaults apply where nothing was asked - the reference defaults
   const RunSpec s = onGrid(RunSpec(), scene, grid);
   CHECK(s.output_dt == 0.05);
   CHECK(s.t_end == scene.t_end);
-  CHECK(referenceRun().integrator == Integrator::RKMerson);
+  CHECK(referenceRun().integrator == em::test::scheme("rkmerson"));
   CHECK(referenceRun(Method::Classical).integrator == Integrator::RK8PD);
   CHECK(chosenIntegrator(Engine::InHouse, true) == Integrator::RK8PD);
 }

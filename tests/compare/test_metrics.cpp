@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/comparison.hpp"
+#include "engines.hpp"
 #include "synthetic.hpp"
 
 using namespace em;
@@ -15,7 +16,7 @@ constexpr double kUlps = 1e-12;
 }  // namespace
 
 TEST_CASE("divergence times and peak errors of a run with a linearly growing error", "[comparator]") {
-  const Trajectory ref = test::turning(Method::Simbody, 0, 0), run = test::turning(Method::Eigen, kSlope, 0.5);
+  const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0), run = test::turning(Method::Eigen, kSlope, 0.5);
   const std::vector<std::optional<double>> no_horizon = {std::nullopt, std::nullopt};
   const MethodMetrics m = compareRun(run, ref, {1e-3, 1e-1}, no_horizon, energyScale(ref));
   REQUIRE(m.divergence_time_s[0]);
@@ -35,7 +36,7 @@ TEST_CASE("divergence times and peak errors of a run with a linearly growing err
 }
 
 TEST_CASE("a run that never crosses a threshold has no divergence time", "[comparator]") {
-  const Trajectory ref = test::turning(Method::Simbody, 0, 0), run = test::turning(Method::Classical, 1e-5, 0);
+  const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0), run = test::turning(Method::Classical, 1e-5, 0);
   const MethodMetrics m = compareRun(run, ref, {1e-3}, {std::nullopt}, 2.0);
   CHECK_FALSE(m.divergence_time_s[0]);
   CHECK_FALSE(m.divergence_meaningful[0]);
@@ -43,7 +44,7 @@ TEST_CASE("a run that never crosses a threshold has no divergence time", "[compa
 }
 
 TEST_CASE("a failed run diverges at its failure time and keeps its cause", "[comparator]") {
-  const Trajectory ref = test::turning(Method::Simbody, 0, 0);
+  const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
   Trajectory run = test::turning(Method::Eigen, kSlope, 0, 3.0);  // stops at 3 s, error 0.063 rad
   markFailed(run, 3.0, Failure::EigenGap, "eigenvalue gap below the floor");
   const MethodMetrics m = compareRun(run, ref, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, 2.0);
@@ -54,8 +55,8 @@ TEST_CASE("a failed run diverges at its failure time and keeps its cause", "[com
 }
 
 TEST_CASE("the reference horizon flags divergence times beyond it", "[comparator]") {
-  const Trajectory ref = test::turning(Method::Simbody, 0, 0);
-  const Trajectory tight = test::turning(Method::Simbody, 0.0021, 0);  // parts from ref by 1e-3 rad after 0.476 s
+  const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
+  const Trajectory tight = test::turning(em::test::method("simbody"), 0.0021, 0);  // parts from ref by 1e-3 rad after 0.476 s
   const auto h = referenceHorizon(ref, tight, {1e-3, 1e-1});
   REQUIRE(h[0]);
   CHECK(*h[0] == Approx(0.48));
@@ -68,18 +69,18 @@ TEST_CASE("the reference horizon flags divergence times beyond it", "[comparator
 }
 
 TEST_CASE("energy scale falls back when the reference never moves", "[comparator]") {
-  Trajectory still = test::turning(Method::Simbody, 0, 0);
+  Trajectory still = test::turning(em::test::method("simbody"), 0, 0);
   for (double& k : still.kinetic) k = 0;
   CHECK(energyScale(still) == 5.0);  // |E(0)|
   for (double& e : still.energy) e = 0;
   CHECK(energyScale(still) == 1.0);
-  Trajectory blown = test::turning(Method::Simbody, 0, 0);
+  Trajectory blown = test::turning(em::test::method("simbody"), 0, 0);
   blown.kinetic[3] = INFINITY;  // a non-finite sample carries no scale
   CHECK(energyScale(blown) == 2.0);
 }
 
 TEST_CASE("outcome: ok, wrong only before the reference horizon, failed", "[comparator]") {
-  const Trajectory ref = test::turning(Method::Simbody, 0, 0);
+  const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
   // Error kSlope t: beyond kWrongRad = 0.1 rad from t = 4.77 s on.
   const MethodMetrics drifting = compareRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3}, {std::nullopt}, 2.0);
   REQUIRE(drifting.status == "ok");

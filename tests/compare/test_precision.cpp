@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/precision.hpp"
+#include "engines.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -32,7 +33,7 @@ TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles"
 TEST_CASE("simbody needs tolerances: refused under rk4 before any run", "[precision]") {
   const Scene scene = test::sceneData("chain01.json");
   PrecisionOptions o;
-  o.methods = {Method::Classical, Method::Simbody};
+  o.methods = {Method::Classical, em::test::method("simbody")};
   CHECK_THROWS_WITH(runPrecision(scene, o), Catch::Contains("simbody has no fixed-step integrator"));
   o.methods = {Method::Classical};
   o.settings = {1e-3, 0};

@@ -6,6 +6,7 @@
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
 #include "momenta.hpp"
+#include "engines.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -26,12 +27,12 @@ RunSpec rk8pd(double tol, double t_end) { return test::runSpec(Method::Classical
 
 // Simbody at accuracy `tol` with one of its integrators.
 RunSpec simbodyRun(Integrator integrator, double tol, double t_end) {
-  return test::runSpec(Method::Simbody, integrator, t_end, tol);
+  return test::runSpec(em::test::method("simbody"), integrator, t_end, tol);
 }
 
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
   Trajectory in = simulate(m, rk8pd(tol_inhouse, t_end));
-  Trajectory sb = SimbodyReference(m).simulate(simbodyRun(Integrator::RKMerson, tol_simbody, t_end));
+  Trajectory sb = SimbodyReference(m).simulate(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end));
   REQUIRE(in.status() == "ok");
   REQUIRE(sb.status() == "ok");
   REQUIRE(in.size() == sb.size());
@@ -106,8 +107,8 @@ TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12
 
 TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
   const Model g = test::loadData("pendulum5.json"), b = test::loadData("pendulum5_ball.json");
-  const Trajectory sg = SimbodyReference(g).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
-  const Trajectory sball = SimbodyReference(b).simulate(simbodyRun(Integrator::RKMerson, 1e-12, 5.0));
+  const Trajectory sg = SimbodyReference(g).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
+  const Trajectory sball = SimbodyReference(b).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
   const Trajectory ib = simulate(b, rk8pd(1e-13, 5.0));
   CHECK(test::maxPoseDiff(sg, sball) <= 1e-8);
   CHECK(test::maxPoseDiff(ib, sball) <= 1e-8);
@@ -150,8 +151,8 @@ TEST_CASE("dampers: both engines close the energy balance and agree on the dissi
 TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5 over 1 s", "[crosscheck]") {
   const Model m = test::loadData("pendulum5.json");
   SimbodyReference ref(m);
-  const Trajectory a = ref.simulate(simbodyRun(Integrator::RKMerson, 1e-10, 1.0));
-  for (Integrator integ : {Integrator::RK3, Integrator::CPodes}) {
+  const Trajectory a = ref.simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 1.0));
+  for (Integrator integ : {em::test::scheme("rk3"), em::test::scheme("cpodes")}) {
     const Trajectory b = ref.simulate(simbodyRun(integ, 1e-10, 1.0));
     INFO(integratorName(integ));
     REQUIRE(b.status() == "ok");
@@ -167,7 +168,7 @@ TEST_CASE("a Simbody failure is a one-line cause with its time - not an exceptio
   SceneSpec s = test::chainSpec(2);
   s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
   const Model m = buildModel(s);
-  const Trajectory t = SimbodyReference(m).simulate(simbodyRun(Integrator::RKMerson, 1e-10, 0.1));
+  const Trajectory t = SimbodyReference(m).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1));
   CHECK(t.status() == "failed");
   CHECK(t.failure_time == 0.0);
   CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));

@@ -18,11 +18,9 @@ TEST_CASE("every method and integrator round-trips through its name - unknown na
   for (const IntegratorInfo& i : integratorTable()) CHECK(parseIntegrator(i.name) == i.id);
   CHECK(methodNames().size() == methodTable().size());
   for (const IntegratorInfo& i : integratorTable()) CHECK_FALSE(i.engines.empty());  // every row runs somewhere
-  // One name, one scheme: rk4 is the in-house rk4 and MuJoCo's RK4.
-  CHECK(integratorNames(Engine::Mujoco) == std::vector<std::string>{"rk4", "euler", "implicit"});
   CHECK(info(Integrator::RK4).runs(Engine::InHouse));
   CHECK_THROWS_WITH(parseMethod("newton"),
-                    "unknown method 'newton' (classical, articulated, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi, simbody, mujoco)");
+                    "unknown method 'newton' (classical, articulated, eigen, eigen-jacobi, eigen-jacobi-orth, eigen-block, eigen-block-jacobi)");
   CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'") && Catch::Contains("rk8pd"));
 }
 
@@ -56,18 +54,61 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
     CHECK((held - eigenvalues).cwiseAbs().maxCoeff() < 1e-13 * eigenvalues.maxCoeff());
     CHECK((C.transpose() * held.asDiagonal() * C - A).norm() < 1e-13 * A.norm());
   }
-  for (Engine e : {Engine::InHouse, Engine::Simbody, Engine::Mujoco}) {
-    CHECK(info(defaultIntegrator(e)).runs(e));
-    CHECK(info(adaptiveIntegrator(e)).runs(e));
-    CHECK(info(adaptiveIntegrator(e)).fixed_step == (e == Engine::Mujoco));  // MuJoCo 2.2 has no adaptive scheme
-  }
+  CHECK(info(defaultIntegrator(Engine::InHouse)).runs(Engine::InHouse));
+  CHECK_FALSE(info(adaptiveIntegrator(Engine::InHouse)).fixed_step);
   for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function or its GSL stepper
     if (i.runs(Engine::InHouse)) CHECK((i.fixed_step ? i.step != nullptr : i.gsl != nullptr));
-  CHECK_THROWS_AS(requireCompatible(Method::Classical, Integrator::Euler), std::invalid_argument);
-  CHECK_NOTHROW(requireCompatible(Method::Mujoco, Integrator::RK4));
-  CHECK_THROWS_WITH(requireCompatible(Method::Simbody, Integrator::RK4), Catch::Contains("rk4") && Catch::Contains("simbody"));
-  CHECK_THROWS_AS(requireCompatible(Method::Classical, Integrator::CPodes), std::invalid_argument);
   CHECK_NOTHROW(requireCompatible(Method::Classical, Integrator::BSIMP));
+}
+
+TEST_CASE("another engine is added at run time: its method, its schemes, a shared tableau and its tolerance bound", "[registry]") {
+  // What reference/engine_table.cpp does for every engine's row, on a made-up engine.
+  const size_t methods = methodTable().size(), integrators = integratorTable().size();
+  const Engine toy = addEngine("toy", "a made-up engine", {{"rk4", true, "the in-house tableau"}, {"toy-sdirk", false, "adaptive"}},
+                               "rk4", "toy-sdirk", 1.0);
+  CHECK(static_cast<int>(toy) == 1);  // ids follow the built-in ones
+  CHECK(parseEngine("toy") == toy);
+  const Method m = info(toy).method;
+  CHECK(methodTable().size() == methods + 1);
+  CHECK(info(m).engine == toy);
+  CHECK(info(m).make == nullptr);  // its own runner, not the in-house integrators
+  CHECK(methodNames().back() == "toy");
+  // One name, one scheme: rk4 is a row already, which now lists the engine too; toy-sdirk is new.
+  CHECK(integratorTable().size() == integrators + 1);
+  CHECK(info(Integrator::RK4).runs(toy));
+  CHECK(integratorNames(toy) == std::vector<std::string>{"rk4", "toy-sdirk"});
+  CHECK(defaultIntegrator(toy) == Integrator::RK4);
+  CHECK_FALSE(info(adaptiveIntegrator(toy)).fixed_step);
+  CHECK(hasAdaptiveScheme(toy));
+  CHECK(otherEngines() == std::vector<Engine>{toy});
+  CHECK_NOTHROW(requireCompatible(m, Integrator::RK4));
+  CHECK_THROWS_WITH(requireCompatible(m, Integrator::RK8PD), Catch::Contains("rk8pd") && Catch::Contains("toy"));
+  CHECK_THROWS_AS(requireCompatible(Method::Classical, adaptiveIntegrator(toy)), std::invalid_argument);
+  // Its tolerance bound is checked before any run, naming tol (Simbody asserts on an accuracy >= 1).
+  RunSpec s = test::runSpec(m, adaptiveIntegrator(toy), 1.0, 1.0);
+  try {
+    checkRunSpec(s);
+    FAIL("tolerance 1 accepted");
+  } catch (const SettingError& e) {
+    CHECK(e.field == "tol");
+    CHECK(e.detail == "toy's tolerance must be < 1, got 1");
+  }
+  s.tol = 0.5;
+  CHECK_NOTHROW(checkRunSpec(s));
+  CHECK_THROWS_AS(addEngine("toy", "again", {}, "rk4", "rk4", 1.0), std::logic_error);  // one name, one row
+  CHECK_THROWS_AS(addEngine("classical", "a method's name", {}, "rk4", "rk4", 1.0), std::logic_error);
+}
+
+TEST_CASE("a method from outside is added at run time and refused under a taken name", "[registry]") {
+  MethodInfo row = info(Method::Classical);  // the in-house integrators run it through its factory
+  row.name = "mine";
+  row.summary = "a user's method";
+  const Method m = addMethod(row);
+  CHECK(parseMethod("mine") == m);
+  CHECK(info(m).engine == Engine::InHouse);
+  CHECK(static_cast<int>(m) == static_cast<int>(Method::EigenBlockJacobi) + 1);
+  row.name = "eigen";
+  CHECK_THROWS_WITH(addMethod(row), "the method name 'eigen' is taken");
 }
 
 TEST_CASE("a method's own options are columns of its row: set, defaulted, or refused by name", "[registry]") {
@@ -100,14 +141,4 @@ TEST_CASE("run settings: whole multiples within round-off - bad values name thei
       CHECK(e.field == "t_end");
     }
   }
-  // Simbody asserts (SIGABRT) on an accuracy >= 1: refused before any run, naming tol.
-  RunSpec sb = test::runSpec(Method::Simbody, Integrator::RKMerson, 1.0, 1.0);
-  try {
-    checkRunSpec(sb);
-    FAIL("Simbody accuracy 1 accepted");
-  } catch (const SettingError& e) {
-    CHECK(e.field == "tol");
-  }
-  sb.tol = 0.5;
-  CHECK_NOTHROW(checkRunSpec(sb));
 }

@@ -1,0 +1,87 @@
+#pragma once
+/// The engine seam: every independent engine (Simbody, MuJoCo, ...) is one
+/// row of engineRows(), naming what it can do; nothing outside an engine's
+/// row and its own files asks which engine it is. Adding an engine is its
+/// row (reference/engine_table.cpp), its own file(s) under reference/ and
+/// their CMake lines. useEngines() adds every row to the registry
+/// (solver/registry.hpp: the engine, its method and its schemes).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solver/registry.hpp"
+#include "solver/trajectory.hpp"
+
+namespace em {
+
+/// An engine's own equations at one state, the in-house internal order.
+struct EngineEquations {
+  Eigen::MatrixXd A;         ///< its mass matrix  // (nu x nu)
+  Eigen::VectorXd B, udot;   ///< its right-hand side A u' = B, and its u'  // (nu)
+  double kinetic = 0, potential = 0;
+};
+
+/// A body's mass properties as an engine compiled them, in the world at the
+/// zero configuration: mass, CM, inertia about the CM (world axes).
+struct CompiledMass {
+  double m = 0;
+  Vec3 c = Vec3::Zero();
+  Mat3 J = Mat3::Zero();
+};
+
+/// An engine's model of one scene, asked for its equations at any state.
+class EngineModel {
+ public:
+  virtual ~EngineModel() = default;
+  /// A, B, u' and the energies at (q, u), internal order.  // q: (nq), u: (nu)
+  virtual EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) = 0;
+  /// The masses it compiled where it rounds them (MuJoCo diagonalizes full
+  /// inertias), else empty: crosscheck then also compares the in-house
+  /// formation given these masses, and does not judge the raw u'.
+  virtual std::vector<CompiledMass> compiledMass() { return {}; }
+};
+
+/// A URDF robot as an engine with its own reader reads it: the file's text,
+/// the URDF joint of each body of the Model in source order, and the import
+/// options the Model was loaded with (docs/urdf.md).
+struct UrdfSource {
+  std::string text;
+  std::vector<std::string> joints;  ///< Scene::source_joints
+  std::vector<std::string> locked;  ///< joints held fixed (--lock-joint)
+  bool balance_inertia = false;
+  std::string floating_joint;       ///< the free root's joint name, "" if fixed to the ground
+};
+
+/// One engine's row.
+struct EngineRow {
+  const char* name;
+  const char* summary;               ///< its method's one line (--help, docs)
+  std::vector<EngineScheme> schemes; ///< its integrators (rk4: the in-house tableau)
+  const char* fixed_default;         ///< when nothing is asked
+  const char* adaptive_default;      ///< a tolerance alone, and as a reference
+  double max_tol;                    ///< a tolerance must be below it (HUGE_VAL: any)
+  /// Integrate from the model's initial state as `spec` says (the engine's
+  /// method, one of its schemes), sampled on the output grid; a numerical
+  /// failure ends the run with its time and cause; bad settings throw.
+  Trajectory (*simulate)(const Model& m, const RunSpec& spec, const SampleObserver& observe);
+  /// Its model of `m` (throws std::runtime_error with the engine's message
+  /// when it cannot take the scene), or nullptr: it gives no equations at a state.
+  std::unique_ptr<EngineModel> (*model)(const Model& m);
+  /// Its own reading of a URDF robot whose Model is `m`, or nullptr: it has
+  /// no URDF reader (crosscheck then uses `model`).
+  std::unique_ptr<EngineModel> (*urdf)(const Model& m, const UrdfSource& source);
+  /// Its library's version, for provenance and --version.
+  std::string (*version)();
+  /// One line on what crosscheck's "<name>-mass" rows are (engines with compiled masses), else nullptr.
+  const char* mass_note;
+};
+
+/// Every engine, in the order every listing uses.
+const std::vector<EngineRow>& engineRows();
+/// Add every row to the registry (once; later calls do nothing). The
+/// engines' dispatch below calls it; programs call it before reading the tables.
+void useEngines();
+/// The row of engine `e` (not the in-house one).
+const EngineRow& engineRow(Engine e);
+
+}  // namespace em
