@@ -14,6 +14,8 @@
 #include <iostream>
 #include <memory>
 
+#include <nlohmann/json.hpp>
+
 #include "app/cli.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
@@ -147,6 +149,15 @@ struct ScratchFolder {
   }
 };
 
+// Every method's colour and every integrator's marker, from the registry:
+// one per method in every figure, a method added at run time included.
+std::string figureStyle() {
+  nlohmann::json colours = nlohmann::json::object(), markers = nlohmann::json::object();
+  for (const MethodInfo& m : methodTable()) colours[m.name] = methodColour(m.id);
+  for (const IntegratorInfo& i : integratorTable()) markers[i.name] = i.marker ? i.marker : ".";
+  return nlohmann::json{{"colours", colours}, {"markers", markers}}.dump();
+}
+
 int runPlot(PlotArgs a) {
   const std::string kind = kindOf(a);
   if (!a.csv_dir.empty()) {
@@ -158,7 +169,8 @@ int runPlot(PlotArgs a) {
   prepareFolder("--out", a.out);
   checkPython();
   const ScratchFolder tmp;
-  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.path.string(), a.format};
+  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.path.string(), a.format,
+                                   "--style", figureStyle()};
   if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
   const int status = runProgram(argv, false);
   if (status == 2 && fs::exists(tmp.path / "error.txt"))  // the input's shape is not its format's: its one line

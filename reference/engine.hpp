@@ -60,6 +60,7 @@ struct EngineRow {
   const char* fixed_default;         ///< when nothing is asked
   const char* adaptive_default;      ///< a tolerance alone, and as a reference
   double max_tol;                    ///< a tolerance must be below it (HUGE_VAL: any)
+  const char* colour;                ///< its method's colour in every figure (matplotlib name)
   /// Integrate from the model's initial state as `spec` says (the engine's
   /// method, one of its schemes), sampled on the output grid; a numerical
   /// failure ends the run with its time and cause; bad settings throw.

@@ -18,7 +18,7 @@ void useEngines() {
   static std::once_flag once;
   std::call_once(once, [] {
     for (const EngineRow& r : engineRows())
-      addEngine(r.name, r.summary, r.schemes, r.fixed_default, r.adaptive_default, r.max_tol);
+      addEngine(r.name, r.summary, r.schemes, r.fixed_default, r.adaptive_default, r.max_tol, r.colour);
   });
 }
 

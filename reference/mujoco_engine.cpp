@@ -92,12 +92,13 @@ class MujocoModel : public EngineModel {
 EngineRow mujocoEngine() {
   return {"mujoco",
           "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step",
-          {{"rk4", true, "MuJoCo's RK4, the in-house tableau"},
-           {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step"},
-           {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step"}},
+          {{"rk4", true, "MuJoCo's RK4, the in-house tableau", "o"},
+           {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step", "P"},
+           {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step", "X"}},
           "rk4",
           "rk4",  // MuJoCo 2.2 has no adaptive scheme
           HUGE_VAL,
+          "tab:red",
           simulateMujoco,
           [](const Model& m) -> std::unique_ptr<EngineModel> {
             return std::make_unique<MujocoModel>(std::make_unique<MujocoPeer>(m));

@@ -319,12 +319,13 @@ class SimbodyModel : public EngineModel {
 EngineRow simbodyEngine() {
   return {"simbody",
           "Simbody's own O(n) recursive dynamics: the independent engine",
-          {{"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive"},
-           {"rk3", false, "Simbody Runge-Kutta 3, adaptive"},
-           {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive"}},
+          {{"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive", "v"},
+           {"rk3", false, "Simbody Runge-Kutta 3, adaptive", "<"},
+           {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive", ">"}},
           "rkmerson",
           "rkmerson",
           1.0,  // Simbody asserts (SIGABRT) on an accuracy >= 1
+          "tab:gray",
           [](const Model& m, const RunSpec& spec, const SampleObserver& observe) { return SimbodyReference(m).simulate(spec, observe); },
           [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); },
           nullptr,

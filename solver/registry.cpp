@@ -34,20 +34,20 @@ std::deque<EngineInfo>& engines() {
 std::deque<MethodInfo>& methods() {
   static std::deque<MethodInfo> table = {
       {Method::Classical, "classical", Engine::InHouse, Correction::None, ExtraState::None, false, makeClassical, {},
-       "Cholesky of A every evaluation (paper method a)"},
+       "Cholesky of A every evaluation (paper method a)", "tab:blue"},
       {Method::Articulated, "articulated", Engine::InHouse, Correction::None, ExtraState::None, false, makeArticulated, {},
-       "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)"},
+       "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)", "tab:cyan"},
       {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine},
-       "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)"},
+       "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)", "tab:orange"},
       {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CLambda, true, makeEigen,
-       {kRefine}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)"},
+       {kRefine}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)", "tab:green"},
       {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi,
-       ExtraState::CLambda, true, makeEigen, {kRefine}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)"},
+       ExtraState::CLambda, true, makeEigen, {kRefine}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)", "tab:olive"},
       {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, ExtraState::CD, true, makeEigenBlock,
        {kRefine, kBlockGap},
-       "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)"},
+       "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)", "tab:purple"},
       {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CD, true,
-       makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step"},
+       makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step", "tab:brown"},
   };
   return table;
 }
@@ -55,13 +55,13 @@ std::deque<MethodInfo>& methods() {
 std::deque<IntegratorInfo>& integrators() {
   static std::deque<IntegratorInfo> table = {
       {Integrator::RK4, "rk4", {Engine::InHouse}, true, rk4Step, nullptr,
-       "classical four-stage Runge-Kutta, fixed step (one tableau: every engine that lists it runs this scheme)"},
+       "classical four-stage Runge-Kutta, fixed step (one tableau: every engine that lists it runs this scheme)", "o"},
       {Integrator::RKF45, "rkf45", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rkf45,
-       "GSL Runge-Kutta-Fehlberg (4, 5), adaptive"},
+       "GSL Runge-Kutta-Fehlberg (4, 5), adaptive", "s"},
       {Integrator::RK8PD, "rk8pd", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_rk8pd,
-       "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive"},
+       "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive", "^"},
       {Integrator::BSIMP, "bsimp", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_bsimp,
-       "GSL implicit Bulirsch-Stoer, adaptive (stiff)"},
+       "GSL implicit Bulirsch-Stoer, adaptive (stiff)", "D"},
   };
   return table;
 }
@@ -168,19 +168,19 @@ Integrator schemeRow(const EngineScheme& s, Engine e) {
     return id;
   }
   id = static_cast<Integrator>(integrators().size());
-  integrators().push_back({id, s.name, {e}, s.fixed_step, nullptr, nullptr, s.summary});
+  integrators().push_back({id, s.name, {e}, s.fixed_step, nullptr, nullptr, s.summary, s.marker});
   return id;
 }
 
 }  // namespace
 
 Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
-                 const char* fixed_default, const char* adaptive_default, double max_tol) {
+                 const char* fixed_default, const char* adaptive_default, double max_tol, const char* colour) {
   if (nameTaken(name)) throw std::logic_error(std::string("registry: the name ") + name + " is taken");
   const Engine e = static_cast<Engine>(engines().size());
   const Method m = static_cast<Method>(methods().size());
   engines().push_back({e, name, Integrator::RK4, Integrator::RK4, max_tol, m});
-  methods().push_back({m, name, e, Correction::None, ExtraState::None, false, nullptr, {}, summary});
+  methods().push_back({m, name, e, Correction::None, ExtraState::None, false, nullptr, {}, summary, colour});
   for (const EngineScheme& s : schemes) schemeRow(s, e);
   engines().back().fixed_default = parseIntegrator(fixed_default);
   engines().back().adaptive_default = parseIntegrator(adaptive_default);
@@ -215,6 +215,14 @@ std::vector<std::string> integratorNames(Engine e) {
   for (const IntegratorInfo& r : integratorTable())
     if (r.runs(e)) n.emplace_back(r.name);
   return n;
+}
+
+std::string methodColour(Method m) {
+  if (const char* c = info(m).colour) return c;
+  // Methods added without a colour (plugins, Python functions): matplotlib's
+  // second palette, by id, so that the same method has the same colour in every figure.
+  static const char* const kPalette[] = {"#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#1b9e77", "#d95f02", "#7570b3"};
+  return kPalette[static_cast<size_t>(m) % (sizeof kPalette / sizeof *kPalette)];
 }
 
 std::string joined(const std::vector<std::string>& names) {

@@ -81,6 +81,7 @@ struct MethodInfo {
   MethodFactory* make;              ///< in-house methods only (nullptr for another engine's)
   std::vector<MethodParam> params;  ///< its own options (values in MethodOptions::params)
   const char* summary;              ///< one line: --help and docs
+  const char* colour = nullptr;     ///< its colour in every figure (matplotlib name); nullptr: methodColour's palette
 
   /// Whether the row has the option `name`.
   bool takes(const std::string& name) const;
@@ -99,6 +100,7 @@ struct IntegratorInfo {
   FixedStep step;   ///< in-house fixed-step schemes: one step of exactly h
   GslStepper gsl;   ///< in-house adaptive schemes: GSL's stepper
   const char* summary;
+  const char* marker = nullptr;  ///< its marker in every figure (matplotlib); nullptr: "."
   bool runs(Engine e) const;
 };
 
@@ -138,13 +140,14 @@ struct EngineScheme {
   const char* name;
   bool fixed_step;
   const char* summary;
+  const char* marker;  ///< in figures (a shared scheme keeps its row's)
 };
 /// Another engine, its method (named as the engine) and its schemes, added
 /// to the tables; `fixed_default` and `adaptive_default` name two of its
 /// schemes. Throws std::logic_error for a name already taken. Not thread-safe:
 /// add before any run starts.
 Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
-                 const char* fixed_default, const char* adaptive_default, double max_tol);
+                 const char* fixed_default, const char* adaptive_default, double max_tol, const char* colour = nullptr);
 /// A method from outside (a plugin, a Python function) run by the in-house
 /// integrators through `make`; its row's id is set here. Throws
 /// std::invalid_argument for a name already taken.
@@ -178,6 +181,9 @@ std::vector<std::string> integratorNames();
 std::vector<std::string> integratorNames(Engine e);
 /// Every option any method takes, once each, in table order (CLI, plans).
 std::vector<MethodParam> methodParams();
+/// A method's colour in figures: its row's, else one of a fixed palette by its id.
+std::string methodColour(Method m);
+
 /// "a, b, c": the names joined for messages and help texts.
 std::string joined(const std::vector<std::string>& names);
 

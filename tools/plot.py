@@ -39,11 +39,10 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 # Deterministic files: no dates, fixed SVG ids, text kept as text (editable, searchable).
 matplotlib.rcParams.update({"svg.hashsalt": "eigenmass", "svg.fonttype": "none", "pdf.fonttype": 42})
 
-MARKERS = {"rk4": "o", "rkf45": "s", "rk8pd": "^", "bsimp": "D", "rkmerson": "v", "rk3": "<", "cpodes": ">",
-           "euler": "P", "implicit": "X"}
-COLORS = {"classical": "tab:blue", "articulated": "tab:cyan", "eigen": "tab:orange", "eigen-jacobi": "tab:green",
-          "eigen-jacobi-orth": "tab:olive", "eigen-block": "tab:purple", "eigen-block-jacobi": "tab:brown",
-          "simbody": "tab:gray", "mujoco": "tab:red"}
+# One colour per method and one marker per integrator: the registry's, given by
+# `eigenmass plot` as --style (solver/registry.cpp, reference/engine_table.cpp).
+MARKERS = {}
+COLORS = {}
 OUTCOME_COLORS = {"ok": "#4daf4a", "wrong": "#ff7f00", "failed": "#e41a1c"}
 FLOOR = 1e-17  # zero errors drawn here on log axes
 FORMAT = ["png"]
@@ -589,8 +588,12 @@ def main():
     ap.add_argument("out")
     ap.add_argument("format", choices=["png", "svg", "pdf"])
     ap.add_argument("--csv-dir")
+    ap.add_argument("--style", default="{}", help="JSON {colours: {method: colour}, markers: {integrator: marker}}")
     a = ap.parse_args()
     FORMAT[0] = a.format
+    style = json.loads(a.style)
+    COLORS.update(style.get("colours", {}))
+    MARKERS.update(style.get("markers", {}))
     try:
         draw(a)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError) as e:

@@ -64,7 +64,7 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
 TEST_CASE("another engine is added at run time: its method, its schemes, a shared tableau and its tolerance bound", "[registry]") {
   // What reference/engine_table.cpp does for every engine's row, on a made-up engine.
   const size_t methods = methodTable().size(), integrators = integratorTable().size();
-  const Engine toy = addEngine("toy", "a made-up engine", {{"rk4", true, "the in-house tableau"}, {"toy-sdirk", false, "adaptive"}},
+  const Engine toy = addEngine("toy", "a made-up engine", {{"rk4", true, "the in-house tableau", "o"}, {"toy-sdirk", false, "adaptive", "*"}},
                                "rk4", "toy-sdirk", 1.0);
   CHECK(static_cast<int>(toy) == 1);  // ids follow the built-in ones
   CHECK(parseEngine("toy") == toy);
