@@ -7,6 +7,7 @@
 #include <mujoco/mujoco.h>
 
 #include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
 #include "reference/mujoco_peer.hpp"
 
 namespace em {
@@ -22,50 +23,53 @@ int scheme(Integrator i) {
   throw std::logic_error("no MuJoCo integrator for " + name);
 }
 
-bool finite(const Eigen::VectorXd& x) { return x.allFinite(); }
+// Evaluations of MuJoCo's equations: mj_passive runs once in every forward
+// pass, a stage of its integrators included (rk4: four per step).
+thread_local long g_evaluations = 0;
+void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
+
+// MuJoCo stepped by the one fixed-step loop (reference/fixed_step.hpp).
+class MujocoStepper : public FixedStepEngine {
+ public:
+  MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
+    peer_.configure(scheme(spec.integrator), spec.dt);
+    peer_.setState(m.q0(), m.u0());
+    peer_.forward();
+    mjcb_passive = countEvaluation;
+  }
+  ~MujocoStepper() override { mjcb_passive = nullptr; }
+  std::string step() override {
+    const long before = g_evaluations;
+    peer_.step();
+    evaluations_ += g_evaluations - before;
+    const std::string warned = peer_.warnings();  // MuJoCo has then reset its state (and time)
+    return warned.empty() ? "" : "MuJoCo: " + warned;
+  }
+  long evaluations() const override { return evaluations_; }
+  void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { peer_.getState(q, u); }
+  void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
+    peer_.forward();  // positions, energies of the current state (a step leaves them a stage behind)
+    poses = peer_.poses();
+    kinetic = peer_.kineticEnergy();
+    potential = peer_.potentialEnergy();
+  }
+  void dissipation(double& P, double& Pdot) override {
+    peer_.forward();  // qacc at the current state (the next step's forward recomputes the same)
+    P = peer_.dissipationRate();
+    Pdot = peer_.dissipationRateDerivative();
+  }
+
+ private:
+  MujocoPeer peer_;
+  long evaluations_ = 0;
+};
 
 }  // namespace
 
 Trajectory simulateMujoco(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
   checkRunSpec(spec);
-  const long n_out = outputIntervals(spec.t_end, spec.output_dt), per_output = stepsPerOutput(spec.output_dt, spec.dt);
-  MujocoPeer peer(m);
-  peer.configure(scheme(spec.integrator), spec.dt);
-  peer.setState(m.q0(), m.u0());
-  Trajectory tr = makeTrajectory(m, spec);
-  Eigen::VectorXd q, u;
-  double W = 0, cpu = 0;  // W_diss: sum of c u^2 dt at each step's start (first order in dt)
-  auto sample = [&](double t) {
-    peer.forward();  // positions, energies of the current state (a step leaves them a stage behind)
-    peer.getState(q, u);
-    const double T = peer.kineticEnergy();
-    appendSample(tr, m, t, q.data(), u.data(), peer.poses(), {T + peer.potentialEnergy(), T, W});
-  };
-  sample(0.0);
-  const long evals_per_step = spec.integrator == Integrator::RK4 ? 4 : 1;  // rk4: the in-house tableau
-  for (long k = 1; k <= n_out && !tr.failed(); ++k) {
-    const std::clock_t c0 = std::clock();
-    for (long s = 0; s < per_output; ++s) {
-      if (m.has_dampers) W += spec.dt * peer.dissipationRate();
-      peer.step();
-      ++tr.steps;
-      const std::string warned = peer.warnings();
-      if (!warned.empty()) {  // MuJoCo has reset its state (and time): the step count says when
-        markFailed(tr, static_cast<double>(tr.steps) * spec.dt, Failure::Engine, "MuJoCo: " + warned);
-        break;
-      }
-    }
-    cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-    if (tr.failed()) break;
-    sample(k * spec.output_dt);
-    if (!finite(tr.q.back()) || !finite(tr.u.back())) markFailed(tr, k * spec.output_dt, Failure::NonFinite, "non-finite state (NaN or Inf)");
-    else if (double umax = tr.u.back().cwiseAbs().maxCoeff(); umax > spec.options.blowup_speed)
-      markFailed(tr, k * spec.output_dt, Failure::BlowUp, "blow-up: max |u| exceeds the bound");
-    if (observe) observe(k * spec.output_dt);
-  }
-  tr.run_time_s = cpu;
-  tr.rhs_evals = tr.steps * evals_per_step;
-  return tr;
+  MujocoStepper stepper(m, spec);
+  return runFixedStep(m, spec, stepper, observe);
 }
 
 namespace {

@@ -396,6 +396,13 @@ double MujocoPeer::dissipationRate() const {
   return P;
 }
 
+double MujocoPeer::dissipationRateDerivative() const {
+  const mjModel* mm = impl_->mm;
+  double dP = 0;
+  for (int i = 0; i < mm->nv; ++i) dP += 2 * mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qacc[i];
+  return dP;
+}
+
 std::string MujocoPeer::warnings() const {
   std::string out;
   for (int i = 0; i < mjNWARNING; ++i)

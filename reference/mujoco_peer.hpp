@@ -74,6 +74,8 @@ class MujocoPeer {
   double potentialEnergy() const;
   /// The dampers' power sum of c u^2 at the current speeds.
   double dissipationRate() const;
+  /// Its rate 2 sum c u u' (after forward: qacc of the current state).
+  double dissipationRateDerivative() const;
   /// MuJoCo's warnings raised so far ("" if none), one line.
   std::string warnings() const;
 

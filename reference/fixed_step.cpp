@@ -1,0 +1,62 @@
+#include "reference/fixed_step.hpp"
+
+#include <ctime>
+
+namespace em {
+
+namespace {
+
+double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+// The one failure rule after a step ending at t: the engine's complaint,
+// then a non-finite state, then a speed beyond the blow-up bound.
+bool checkStep(Trajectory& tr, double t, const std::string& complaint, const Eigen::VectorXd& q, const Eigen::VectorXd& u,
+               double blowup_speed) {
+  if (!complaint.empty()) markFailed(tr, t, Failure::Engine, complaint);
+  else if (!q.allFinite() || !u.allFinite()) markFailed(tr, t, Failure::NonFinite, "non-finite state (NaN or Inf)");
+  else if (u.size() && u.cwiseAbs().maxCoeff() > blowup_speed)
+    markFailed(tr, t, Failure::BlowUp, "blow-up: max |u| exceeds the bound");
+  return !tr.failed();
+}
+
+}  // namespace
+
+Trajectory runFixedStep(const Model& m, const RunSpec& spec, FixedStepEngine& engine, const SampleObserver& observe) {
+  checkRunSpec(spec);
+  const long n_out = outputIntervals(spec.t_end, spec.output_dt), per_output = stepsPerOutput(spec.output_dt, spec.dt);
+  Trajectory tr = makeTrajectory(m, spec);
+  Eigen::VectorXd q(m.nq), u(m.nu);
+  std::vector<Pose> poses(m.n());
+  double W = 0, P = 0, Pdot = 0, cpu = 0;  // W_diss, and the dampers' power and its rate at the current state
+  auto sample = [&](double t) {
+    double T = 0, V = 0;
+    engine.sample(poses, T, V);  // first: an engine may complete its state here (MuJoCo's forward)
+    engine.state(q, u);
+    appendSample(tr, m, t, q.data(), u.data(), poses, {T + V, T, W});
+  };
+  sample(0.0);
+  if (m.has_dampers) engine.dissipation(P, Pdot);
+  for (long k = 1; k <= n_out && !tr.failed(); ++k) {
+    for (long s = 0; s < per_output; ++s) {
+      const double c0 = cpuSeconds();
+      const std::string complaint = engine.step();
+      cpu += cpuSeconds() - c0;
+      ++tr.steps;
+      engine.state(q, u);
+      if (!checkStep(tr, static_cast<double>(tr.steps) * spec.dt, complaint, q, u, spec.options.blowup_speed)) break;
+      if (!m.has_dampers) continue;
+      double P1 = 0, Pdot1 = 0;
+      engine.dissipation(P1, Pdot1);
+      W += dissipatedOverStep(spec.dt, P, Pdot, P1, Pdot1);
+      P = P1, Pdot = Pdot1;
+    }
+    if (tr.failed()) break;
+    sample(k * spec.output_dt);
+    if (observe) observe(k * spec.output_dt);
+  }
+  tr.run_time_s = cpu;
+  tr.rhs_evals = engine.evaluations();
+  return tr;
+}
+
+}  // namespace em
