@@ -27,6 +27,7 @@ int runCrossCheck(const CrossCheckArgs& a) {
               scene.model.name.c_str(), scene.source.format.c_str(), scene.model.nu);
   for (const std::string& n : scene.source.notes) std::printf("import note: %s\n", n.c_str());
   for (const std::string& s : c.skipped) std::printf("skipped %s\n", s.c_str());
+  for (const std::string& s : c.notes) std::printf("note: %s\n", s.c_str());
   std::printf("%-12s %10s %10s %10s\n", "engine", "A", "B", "u'");
   // Judged: every engine's A, B and u', but the raw u' of an engine that
   // compiles its own masses (MuJoCo): that carries its inertia rounding

@@ -23,12 +23,20 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
   return {ws.A, ws.B, ws.A.llt().solve(ws.B)};
 }
 
-// An engine's model as it can take the scene: its own URDF reader, else the Model.
-std::unique_ptr<EngineModel> engineModel(const EngineRow& row, const Scene& scene, const UrdfOptions& urdf) {
+// An engine's model as it can take the scene: its own URDF reader, else the
+// Model; where its reader cannot be used, the Model, and a note saying so.
+std::unique_ptr<EngineModel> engineModel(const EngineRow& row, const Scene& scene, const UrdfOptions& urdf,
+                                         std::vector<std::string>& notes) {
   if (scene.source.format != "urdf" || !row.urdf) return row.model(scene.model);
   const UrdfSource source{readFile(scene.source.file, "URDF file"), scene.source_joints, urdf.lock_joints,
                           urdf.balance_inertia, urdf.floating_base ? kFloatingBaseJoint : ""};
-  return row.urdf(scene.model, source);
+  try {
+    return row.urdf(scene.model, source);
+  } catch (const std::runtime_error& e) {
+    notes.push_back(std::string(row.name) + ": its own URDF reading is not used (" + e.what() +
+                    "); its rows are the imported Model built in " + row.name);
+    return row.model(scene.model);
+  }
 }
 
 // The model with an engine's compiled mass properties in place of the in-house
@@ -73,7 +81,7 @@ std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf,
     const EngineRow& row = engineRow(e);
     if (!row.model) continue;
     try {
-      Checked k{row.name, engineModel(row, scene, urdf), std::nullopt};
+      Checked k{row.name, engineModel(row, scene, urdf, c.notes), std::nullopt};
       const std::vector<CompiledMass> mass = k.model->compiledMass();
       if (!mass.empty()) k.with_mass = withMass(scene.model, mass);
       out.push_back(std::move(k));

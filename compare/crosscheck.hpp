@@ -29,6 +29,8 @@ std::string massRowName(const std::string& engine);
 struct CrossCheck {
   std::vector<CrossCheckRow> rows;
   std::vector<std::string> skipped;  ///< engines that cannot take this scene, and why
+  /// Engines whose own URDF reading could not be used, why, and that their rows are the Model built in them.
+  std::vector<std::string> notes;
 };
 
 /// `states` random states after the initial one (randomState, seeded `seed`).

@@ -52,6 +52,15 @@ struct UrdfSource {
   std::string floating_joint;       ///< the free root's joint name, "" if fixed to the ground
 };
 
+/// A method run by the in-house integrators on an engine's own u' (DART's
+/// forward dynamics): the engine's formulation apart from its integrator.
+struct EngineUdotMethod {
+  const char* name = nullptr;     ///< nullptr: the engine offers none
+  const char* summary = nullptr;
+  const char* colour = nullptr;
+  MethodFactory* make = nullptr;
+};
+
 /// One engine's row.
 struct EngineRow {
   const char* name;
@@ -75,6 +84,8 @@ struct EngineRow {
   std::string (*version)();
   /// One line on what crosscheck's "<name>-mass" rows are (engines with compiled masses), else nullptr.
   const char* mass_note;
+  /// Its u' as a method under the in-house integrators, where it offers one.
+  EngineUdotMethod udot_method;
 };
 
 /// Every engine, in the order every listing uses.

@@ -8,17 +8,22 @@ namespace em {
 // Each engine's row, defined in its own file (reference/<engine>_*.cpp).
 EngineRow simbodyEngine();
 EngineRow mujocoEngine();
+EngineRow dartEngine();
 
 const std::vector<EngineRow>& engineRows() {
-  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine()};
+  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine()};
   return rows;
 }
 
 void useEngines() {
   static std::once_flag once;
   std::call_once(once, [] {
-    for (const EngineRow& r : engineRows())
+    for (const EngineRow& r : engineRows()) {
       addEngine(r.name, r.summary, r.schemes, r.fixed_default, r.adaptive_default, r.max_tol, r.colour);
+      if (const EngineUdotMethod& u = r.udot_method; u.name)
+        addMethod({Method::Classical, u.name, Engine::InHouse, Correction::None, ExtraState::None, false, u.make, {},
+                   u.summary, u.colour});
+    }
   });
 }
 

@@ -113,7 +113,8 @@ EngineRow mujocoEngine() {
           },
           [] { return std::string(mj_versionString()); },
           "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
-          " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md"};
+          " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md",
+          {}};
 }
 
 }  // namespace em

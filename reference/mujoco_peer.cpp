@@ -1,5 +1,7 @@
 #include "reference/mujoco_peer.hpp"
 
+#include "reference/urdf_text.hpp"
+
 #include <cstdio>
 #include <set>
 #include <sstream>
@@ -149,14 +151,12 @@ std::string urdfForMujoco(const std::string& text, const std::vector<std::string
                           const std::string& floating_joint) {
   TiXmlDocument doc;
   doc.Parse(text.c_str());
+  try {
+    removeGeometry(doc, locked);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("MuJoCo peer: ") + e.what());
+  }
   TiXmlElement* robot = doc.RootElement();
-  if (!robot) throw std::runtime_error("MuJoCo peer: the URDF does not parse as XML");
-  for (TiXmlElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link"))
-    for (const char* tag : {"visual", "collision"})
-      while (TiXmlElement* e = link->FirstChildElement(tag)) link->RemoveChild(e);
-  for (TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
-    for (const std::string& name : locked)
-      if (j->Attribute("name") && name == j->Attribute("name")) j->SetAttribute("type", "fixed");
   if (!floating_joint.empty()) freeRoot(*robot, floating_joint);
   TiXmlDocument ext;
   ext.Parse((std::string("<mujoco><compiler angle=\"radian\" fusestatic=\"true\" discardvisual=\"true\" balanceinertia=\"") +

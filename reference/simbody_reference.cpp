@@ -330,7 +330,8 @@ EngineRow simbodyEngine() {
           [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); },
           nullptr,
           [] { return std::string(EM_SIMBODY_VERSION); },
-          nullptr};
+          nullptr,
+          {}};
 }
 
 }  // namespace em

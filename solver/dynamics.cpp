@@ -58,7 +58,7 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   formQdot(model_, y, y + nq, dydt);
   if (f_->needsEquations()) formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA());
-  else formKinematics(model_, y, y + nq, ws_);
+  else if (f_->needsKinematics()) formKinematics(model_, y, y + nq, ws_);
   EvalInfo local;
   Status s = f_->rates(t, y, y + nq, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
   if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);

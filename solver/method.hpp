@@ -45,6 +45,10 @@ class MethodImpl {
   /// the kinematics (formKinematics) and rates() works from them and (q, u)
   /// (the articulated-body method).
   virtual bool needsEquations() const { return true; }
+  /// Whether the evaluation needs the kinematics formed when it needs no
+  /// equations (the articulated-body method); false: rates() works from
+  /// (q, u) alone (a method whose u' comes from another library, a plugin).
+  virtual bool needsKinematics() const { return true; }
   /// Whether the evaluation needs A' formed (the eigenfactor rates do).
   virtual bool needsAdot() const { return false; }
   /// Whether the evaluation reads A (classical factors it; the eigenfactor

@@ -20,8 +20,14 @@ TEST_CASE("runComparison runs every method on the reference grid", "[comparison]
   }
   CHECK(r.reference.t.size() == 51);
   CHECK(r.tight.integrator() == "rkmerson");
-  // 0.5 s of a 3-link chain: every method is within 1e-4 rad of Simbody at 1e-10.
-  for (const MethodMetrics& mm : r.metrics) CHECK(mm.pose.value < 1e-4);
+  // 0.5 s of a 3-link chain: every method on rk4 at dt 1e-3 (or an adaptive
+  // scheme) is within 1e-4 rad of Simbody at 1e-10; a first-order scheme
+  // (DART's semi-implicit Euler) errs by ~dt T max|u''| ~ 1e-3 0.5 20 = 1e-2
+  // (measured 1.5e-3).
+  for (const MethodMetrics& mm : r.metrics) {
+    INFO(mm.name() << " " << mm.pose.value);
+    CHECK(mm.pose.value < (integratorName(mm.run.integrator) == std::string("dart-euler") ? 1e-2 : 1e-4));
+  }
   const std::string table = summaryTable(r);
   for (Method method : o.methods) CHECK(table.find(methodName(method)) != std::string::npos);
 }

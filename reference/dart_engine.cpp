@@ -1,0 +1,452 @@
+// DART 6.12 (libdart-dev) as an engine, row `dart` (docs/engines.md):
+//
+// The Model as a DART Skeleton, built in code: one BodyNode per body, its
+// frame at the CM and parallel to ours (local COM 0, the full inertia
+// tensor), the joint at the joint point on both sides (T_ParentBodyToJoint =
+// translation a, T_ChildBodyToJoint = translation c). Every joint kind maps
+// exactly: revolute, prismatic and universal to DART's, the gimbal to
+// EulerJoint XYZ (Rx Ry Rz, as ours), ball to BallJoint and free to
+// FreeJoint; springs and dampers to the joints' stiffness, rest position and
+// damping. Coordinates are ours except where DART's differ:
+//   ball: DART's positions are the rotation vector log(R), its speeds the
+//         angular velocity in the child frame, R^T w;
+//   free: positions [log(R), x], speeds [R^T w, R^T v] (angular first);
+//         their rate has the bias -R^T (w x v) in the linear part.
+// So u_D = G u with G orthogonal per joint, A = G^T M_D G,
+// B = G^T (B_D - M_D g), u' = G^T (u'_D - g), g = G' u.
+//
+// Two ways to run it: `dart` is World::step, DART's semi-implicit Euler at a
+// fixed dt with its own (implicit) springs and dampers: what a Gazebo user
+// gets. `dart-udot` is DART's u' (its articulated-body forward dynamics) under
+// the in-house integrators: DART's formulation apart from its integrator.
+#include <dart/config.hpp>
+#include <dart/dynamics/BallJoint.hpp>
+#include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/EulerJoint.hpp>
+#include <dart/dynamics/FreeJoint.hpp>
+#include <dart/dynamics/PrismaticJoint.hpp>
+#include <dart/dynamics/RevoluteJoint.hpp>
+#include <dart/dynamics/Skeleton.hpp>
+#include <dart/dynamics/UniversalJoint.hpp>
+#include <dart/simulation/World.hpp>
+#include <dart/utils/urdf/DartLoader.hpp>
+
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
+#include "reference/urdf_text.hpp"
+#include "solver/method.hpp"
+
+namespace em {
+
+namespace {
+
+namespace dd = dart::dynamics;
+
+// DART's forward dynamics treats springs and dampers implicitly over the
+// skeleton's time step (stiffness dt^2 and damping dt in the articulated
+// inertia, the spring at q + dt u). At a state the step is set this small:
+// the implicit share is then ~1e-15 relative (measured: 2e-14 on a damped
+// pendulum at 16 m/s^2), and u' is the explicit one the other engines give.
+constexpr double kStateTimeStep = 1e-15;
+
+// DART writes its warnings to std::cout and std::cerr: none may reach
+// eigenmass's output. Both are held while DART works; what it said is kept.
+class QuietDart {
+ public:
+  QuietDart() : out_(std::cout.rdbuf(said_.rdbuf())), err_(std::cerr.rdbuf(said_.rdbuf())) {}
+  ~QuietDart() {
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+  }
+  std::string said() const { return said_.str(); }
+
+ private:
+  std::ostringstream said_;
+  std::streambuf *out_, *err_;
+};
+
+template <class J>
+typename J::Properties jointProperties(const Body& b) {
+  typename J::Properties p;
+  p.mName = b.name;
+  p.mT_ParentBodyToJoint = Eigen::Isometry3d::Identity();
+  p.mT_ParentBodyToJoint.translation() = b.joint.in_parent;
+  p.mT_ChildBodyToJoint = Eigen::Isometry3d::Identity();
+  p.mT_ChildBodyToJoint.translation() = b.joint.in_body;
+  if (b.joint.has_spring) {  // ball and free joints carry none (io/scene_json.cpp)
+    p.mSpringStiffnesses = b.joint.spring.k;
+    p.mRestPositions = b.joint.spring.q_rest;
+    p.mDampingCoefficients = b.joint.spring.c;
+  }
+  return p;
+}
+
+dd::BodyNode* addBody(const dd::SkeletonPtr& skel, dd::BodyNode* parent, const Body& b) {
+  dd::BodyNode::Properties bp;
+  bp.mName = b.name;
+  bp.mInertia = dd::Inertia(b.mass, Vec3::Zero(), b.J);
+  const Joint& j = b.joint;
+  switch (j.type) {
+    case JointType::Revolute: {
+      auto p = jointProperties<dd::RevoluteJoint>(b);
+      p.mAxis = j.axis[0];
+      return skel->createJointAndBodyNodePair<dd::RevoluteJoint>(parent, p, bp).second;
+    }
+    case JointType::Prismatic: {
+      auto p = jointProperties<dd::PrismaticJoint>(b);
+      p.mAxis = j.axis[0];
+      return skel->createJointAndBodyNodePair<dd::PrismaticJoint>(parent, p, bp).second;
+    }
+    case JointType::Universal: {
+      auto p = jointProperties<dd::UniversalJoint>(b);
+      p.mAxis = {j.axis[0], j.axis[1]};
+      return skel->createJointAndBodyNodePair<dd::UniversalJoint>(parent, p, bp).second;
+    }
+    case JointType::Gimbal: {
+      auto p = jointProperties<dd::EulerJoint>(b);
+      p.mAxisOrder = dd::EulerJoint::AxisOrder::XYZ;
+      return skel->createJointAndBodyNodePair<dd::EulerJoint>(parent, p, bp).second;
+    }
+    case JointType::Ball:
+      return skel->createJointAndBodyNodePair<dd::BallJoint>(parent, jointProperties<dd::BallJoint>(b), bp).second;
+    case JointType::Free:
+      return skel->createJointAndBodyNodePair<dd::FreeJoint>(parent, jointProperties<dd::FreeJoint>(b), bp).second;
+  }
+  throw std::logic_error("DART: a joint kind without a mapping");
+}
+
+// The Model as a DART skeleton, and the map between our state and DART's.
+class DartSkeleton {
+ public:
+  explicit DartSkeleton(const Model& m) : m_(m), skel_(dd::Skeleton::create(m.name)), dof_(m.n()) {
+    std::vector<dd::BodyNode*> node(m.n());
+    for (int i = 0; i < m.n(); ++i) {  // parents first
+      const Body& b = m.bodies[i];
+      node[i] = addBody(skel_, b.parent < 0 ? nullptr : node[b.parent], b);
+      dof_[i] = static_cast<int>(node[i]->getParentJoint()->getIndexInSkeleton(0));
+    }
+    nodes_ = node;
+    skel_->setGravity(m.gravity);
+    pos_.resize(m.nu);
+    vel_.resize(m.nu);
+  }
+
+  const dd::SkeletonPtr& skeleton() const { return skel_; }
+
+  // Our (q, u), internal order, into DART's positions and speeds.
+  void setState(const double* q, const double* u) {
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const int d = dof_[i];
+      const double *qi = q + b.iq, *ui = u + b.iu;
+      switch (b.joint.type) {
+        case JointType::Ball: {
+          const Mat3 R = quatToMatrix(Vec4(qi[0], qi[1], qi[2], qi[3]).normalized());
+          pos_.segment<3>(d) = dd::BallJoint::convertToPositions(R);
+          vel_.segment<3>(d) = R.transpose() * Vec3(ui);
+          break;
+        }
+        case JointType::Free: {
+          const Mat3 R = quatToMatrix(Vec4(qi[3], qi[4], qi[5], qi[6]).normalized());
+          pos_.segment<3>(d) = dd::BallJoint::convertToPositions(R);
+          pos_.segment<3>(d + 3) = Vec3(qi);
+          vel_.segment<3>(d) = R.transpose() * Vec3(ui + 3);
+          vel_.segment<3>(d + 3) = R.transpose() * Vec3(ui);
+          break;
+        }
+        default:
+          for (int k = 0; k < b.nq(); ++k) pos_[d + k] = qi[k];
+          for (int k = 0; k < b.nu(); ++k) vel_[d + k] = ui[k];
+      }
+    }
+    skel_->setPositions(pos_);
+    skel_->setVelocities(vel_);
+  }
+
+  // DART's state as our (q, u), internal order.
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
+    const Eigen::VectorXd pos = skel_->getPositions(), vel = skel_->getVelocities();
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const int d = dof_[i];
+      switch (b.joint.type) {
+        case JointType::Ball: {
+          const Mat3 R = dd::BallJoint::convertToRotation(pos.segment<3>(d));
+          q.segment<4>(b.iq) = matrixToQuat(R);
+          u.segment<3>(b.iu) = R * vel.segment<3>(d);
+          break;
+        }
+        case JointType::Free: {
+          const Mat3 R = dd::BallJoint::convertToRotation(pos.segment<3>(d));
+          q.segment<3>(b.iq) = pos.segment<3>(d + 3);
+          q.segment<4>(b.iq + 3) = matrixToQuat(R);
+          u.segment<3>(b.iu) = R * vel.segment<3>(d + 3);
+          u.segment<3>(b.iu + 3) = R * vel.segment<3>(d);
+          break;
+        }
+        default:
+          q.segment(b.iq, b.nq()) = pos.segment(d, b.nq());
+          u.segment(b.iu, b.nu()) = vel.segment(d, b.nu());
+      }
+    }
+  }
+
+  // Our u' from DART's accelerations at the state last set (u: ours there).  // udot: (nu)
+  void accelerations(const double* u, double* udot) const {
+    const Eigen::VectorXd& a = skel_->getAccelerations();
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const int d = dof_[i];
+      double* ud = udot + b.iu;
+      switch (b.joint.type) {
+        case JointType::Ball: Eigen::Map<Vec3>{ud} = rotation(i) * a.segment<3>(d); break;
+        case JointType::Free: {
+          const Mat3 R = rotation(i);
+          const Vec3 w(u + b.iu + 3), v(u + b.iu);
+          Eigen::Map<Vec3>{ud} = R * a.segment<3>(d + 3) + w.cross(v);  // u'_D = R^T (v' - w x v)
+          Eigen::Map<Vec3>{ud + 3} = R * a.segment<3>(d);
+          break;
+        }
+        default:
+          for (int k = 0; k < b.nu(); ++k) ud[k] = a[d + k];
+      }
+    }
+  }
+
+  // G (u_D = G u; DART's speed order by rows, ours by columns) and g = G' u at
+  // the state last set (u: ours there).  // G: (nu x nu), g: (nu)
+  void speedMap(const double* u, Eigen::MatrixXd& G, Eigen::VectorXd& g) const {
+    G.setZero(m_.nu, m_.nu);
+    g.setZero(m_.nu);
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const int d = dof_[i];
+      switch (b.joint.type) {
+        case JointType::Ball: G.block<3, 3>(d, b.iu) = rotation(i).transpose(); break;
+        case JointType::Free: {
+          const Mat3 Rt = rotation(i).transpose();
+          G.block<3, 3>(d, b.iu + 3) = Rt;
+          G.block<3, 3>(d + 3, b.iu) = Rt;
+          g.segment<3>(d + 3) = -Rt * Vec3(u + b.iu + 3).cross(Vec3(u + b.iu));
+          break;
+        }
+        default:
+          for (int k = 0; k < b.nu(); ++k) G(d + k, b.iu + k) = 1;
+      }
+    }
+  }
+
+  // Poses (CM position, orientation) of every body, internal order.
+  void poses(std::vector<Pose>& out) const {
+    out.resize(m_.n());
+    for (int i = 0; i < m_.n(); ++i) {
+      const Eigen::Isometry3d& T = nodes_[i]->getWorldTransform();
+      out[i] = {T.translation(), matrixToQuat(T.linear())};
+    }
+  }
+
+ private:
+  // The joint's relative rotation R (ball, free) at the state last set.
+  Mat3 rotation(int i) const { return nodes_[i]->getParentJoint()->getRelativeTransform().linear(); }
+
+  const Model& m_;
+  dd::SkeletonPtr skel_;
+  std::vector<dd::BodyNode*> nodes_;  // internal order
+  std::vector<int> dof_;              // DART index of body i's first speed
+  Eigen::VectorXd pos_, vel_;         // (nu): DART's positions and speeds (nq_D = nu)
+};
+
+// DART's equations at any state: its mass matrix, its C + g, its joint
+// springs and dampers, and its forward dynamics.
+class DartModel : public EngineModel {
+ public:
+  explicit DartModel(const Model& m) : m_(m), dart_(m) { dart_.skeleton()->setTimeStep(kStateTimeStep); }
+  EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
+    const dd::SkeletonPtr& s = dart_.skeleton();
+    dart_.setState(q.data(), u.data());
+    const Eigen::MatrixXd M = s->getMassMatrix();
+    Eigen::VectorXd BD = -s->getCoriolisAndGravityForces();
+    for (size_t k = 0; k < s->getNumDofs(); ++k) {  // its springs and dampers: -k (q - rest) - c u
+      const dd::DegreeOfFreedom* f = s->getDof(k);
+      BD[k] -= f->getSpringStiffness() * (f->getPosition() - f->getRestPosition()) + f->getDampingCoefficient() * f->getVelocity();
+    }
+    s->computeForwardDynamics();
+    EngineEquations e;
+    Eigen::MatrixXd G;
+    Eigen::VectorXd g;
+    dart_.speedMap(u.data(), G, g);
+    e.A = G.transpose() * M * G;
+    e.B = G.transpose() * (BD - M * g);
+    e.udot.resize(m_.nu);
+    dart_.accelerations(u.data(), e.udot.data());
+    e.kinetic = s->computeKineticEnergy();
+    e.potential = s->computePotentialEnergy();
+    return e;
+  }
+
+ private:
+  const Model& m_;
+  DartSkeleton dart_;
+};
+
+// DART's own reading of a URDF (dart::utils::DartLoader), its speeds matched
+// to ours by joint name: one speed each (revolute, continuous, prismatic).
+class DartUrdfModel : public EngineModel {
+ public:
+  DartUrdfModel(const Model& m, const UrdfSource& src) : m_(m) {
+    if (!src.floating_joint.empty())
+      throw std::runtime_error("its free root is not matched to ours yet");
+    if (src.balance_inertia) throw std::runtime_error("it reads the file's own inertias, which --balance-inertia changed");
+    dart::utils::DartLoader loader;
+    dart::utils::DartLoader::Options options;
+    options.mDefaultRootJointType = dart::utils::DartLoader::RootJointType::FIXED;
+    loader.setOptions(options);
+    QuietDart quiet;
+    skel_ = loader.parseSkeletonString(urdfWithoutGeometry(src.text, src.locked), "file:///eigenmass/robot.urdf");
+    if (!skel_) throw std::runtime_error("DART did not read the URDF: " + firstLine(quiet.said()));
+    skel_->setGravity(m.gravity);
+    skel_->setTimeStep(kStateTimeStep);
+    // The URDF's joint damping, friction and limits are not the scene's (the
+    // import reads none of them; MuJoCo's reading turns them off too).
+    for (size_t k = 0; k < skel_->getNumDofs(); ++k) {
+      dd::DegreeOfFreedom* f = skel_->getDof(k);
+      f->setDampingCoefficient(0);
+      f->setSpringStiffness(0);
+      f->setCoulombFriction(0);
+    }
+    for (int i = 0; i < m.n(); ++i) {
+      const std::string& name = src.joints[m.bodies[i].file_index];
+      const dd::Joint* j = skel_->getJoint(name);
+      if (!j || j->getNumDofs() != 1 || m.bodies[i].nu() != 1)
+        throw std::runtime_error("joint '" + name + "' is not one speed in DART's reading");
+      dof_.push_back(static_cast<int>(j->getIndexInSkeleton(0)));
+    }
+  }
+  EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
+    Eigen::VectorXd pos = Eigen::VectorXd::Zero(skel_->getNumDofs()), vel = pos;
+    for (int i = 0; i < m_.n(); ++i) pos[dof_[i]] = q[m_.bodies[i].iq], vel[dof_[i]] = u[m_.bodies[i].iu];
+    skel_->setPositions(pos);
+    skel_->setVelocities(vel);
+    const Eigen::MatrixXd M = skel_->getMassMatrix();
+    const Eigen::VectorXd C = skel_->getCoriolisAndGravityForces();
+    skel_->computeForwardDynamics();
+    const Eigen::VectorXd a = skel_->getAccelerations();
+    EngineEquations e{Eigen::MatrixXd(m_.nu, m_.nu), Eigen::VectorXd(m_.nu), Eigen::VectorXd(m_.nu), 0, 0};
+    for (int i = 0; i < m_.n(); ++i) {
+      const int r = m_.bodies[i].iu;
+      e.B[r] = -C[dof_[i]];
+      e.udot[r] = a[dof_[i]];
+      for (int j = 0; j < m_.n(); ++j) e.A(r, m_.bodies[j].iu) = M(dof_[i], dof_[j]);
+    }
+    e.kinetic = skel_->computeKineticEnergy();
+    e.potential = skel_->computePotentialEnergy();
+    return e;
+  }
+
+ private:
+  static std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+  const Model& m_;
+  dd::SkeletonPtr skel_;
+  std::vector<int> dof_;  // DART index of body i's speed (internal order)
+};
+
+// World::step: DART's semi-implicit Euler (velocities, then positions from
+// them), its springs and dampers implicit over the step.
+class DartStepper : public FixedStepEngine {
+ public:
+  DartStepper(const Model& m, const RunSpec& spec) : m_(m), dart_(m), world_(dart::simulation::World::create()) {
+    world_->setGravity(m.gravity);
+    world_->setTimeStep(spec.dt);
+    world_->addSkeleton(dart_.skeleton());
+    dart_.setState(m.q0().data(), m.u0().data());
+    u_ = m.u0();
+  }
+  std::string step() override {
+    world_->step();
+    ++evaluations_;  // one forward dynamics per step
+    return "";
+  }
+  long evaluations() const override { return evaluations_; }
+  void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override {
+    dart_.getState(q, u);
+    u_ = u;
+  }
+  void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
+    dart_.poses(poses);
+    kinetic = dart_.skeleton()->computeKineticEnergy();
+    potential = dart_.skeleton()->computePotentialEnergy();
+  }
+  void dissipation(double& P, double& Pdot) override {
+    const dd::SkeletonPtr& s = dart_.skeleton();
+    s->computeForwardDynamics();  // u' at the current state (the step's own is of the state before)
+    P = Pdot = 0;
+    for (size_t k = 0; k < s->getNumDofs(); ++k) {
+      const dd::DegreeOfFreedom* f = s->getDof(k);
+      const double c = f->getDampingCoefficient(), v = f->getVelocity();
+      P += c * v * v;
+      Pdot += 2 * c * v * f->getAcceleration();
+    }
+  }
+
+ private:
+  const Model& m_;
+  DartSkeleton dart_;
+  dart::simulation::WorldPtr world_;
+  Eigen::VectorXd u_;
+  long evaluations_ = 0;
+};
+
+// dart-udot: DART's u' (forward dynamics) under the in-house integrators.
+class DartUdot final : public MethodImpl {
+ public:
+  explicit DartUdot(const Model& m) : dart_(m) { dart_.skeleton()->setTimeStep(kStateTimeStep); }
+  bool needsEquations() const override { return false; }
+  bool needsKinematics() const override { return false; }
+  Status rates(double, const double* q, const double* u, const Workspace&, const double*, double* udot, double*,
+               EvalInfo&) override {
+    dart_.setState(q, u);
+    dart_.skeleton()->computeForwardDynamics();
+    dart_.accelerations(u, udot);
+    return {};
+  }
+
+ private:
+  DartSkeleton dart_;
+};
+
+std::unique_ptr<MethodImpl> makeDartUdot(const Model& m, const MethodInfo&, const MethodOptions&) {
+  return std::make_unique<DartUdot>(m);
+}
+
+}  // namespace
+
+EngineRow dartEngine() {
+  return {"dart",
+          "DART 6.12's World::step: its articulated-body dynamics and semi-implicit Euler, springs and dampers implicit, "
+          "fixed step (what Gazebo runs)",
+          {{"dart-euler", true, "DART's semi-implicit Euler (World::step: velocities, then positions from them)", "*"}},
+          "dart-euler",
+          "dart-euler",  // DART has no adaptive scheme
+          HUGE_VAL,
+          "tab:pink",
+          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+            checkRunSpec(spec);
+            QuietDart quiet;
+            DartStepper stepper(m, spec);
+            return runFixedStep(m, spec, stepper, observe);
+          },
+          [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<DartModel>(m); },
+          [](const Model& m, const UrdfSource& source) -> std::unique_ptr<EngineModel> {
+            return std::make_unique<DartUrdfModel>(m, source);
+          },
+          [] { return std::string(DART_VERSION); },
+          nullptr,
+          {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
+                        "formulation apart from its integrator", "#ad4a8c", makeDartUdot}};
+}
+
+}  // namespace em

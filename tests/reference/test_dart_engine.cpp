@@ -1,0 +1,129 @@
+// DART as an engine (reference/dart_engine.cpp): its u' under the in-house
+// rk4 integrates the same ODE as classical rk4, so the two agree to
+// round-off until chaos amplifies it; World::step is first order; on a free
+// body in zero gravity its stepping keeps momenta as measured here (Erez,
+// Tassa and Todorov 2015's test); its energy balance closes on damped scenes.
+#include <catch2/catch.hpp>
+
+#include <tuple>
+
+#include "compare/engines.hpp"
+#include "engines.hpp"
+#include "momenta.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// Largest |q - q'| and |u - u'| over the samples up to t_max.
+double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()) && a.t[k] <= t_max + 1e-12; ++k)
+    d = std::max({d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff(), (a.u[k] - b.u[k]).cwiseAbs().maxCoeff()});
+  return d;
+}
+
+// A free top in zero gravity: full inertia, its joint point off the CM.
+Model freeTop() {
+  SceneSpec s;
+  s.name = "free_top";
+  s.gravity = Vec3::Zero();
+  BodySpec b;
+  b.name = "top";
+  b.parent = "ground";
+  b.mass = 3.0;
+  b.inertia = Vec3(0.3, 0.5, 0.65).asDiagonal();
+  b.inertia(0, 1) = b.inertia(1, 0) = 0.04;
+  b.joint.type = JointType::Free;
+  b.joint.in_parent = Vec3(0.1, 0.2, 0.3);
+  b.joint.in_body = Vec3(0.2, -0.1, 0.3);
+  b.joint.q0.resize(7);
+  b.joint.q0 << 0.1, -0.2, 0.3, 0.9, 0.1, -0.3, 0.2;
+  b.joint.q0.tail<4>().normalize();
+  b.joint.u0.resize(6);
+  b.joint.u0 << 0.3, -0.5, 0.2, 1.5, -2.0, 0.7;
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
+}  // namespace
+
+TEST_CASE("DART's u' under the in-house rk4 agrees with classical rk4 to round-off over the first second", "[crosscheck][dart]") {
+  // The same A and B (crosscheck: 1e-14), the same tableau, the same step:
+  // what differs is round-off, amplified by the motion. Measured over 1 s at
+  // dt 1e-3 on scenes of every joint kind and random trees of every kind: at
+  // most 1.0e-11; 1e-10 leaves room for other machines, 1e4 below a wrong term.
+  std::vector<Model> models;
+  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
+    models.push_back(test::loadData(s));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  const Method udot = test::method("dart-udot");
+  for (const Model& m : models) {
+    const Trajectory in = runMethod(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory dart = runMethod(m, test::runSpec(udot, Integrator::RK4, 1.0, 1e-3));
+    REQUIRE_FALSE(in.failed());
+    REQUIRE_FALSE(dart.failed());
+    INFO(m.name << ": max |dq|, |du| over 1 s " << stateDiff(in, dart, 1.0));
+    CHECK(stateDiff(in, dart, 1.0) <= 1e-10);
+    CHECK(test::maxPoseDiff(in, dart) <= 1e-10);
+  }
+}
+
+TEST_CASE("DART's World::step is first order against the reference", "[dart]") {
+  // Semi-implicit Euler: halving dt halves the error (ratio 2; 1.6 to 2.4
+  // asserted). Measured over 0.5 s on pendulum5: 0.222 rad at 1e-3, 0.112 at
+  // 5e-4 (a chaotic pendulum started fast); 0.5 holds it.
+  for (const char* s : {"pendulum5.json", "floating_arm.json"}) {
+    const Model m = test::loadData(s);
+    const Trajectory ref = runMethod(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    double err[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory d = runMethod(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 0.5, i == 0 ? 1e-3 : 5e-4));
+      REQUIRE_FALSE(d.failed());
+      CHECK(d.rhs_evals == d.steps);  // one forward dynamics per step
+      err[i] = stateDiff(d, ref, 0.5);
+    }
+    INFO(s << ": " << err[0] << " at 1e-3, " << err[1] << " at 5e-4");
+    CHECK(err[0] > 1.6 * err[1]);
+    CHECK(err[0] < 2.4 * err[1]);
+    CHECK(err[0] < 0.5);
+  }
+}
+
+TEST_CASE("DART's World::step on a free body in zero gravity: momenta drift at first order", "[conservation][dart]") {
+  // Erez et al.'s test: p and H about the origin are invariants of the
+  // motion. DART integrates the body-frame spatial velocity at the joint
+  // point by semi-implicit Euler, so neither is kept: measured over 10 s,
+  // |dp|/|p| 2.3e-3 and |dH|/|H| 4.2e-2 at dt 1e-3, both halving with dt
+  // (first order). The in-house rk8pd keeps both to 1e-12 (test_sliding).
+  const Model m = freeTop();
+  double dp[2], dH[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory d = runMethod(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+    REQUIRE_FALSE(d.failed());
+    std::tie(dp[i], dH[i]) = test::momentumDrift(m, d);
+  }
+  INFO("|dp|/|p| " << dp[0] << " -> " << dp[1] << ", |dH|/|H| " << dH[0] << " -> " << dH[1]);
+  CHECK(dp[0] <= 5e-3);
+  CHECK(dH[0] <= 0.1);
+  CHECK(dp[0] > 1.6 * dp[1]);
+  CHECK(dH[0] > 1.6 * dH[1]);
+}
+
+TEST_CASE("DART's World::step closes the energy balance on a damped scene to first order", "[dart]") {
+  // Its springs and dampers are implicit over the step; W_diss is the
+  // harness's fourth-order sum of c u^2. E + W_diss - E(0) is then DART's own
+  // first-order error: measured 5.1e-2 of |E(0)| over 1 s at dt 1e-3, halving with dt.
+  const Model m = test::loadData("spring_damper.json");
+  double balance[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory d = runMethod(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 1.0, i == 0 ? 1e-3 : 5e-4));
+    REQUIRE_FALSE(d.failed());
+    CHECK(d.dissipated.back() > 1);
+    balance[i] = std::abs(d.energy.back() + d.dissipated.back() - d.energy.front()) / std::abs(d.energy.front());
+  }
+  INFO("balance " << balance[0] << " -> " << balance[1]);
+  CHECK(balance[0] <= 0.1);
+  CHECK(balance[0] > 1.6 * balance[1]);
+}
