@@ -66,6 +66,20 @@ void refuseInputs(const std::string& option, const std::string& given, const std
                                  " an input file; refusing to overwrite it");
 }
 
+void refuseCollisions(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  std::vector<fs::path> canonical;
+  for (const auto& [who, path] : outputs) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) p = fs::absolute(path).lexically_normal();
+    for (size_t i = 0; i < canonical.size(); ++i)
+      if (canonical[i] == p)
+        throw std::runtime_error(outputs[i].first + " and " + who + " would both write " + path +
+                                 ": one output would replace the other");
+    canonical.push_back(p);
+  }
+}
+
 void prepareOutput(const std::string& option, const std::string& path, const std::vector<std::string>& inputs,
                    const std::vector<std::string>& derived) {
   std::error_code ec;
@@ -159,6 +173,21 @@ CLI::Validator paramValidator(const MethodParam& p) {
 }
 
 }  // namespace
+
+void refuseUnreadRunOptions(const CLI::App& cmd, const std::vector<Method>& methods, bool adaptive_inhouse) {
+  for (const MethodParam& p : methodParams()) {
+    if (!cmd.count(optionName(p))) continue;
+    std::vector<std::string> takers;
+    for (const MethodInfo& m : methodTable())
+      if (m.takes(p.name)) takers.emplace_back(m.name);
+    bool read = false;
+    for (Method m : methods) read = read || info(m).takes(p.name);
+    if (!read)
+      throw std::invalid_argument(optionName(p) + ": no method of this run takes it (only " + joined(takers) + ")");
+  }
+  if (cmd.count("--no-step-retry") && !adaptive_inhouse)
+    throw std::invalid_argument("--no-step-retry: only an adaptive in-house integrator retries a step, and this run has none");
+}
 
 void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help) {
   cmd->add_option("--t-end", g.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());

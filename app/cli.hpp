@@ -41,6 +41,11 @@ void prepareOutput(const std::string& option, const std::string& path, const std
 /// Throws one line naming `option` (given as `given`) when a file of `written` is one of `inputs`.
 void refuseInputs(const std::string& option, const std::string& given, const std::vector<std::string>& written,
                   const std::vector<std::string>& inputs);
+/// Outputs of one command, each (what names it: an option or an input, its
+/// path): two that are one file, existing or not, are refused in one line
+/// naming both, before any run (one output never overwrites another).
+void refuseCollisions(const std::vector<std::pair<std::string, std::string>>& outputs);
+
 /// The same for a folder that will receive files.
 void prepareFolder(const std::string& option, const std::string& dir);
 
@@ -63,6 +68,11 @@ void addSceneArg(CLI::App* cmd, SceneArg& s);
 /// A step option (`dt_option`) or a tolerance option (`tol_option`) given on
 /// `cmd` that `integrator` does not read is refused in one line, not ignored.
 void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option);
+
+/// Options the runs would not read are refused in one line, not ignored: a
+/// method option (--refine, --block-gap) that none of `methods` takes, and
+/// --no-step-retry when no in-house run of the command is adaptive.
+void refuseUnreadRunOptions(const CLI::App& cmd, const std::vector<Method>& methods, bool adaptive_inhouse);
 
 /// A list option (`option`) that names a value twice is refused in one line:
 /// its rows or reports would repeat or overwrite each other.

@@ -43,6 +43,26 @@ std::vector<std::string> adaptiveNames(Engine e) {
   return names;
 }
 
+// --integrator, --dt and --tol set the in-house methods' runs; a fixed-step
+// engine runs at --dt, and on --integrator where it has that scheme. Given
+// where none of --methods reads them, they are refused, not ignored.
+void refuseUnreadInHouseSettings(const CLI::App& cmd, const CompareOptions& o) {
+  bool inhouse = false, follows_dt = false, follows_scheme = false;
+  for (Method m : o.methods) {
+    const Engine e = info(m).engine;
+    if (e == Engine::InHouse) inhouse = true;
+    else if (followsInHouse(e)) follows_dt = true, follows_scheme = follows_scheme || info(o.inhouse.integrator).runs(e);
+  }
+  if (inhouse) return;
+  const auto refuse = [&](const char* option, const char* what) {
+    if (cmd.count(option))
+      throw std::invalid_argument(std::string(option) + ": " + what + ", and none is among --methods");
+  };
+  refuse("--tol", "it sets the in-house methods' tolerance");
+  if (!follows_dt) refuse("--dt", "it sets the step of the in-house methods and of a fixed-step engine");
+  if (!follows_scheme) refuse("--integrator", "it sets the in-house methods' scheme (and a fixed-step engine's where it has it)");
+}
+
 // The options as given on the command line, resolved against the registry.
 CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
   CompareOptions o = a.opt;
@@ -75,6 +95,12 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
     for (const char* what : {"integrator", "tol"})
       if (const CLI::Option* opt = cmd.get_option_no_throw(engineOption(e, what)); opt && opt->count() && !runs(info(e).method))
         throw std::invalid_argument(opt->get_name() + ": " + engineName(e) + " is not among --methods");
+  refuseUnreadInHouseSettings(cmd, o);
+  const bool inhouse_adaptive = std::any_of(o.methods.begin(), o.methods.end(), [&](Method m) {
+    return info(m).engine == Engine::InHouse && !info(o.inhouse.integrator).fixed_step;
+  });
+  const bool reference_adaptive_inhouse = o.reference.engine() == Engine::InHouse;  // an in-house reference is adaptive
+  refuseUnreadRunOptions(cmd, o.methods, inhouse_adaptive || reference_adaptive_inhouse);
   o.grid = a.run.asked(cmd);
   for (RunSpec* s : o.allSpecs()) a.run.applyTo(*s);
   return o;
@@ -124,7 +150,11 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   const CompareOptions options = resolve(a, cmd);
   if (!a.csv_dir.empty()) {
     prepareFolder("--csv-dir", a.csv_dir);
-    refuseInputs("--csv-dir", a.csv_dir, csvFiles(a.csv_dir, options.methods), inputs);
+    const std::vector<std::string> csvs = csvFiles(a.csv_dir, options.methods);
+    refuseInputs("--csv-dir", a.csv_dir, csvs, inputs);
+    std::vector<std::pair<std::string, std::string>> outputs = {{"--out", out}};
+    for (const std::string& f : csvs) outputs.emplace_back("--csv-dir", f);
+    refuseCollisions(outputs);
   }
   const ComparisonResult r = runComparison(scene, options, progress);
   nlohmann::json gate = nullptr;

@@ -94,7 +94,7 @@ int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
   const std::vector<ExtremeCase> cases = loadCases(a, files);
   nlohmann::json expected;
   if (!a.expect.empty()) {
-    expected = parseJsonStrict(readFile(a.expect, "--expect"));
+    expected = readJsonFile(a.expect, "--expect");
     try {
       validateExpected(expected);
     } catch (const std::invalid_argument& e) {
@@ -107,8 +107,18 @@ int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
   const std::string doc = a.doc.empty() ? (fs::path(a.out_dir) / "extreme.md").string() : a.doc;
   prepareOutput("--out-dir", summary, inputs);
   prepareOutput("--doc", doc, inputs);
+  // A scene given twice, two scenes of one name, --doc onto a report: refused, not overwritten.
+  std::vector<std::pair<std::string, std::string>> outputs = {{"--out-dir", summary}, {"--doc", doc}};
+  for (size_t i = 0; i < files.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (std::error_code ec; fs::equivalent(files[i], files[j], ec))
+        throw std::runtime_error(files[i] + ": listed twice (as " + files[j] + "): its cases would run twice into one report");
+  for (const ExtremeCase& c : cases)
+    for (const ExtremeSetting& s : c.settings) outputs.emplace_back(c.path, extremeReportPath(a.out_dir, c, s));
+  refuseCollisions(outputs);
   ExtremeOptions opt;
   for (const std::string& m : a.methods) opt.methods.push_back(parseMethod(m));
+  refuseUnreadRunOptions(cmd, opt.methods, true);  // the gallery's settings include adaptive ones
   opt.grid = a.run.asked(cmd);
   a.run.applyTo(opt.options);
   opt.out_dir = a.out_dir;

@@ -89,7 +89,7 @@ void checkResults(const std::string& dir) {
 void checkTrajectory(const std::string& csv) {
   const std::string meta = csv + ".json";
   if (!fs::exists(meta)) throw std::runtime_error(csv + ": no sidecar " + meta + " (the run that made it)");
-  if (formatOf(parseJsonStrict(readFile(meta, "trajectory metadata"))) != "eigenmass-trajectory-meta/1")
+  if (formatOf(readJsonFile(meta, "trajectory metadata")) != "eigenmass-trajectory-meta/1")
     throw std::runtime_error(meta + ": not a trajectory's sidecar (key 'format' is not 'eigenmass-trajectory-meta/1')");
 }
 
@@ -105,7 +105,7 @@ std::string kindOf(PlotArgs& a) {
     checkTrajectory(a.input);
     return "trajectory";
   }
-  const nlohmann::json j = parseJsonStrict(readFile(a.input, "report"));
+  const nlohmann::json j = readJsonFile(a.input, "report");
   const std::string format = formatOf(j);
   if (format == "eigenmass-report/1" && j.contains("series")) return "report";
   if (format == "eigenmass-report/1") throw std::runtime_error(a.input + ": key 'series' not found (a report without its series)");

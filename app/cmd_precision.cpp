@@ -31,6 +31,7 @@ int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
   o.integrator = parseIntegrator(a.integrator);
+  refuseUnreadRunOptions(cmd, o.methods, !info(o.integrator).fixed_step);
   o.grid = a.run.asked(cmd);
   const PrecisionResult r = runPrecision(scene, o, progress);
   writeJsonAtomic(precisionJson(r), path);

@@ -44,6 +44,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
   refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
+  refuseUnreadRunOptions(cmd, {s.method}, s.engine() == Engine::InHouse && !s.fixedStep());
   const RunSpec spec = onGrid(s, scene, a.run.asked(cmd));
   try {  // here, to name the option: the run checks it again
     checkRunSpec(spec);

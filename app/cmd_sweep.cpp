@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "app/cli.hpp"
+#include "io/json_input.hpp"
 #include "sweep/sweep.hpp"
 
 namespace em::cli {
@@ -47,6 +48,11 @@ int runOneCase(const Plan& plan, const std::string& name, const std::string& dir
 }
 
 int runSweepCommand(const SweepArgs& a) {
+  if (a.list)  // one case, one line: a runner (GNU parallel, a Slurm array) splits at newlines
+    for (const auto& [option, path] : {std::pair<const char*, std::string>{"the plan's path", a.plan}, {"--results", a.results}})
+      if (path.find_first_of("\n\r") != std::string::npos)
+        throw std::invalid_argument(std::string(option) + " " + printable(path) + ": holds a line break, which would split "
+                                    "each case's command over two lines of --list; rename it");
   const Plan plan = loadPlan(a.plan);
   if (a.list + !a.merge.empty() + !a.one_case.empty() > 1)
     throw std::invalid_argument("--list, --merge and --case: give at most one");

@@ -27,6 +27,7 @@
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor_ops.hpp"
 #include "compare/crosscheck.hpp"
+#include "reference/engine.hpp"
 #include "reference/mujoco_peer.hpp"
 
 using namespace em;
@@ -82,6 +83,10 @@ struct Row {
   double mujoco_A_err = 0, mujoco_B_err = 0;  ///< max |diff| / max |in-house| at the initial state
   double articulated_err = 0;  ///< articulated's u' vs classical's, max |diff| / max |classical|
   double cond_A = 0;           ///< cond(A) at the initial state
+  /// Every engine's u' as a method under the in-house integrators (dart-udot),
+  /// one right-hand-side evaluation each, and its u' against classical's.
+  std::vector<std::pair<std::string, Timing>> engine_udot;
+  std::vector<double> engine_udot_err;
 };
 
 Row measure(int n);
@@ -105,6 +110,7 @@ nlohmann::json toJson(const std::vector<Row>& rows, int threads);
 
 int main(int argc, char** argv) {
   setCommandLine(argc, argv);
+  useEngines();
   std::vector<int> sizes = {5, 10, 20, 50, 100};
   std::string out;
   CLI::App app{"Times one right-hand-side evaluation per method against Simbody's realize(Acceleration) and MuJoCo's mj_forward",
@@ -145,6 +151,12 @@ int main(int argc, char** argv) {
                      n, rows.back().mujoco_A_err, rows.back().mujoco_B_err);
         return 1;
       }
+      for (size_t k = 0; k < rows.back().engine_udot.size(); ++k)
+        if (rows.back().engine_udot_err[k] > 1e-12 * rows.back().cond_A) {  // another formulation: ~eps cond(A) too
+          std::fprintf(stderr, "eigenmass_bench: %s's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n",
+                       rows.back().engine_udot[k].first.c_str(), n, rows.back().engine_udot_err[k], rows.back().cond_A);
+          return 1;
+        }
       if (rows.back().articulated_err > 1e-12 * rows.back().cond_A) {  // both solves err by ~eps cond(A)
         std::fprintf(stderr, "eigenmass_bench: articulated's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n", n,
                      rows.back().articulated_err, rows.back().cond_A);
@@ -216,6 +228,13 @@ Row measure(int n) {
   r.simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
   classical.rhs(0, yc.data(), dc.data());
   measureMujoco(m, classical.workspace(), r);
+  for (const EngineRow& row : engineRows()) {  // engines' u' under the in-house integrators
+    if (!row.udot_method.name) continue;
+    Dynamics other(m, parseMethod(row.udot_method.name));
+    Eigen::VectorXd y = other.initialState(m.q0(), m.u0()), d(y.size());
+    r.engine_udot.emplace_back(row.udot_method.name, secondsPerCall([&] { other.rhs(0, y.data(), d.data()); }));
+    r.engine_udot_err.push_back(relativeDifference(d.segment(m.nq, m.nu), dc.segment(m.nq, m.nu)));
+  }
   const Eigen::MatrixXd X = Eigen::MatrixXd::Random(r.N, r.N), Y = Eigen::MatrixXd::Random(r.N, r.N);
   Eigen::MatrixXd Z(r.N, r.N);
   r.gemm = secondsPerCall([&] { Z.noalias() = X * Y; });
@@ -246,6 +265,20 @@ void printTable(const std::vector<Row>& rows) {
                 us * r.jacobi.median, us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median,
                 r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm, 1e-9 * rate_gemm);
   }
+  if (!rows.empty() && !rows.front().engine_udot.empty()) {
+    std::printf("\nEngines' u' under the in-house integrators, microseconds per evaluation (their u' against classical's):\n\n| n |");
+    for (const auto& [name, t] : rows.front().engine_udot) std::printf(" %s | / classical | u' diff |", name.c_str());
+    std::printf("\n|---:|");
+    for (size_t k = 0; k < rows.front().engine_udot.size(); ++k) std::printf("---:|---:|---:|");
+    std::printf("\n");
+    for (const Row& r : rows) {
+      std::printf("| %d |", r.n);
+      for (size_t k = 0; k < r.engine_udot.size(); ++k)
+        std::printf(" %.2f | %.2f | %.1e |", 1e6 * r.engine_udot[k].second.median, r.engine_udot[k].second.median / r.classical.median,
+                    r.engine_udot_err[k]);
+      std::printf("\n");
+    }
+  }
   for (const Row& r : rows)
     if (r.has_mujoco)
       std::printf("%schain %d: MuJoCo vs in-house at the initial state, A %.1e, B %.1e (max |diff| / max |in-house|)",
@@ -269,6 +302,7 @@ nlohmann::json toJson(const std::vector<Row>& rows, int threads) {
       results.push_back(timingJson(name, r.n, *t, threads));
     results.push_back(timingJson("simbody", r.n, r.simbody, 1));
     if (r.has_mujoco) results.push_back(timingJson("mujoco", r.n, r.mujoco, 1));
+    for (const auto& [name, t] : r.engine_udot) results.push_back(timingJson(name.c_str(), r.n, t, 1));
   }
   return {{"machine", provenance()}, {"results", results}};
 }

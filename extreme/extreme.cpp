@@ -204,12 +204,16 @@ ExtremeCaseResult runExtremeCase(const ExtremeCase& c, const ExtremeOptions& opt
     if (progress) progress(out.name + " under " + s.label());
     const ComparisonResult r = runComparison(c.scene, optionsFor(c, s, opt), reference, progress);
     ExtremeRun run = summarizeRun(r, s);
-    run.report = (std::filesystem::path(opt.out_dir) / (out.name + "." + integratorName(s.integrator) + "-" + gnum(s.value) +
-                                                    ".report.json")).string();
+    run.report = extremeReportPath(opt.out_dir, c, s);
     writeJsonAtomic(makeReport(r), run.report);
     out.runs.push_back(std::move(run));
   }
   return out;
+}
+
+std::string extremeReportPath(const std::string& out_dir, const ExtremeCase& c, const ExtremeSetting& s) {
+  const std::string name = c.scene.model.name + "." + integratorName(s.integrator) + "-" + gnum(s.value) + ".report.json";
+  return (std::filesystem::path(out_dir) / name).string();
 }
 
 }  // namespace em

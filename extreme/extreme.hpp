@@ -95,6 +95,8 @@ void checkExtremeCase(const ExtremeCase& c, const ExtremeOptions& opt);
 /// Run one case under each of its settings, writing each full report into
 /// opt.out_dir. `progress` may be null.
 ExtremeCaseResult runExtremeCase(const ExtremeCase& c, const ExtremeOptions& opt, void (*progress)(const std::string&));
+/// The report runExtremeCase writes for case `c` under setting `s` into `out_dir`.
+std::string extremeReportPath(const std::string& out_dir, const ExtremeCase& c, const ExtremeSetting& s);
 
 /// The summary `eigenmass-extreme/1` (docs/report-format.md).
 nlohmann::json extremeJson(const std::vector<ExtremeCaseResult>& cases);

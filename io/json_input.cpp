@@ -86,6 +86,15 @@ json parseJsonStrict(const std::string& text) {
   return doc;
 }
 
+json readJsonFile(const std::string& path, const std::string& what) {
+  const std::string text = readFile(path, what);
+  try {
+    return parseJsonStrict(text);
+  } catch (const InputError& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
 std::string readFile(const std::string& path, const std::string& what) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a folder, not a " + what);

@@ -27,6 +27,10 @@ inline constexpr size_t kMaxInputBytes = size_t(256) << 20;
 /// ...", "is a folder", "larger than 256 MiB") in one line.
 std::string readFile(const std::string& path, const std::string& what);
 
+/// readFile, then parseJsonStrict; a syntax error names the file:
+/// "x.report.json: (document): invalid JSON at line 3, column 1".
+nlohmann::json readJsonFile(const std::string& path, const std::string& what);
+
 /// `text` safe for a one-line message: control and non-ASCII bytes escaped
 /// (\n, \x1b), and cut to `max_chars` with the full length said.
 std::string printable(const std::string& text, size_t max_chars = 80);

@@ -63,13 +63,14 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
   return key;
 }
 
-json readJsonFile(const std::string& path) { return parseJsonStrict(readFile(path, "case result")); }
+// A case result file (its syntax errors name it).
+json readCaseFile(const std::string& path) { return readJsonFile(path, "case result"); }
 
 // The file exists: it must have the key; throws naming it otherwise.
 void checkKey(const std::string& path, const json& key) {
   json doc;
   try {
-    doc = readJsonFile(path);
+    doc = readCaseFile(path);
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": unreadable case result (" + e.what() + "); remove it to run the case again");
   }
@@ -85,7 +86,7 @@ Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scen
   const std::string path = caseFile(dir, r);
   if (!fs::exists(path)) runCase(plan, r, dir);
   checkKey(path, caseKey(plan, r, scene.source.sha256));
-  return trajectoryFromJson(readJsonFile(path).at("trajectory"), r.spec, path);
+  return trajectoryFromJson(readCaseFile(path).at("trajectory"), r.spec, path);
 }
 
 CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
@@ -260,7 +261,7 @@ std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus)
     return c.name + " could not be run: its worker was killed by signal " + std::to_string(WTERMSIG(wstatus)) + " (" +
            strsignal(WTERMSIG(wstatus)) + ")";
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (its error above)";
-  const CaseRecord r = readCaseRecord(readJsonFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
+  const CaseRecord r = readCaseRecord(readCaseFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
   if (r.status == "ok") return "";
   return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";
 }

@@ -233,6 +233,20 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --reference-tol 1", "--reference-tol: simbody's tolerance must be < 1, got 1"},
       {"simulate " + s + " --method simbody --tol 2", "--tol: simbody's tolerance must be < 1, got 2"},
       {"precision " + s + " --reference-tol 5", "--reference-tol: simbody's tolerance must be < 1, got 5"},
+      // Issue 42, bug 7: an option none of the runs would read is refused, not ignored.
+      {"compare " + s + " --methods simbody --dt 1e-3", "--dt: it sets the step of the in-house methods and of a fixed-step engine, and none is among --methods"},
+      {"compare " + s + " --methods simbody --integrator rk8pd", "--integrator: it sets the in-house methods' scheme"},
+      {"compare " + s + " --methods mujoco --tol 1e-6", "--tol: it sets the in-house methods' tolerance, and none is among --methods"},
+      {"compare " + s + " --methods mujoco --mujoco-integrator implicit --tol 1e-6", "--tol: it sets the in-house methods' tolerance"},
+      {"compare " + s + " --methods mujoco --integrator rk8pd", "--integrator: it sets the in-house methods' scheme"},
+      {"simulate " + s + " --method classical --refine 2", "--refine: no method of this run takes it (only eigen, eigen-jacobi"},
+      {"simulate " + s + " --method simbody --refine 1", "--refine: no method of this run takes it"},
+      {"simulate " + s + " --method eigen --block-gap 0.1", "--block-gap: no method of this run takes it (only eigen-block, eigen-block-jacobi)"},
+      {"compare " + s + " --methods classical,mujoco --block-gap 0.5", "--block-gap: no method of this run takes it"},
+      {"precision " + s + " --methods classical --refine 3", "--refine: no method of this run takes it"},
+      {"simulate " + s + " --method classical --no-step-retry", "--no-step-retry: only an adaptive in-house integrator retries a step"},
+      {"simulate " + s + " --method mujoco --no-step-retry", "--no-step-retry: only an adaptive in-house integrator retries a step"},
+      {"compare " + s + " --methods classical,mujoco --no-step-retry", "--no-step-retry: only an adaptive in-house integrator"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {
@@ -361,6 +375,88 @@ TEST_CASE("the benchmark's table lost on a full standard output is an error, not
   const Run r = tool("eigenmass_bench", "1", false, "/dev/full");
   CHECK(r.status == 2);
   CHECK(r.out == "eigenmass_bench: error: standard output: write failed (full or closed)\n");
+}
+
+TEST_CASE("one output never overwrites another of the same command", "[cli][hostile]") {
+  // Issue 42, bug 2: each variant ended in exit 0 with one file lost.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_collide";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string s = scene("chain01.json"), d = dir.string();
+  const std::string twin = d + "/twin.json";  // another file, the same scene name
+  fs::copy_file(s, twin);
+  const std::string thin = scene("extreme/thin_rods.json");
+  const std::pair<std::string, std::string> cases[] = {
+      {"compare " + s + " --t-end 0.1 --methods classical --csv-dir " + d + "/cd2 --out " + d + "/cd2/classical.csv",
+       "--out and --csv-dir would both write " + d + "/cd2/classical.csv"},
+      {"compare " + s + " --t-end 0.1 --methods classical --csv-dir " + d + "/cd3 --out " + d + "/cd3/reference.csv.json",
+       "would both write " + d + "/cd3/reference.csv.json"},
+      {"extreme " + thin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex3 --doc " + d + "/ex3/extreme.json",
+       "--out-dir and --doc would both write " + d + "/ex3/extreme.json"},
+      {"extreme " + thin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex4 --doc " + d + "/ex4/thin_rods.rk4-0.001.report.json",
+       "--doc and " + thin + " would both write"},
+      {"extreme " + s + " " + twin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex5",
+       s + " and " + twin + " would both write " + d + "/ex5/chain01.rk4-0.001.report.json"},
+      {"extreme " + thin + " " + thin + " --t-end 0.01 --out-dir " + d + "/ex6", thin + ": listed twice"},
+  };
+  for (const auto& [args, phrase] : cases) {
+    const Run r = eigenmass(args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK_THAT(r.out, Catch::Contains(phrase));
+    CHECK(r.out.find("running") == std::string::npos);  // before any run
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sweep --list refuses a path with a line break: each case stays one line", "[cli][hostile][sweep]") {
+  // Issue 42, bug 8: parallel and a Slurm array count ran half-cases.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_list_nl";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "a\nb");
+  const std::string plan = std::string(EM_SOURCE_DIR) + "/data/plans/order-check.json";
+  const std::string odd = (dir / "a\nb").string();
+  fs::copy_file(plan, odd + "/plan.json");
+  for (const std::string& args : {"sweep " + plan + " --list --results '" + odd + "/r'", "sweep '" + odd + "/plan.json' --list"}) {
+    const Run r = eigenmass(args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK_THAT(r.out, Catch::Contains("holds a line break"));
+    CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a JSON syntax error names the file it is in", "[cli][hostile]") {
+  // Issue 42, bug 5: plot and extreme --expect said "(document): invalid JSON" without the file.
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_json";
+  std::filesystem::create_directories(dir);
+  const std::string zero = dir + "/zero.json", trunc = dir + "/trunc.report.json";
+  std::ofstream(zero) << "";
+  std::ofstream(trunc) << "{\"format\": \"eigenmass-report/1\", \"scene\": {";
+  for (const std::string& args : {"plot " + zero, "plot " + trunc,
+                                  "extreme " + scene("extreme/thin_rods.json") + " --t-end 0.01 --expect " + trunc}) {
+    const Run r = eigenmass(args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    const std::string file = args.find("zero") != std::string::npos ? zero : trunc;
+    CHECK_THAT(r.out, Catch::Contains(file + ": (document): invalid JSON at line 1"));
+    CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  }
+}
+
+TEST_CASE("options some listed method reads are taken: the refusals of unread ones leave them alone", "[cli][hostile]") {
+  const std::string s = scene("chain02.json"), out = " --t-end 0.05 --out " + std::string(EM_BINARY_DIR) + "/cli_read.json";
+  for (const char* args : {" --methods mujoco --dt 5e-3", " --methods mujoco --integrator rk4", " --methods eigen,mujoco --refine 1",
+                           " --methods classical --tol 1e-8 --no-step-retry", " --methods eigen-block --block-gap 0.1",
+                           " --methods simbody --reference classical --no-step-retry"}) {
+    const Run r = eigenmass("compare " + s + out + args, true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 0);
+  }
+  CHECK(eigenmass("simulate " + s + " --method eigen --refine 1 --t-end 0.05 --out " + std::string(EM_BINARY_DIR) + "/cli_read.csv").status == 0);
 }
 
 TEST_CASE("compare takes --dt with rk4 and --tol with an adaptive integrator with Simbody and MuJoCo beside them", "[cli]") {
