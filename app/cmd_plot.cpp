@@ -4,10 +4,12 @@
 // tools/plot.py draws with Debian's python3-matplotlib into a temporary folder,
 // and each figure is then moved into --out by writeAtomic (the rules of every
 // output: never an input, a device written into, a link followed, never half a file).
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -45,6 +47,10 @@ int runProgram(const std::vector<std::string>& argv, bool quiet) {
   const pid_t pid = fork();
   if (pid < 0) return -1;
   if (pid == 0) {
+    // The child ends with its parent (SIGTERM; plot.py then removes its scratch
+    // folder): an interrupted plot leaves no orphan drawing into /tmp.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() == 1) _exit(143);  // the parent died before prctl
     std::FILE* null = std::fopen("/dev/null", "w");
     if (null) {
       dup2(fileno(null), 1);
@@ -88,7 +94,12 @@ void checkResults(const std::string& dir) {
 // A trajectory CSV (simulate --out) is drawn with its sidecar, which says how it was made.
 void checkTrajectory(const std::string& csv) {
   const std::string meta = csv + ".json";
+  if (!fs::exists(csv)) throw std::runtime_error(csv + ": no such trajectory (its sidecar " + meta + " names it)");
   if (!fs::exists(meta)) throw std::runtime_error(csv + ": no sidecar " + meta + " (the run that made it)");
+  const std::string text = readFile(csv, "trajectory");
+  const size_t header_end = text.find('\n');
+  if (header_end == std::string::npos || text.find_first_not_of("\n", header_end) == std::string::npos)
+    throw std::runtime_error(csv + ": no sample (a trajectory CSV has a header line and a line per sample)");
   if (formatOf(readJsonFile(meta, "trajectory metadata")) != "eigenmass-trajectory-meta/1")
     throw std::runtime_error(meta + ": not a trajectory's sidecar (key 'format' is not 'eigenmass-trajectory-meta/1')");
 }
@@ -158,12 +169,32 @@ std::string figureStyle() {
   return nlohmann::json{{"colours", colours}, {"markers", markers}}.dump();
 }
 
+// --csv-dir must hold this report's runs: read only where the report keeps no
+// coordinate series, and refused when its reference is another run's.
+void checkCsvDir(const std::string& report, const std::string& dir) {
+  const nlohmann::json rep = readJsonFile(report, "report");
+  if (rep["series"].contains("coordinate"))
+    throw std::invalid_argument("--csv-dir: " + report + " keeps its coordinate series; the folder would not be read");
+  const std::string csv = (fs::path(dir) / "reference.csv").string();
+  if (!fs::exists(csv)) throw std::runtime_error("--csv-dir " + dir + ": no reference.csv (the folder compare --csv-dir wrote)");
+  const nlohmann::json meta = readJsonFile(csv + ".json", "trajectory metadata");
+  const nlohmann::json& ref = rep["reference"];
+  const auto differs = [&](const char* key, const nlohmann::json& mine) { return !meta.contains(key) || meta[key] != mine; };
+  for (const auto& [key, mine] : {std::pair<const char*, nlohmann::json>{"scene", rep["scene"]["name"]},
+                                  {"method", ref["method"]}, {"integrator", ref["integrator"]},
+                                  {"tolerance", ref["tolerance"]}, {"t_end", rep["options"]["t_end"]},
+                                  {"output_dt", rep["options"]["output_dt"]}})
+    if (differs(key, mine))
+      throw std::invalid_argument("--csv-dir " + dir + ": another run's trajectories (reference.csv.json's " + key + " is " +
+                                  printable(meta.value(key, nlohmann::json()).dump(), 40) + ", the report's " +
+                                  printable(mine.dump(), 40) + ")");
+}
+
 int runPlot(PlotArgs a) {
   const std::string kind = kindOf(a);
   if (!a.csv_dir.empty()) {
     if (kind != "report") throw std::invalid_argument("--csv-dir: only a compare report's trajectories are drawn from it");
-    if (!fs::exists(fs::path(a.csv_dir) / "reference.csv"))
-      throw std::runtime_error("--csv-dir " + a.csv_dir + ": no reference.csv (the folder compare --csv-dir wrote)");
+    checkCsvDir(a.input, a.csv_dir);
   }
   if (a.out.empty()) a.out = defaultOut(a.input, kind);
   prepareFolder("--out", a.out);

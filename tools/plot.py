@@ -28,7 +28,7 @@ each file written, one per line. An input of the right format but not of its
 shape exits 2 with its one-line reason in OUT/error.txt. Needs Debian's
 python3-matplotlib.
 """
-import argparse, csv, glob, json, math, os, sys
+import argparse, csv, glob, json, math, os, shutil, signal, sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -590,16 +590,27 @@ def main():
     ap.add_argument("--csv-dir")
     ap.add_argument("--style", default="{}", help="JSON {colours: {method: colour}, markers: {integrator: marker}}")
     a = ap.parse_args()
+    # Ended with eigenmass (SIGTERM on its death, SIGINT from the terminal):
+    # the scratch folder goes with it.
+    for sig, code in ((signal.SIGTERM, 143), (signal.SIGINT, 130)):
+        signal.signal(sig, lambda *_, code=code: (shutil.rmtree(a.out, ignore_errors=True), os._exit(code)))
     FORMAT[0] = a.format
     style = json.loads(a.style)
     COLORS.update(style.get("colours", {}))
     MARKERS.update(style.get("markers", {}))
     try:
         draw(a)
-    except (KeyError, IndexError, TypeError, ValueError, AttributeError) as e:
-        # A file of the right format but not of its shape: one line for eigenmass to print (exit 2).
+    except Exception as e:  # noqa: BLE001 - every failure is one line for eigenmass to print (exit 2)
+        # A file of the right format but not of its shape, a file missing or empty.
         with open(os.path.join(a.out, "error.txt"), "w") as f:
-            what = "key %s not found" % e if isinstance(e, KeyError) else "%s: %s" % (type(e).__name__, e)
+            if isinstance(e, KeyError):
+                what = "key %s not found" % e
+            elif isinstance(e, OSError) and e.filename:
+                what = "%s: %s" % (e.filename, e.strerror)
+            elif isinstance(e, StopIteration):
+                what = "a file with no line"
+            else:
+                what = "%s: %s" % (type(e).__name__, e)
             f.write("%s: %s (not the shape of %s; nothing drawn)" % (a.input, what[:200].replace("\n", " "), KINDS[a.kind]))
         sys.exit(2)
     for w in WRITTEN:

@@ -761,3 +761,65 @@ TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib nam
   CHECK(err(expected + " --csv-dir /tmp").first == 2);
   CHECK(std::count(sc.second.begin(), sc.second.end(), '\n') == 1);
 }
+
+TEST_CASE("plot draws a CSV folder only with its own report, and a missing or empty trajectory is one line", "[cli][hostile][plot]") {
+  // Issue 42, bugs 3 and 4: another run's angle under this report's title; Python tracebacks.
+  namespace fs = std::filesystem;
+  const fs::path dir = freshDir("eigenmass_test_plot_csv");
+  const std::string d = dir.string();
+  REQUIRE(eigenmass("compare " + scene("chain01.json") + " --t-end 0.2 --methods classical --out " + d + "/a.report.json --csv-dir " + d + "/a").status == 0);
+  REQUIRE(eigenmass("compare " + scene("chain02.json") + " --t-end 0.2 --methods classical --out " + d + "/b.report.json --csv-dir " + d + "/b").status == 0);
+  // A report that keeps its coordinate series does not read a CSV folder: refused, not ignored.
+  auto r = eigenmass("plot " + d + "/a.report.json --csv-dir " + d + "/a --out " + d + "/f", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("keeps its coordinate series"));
+  // An older report (no coordinate series): its own folder is drawn, another run's refused.
+  auto old_report = nlohmann::json::parse(slurp(d + "/a.report.json"));
+  old_report["series"].erase("coordinate");
+  std::ofstream(d + "/old.report.json") << old_report.dump();
+  r = eigenmass("plot " + d + "/old.report.json --csv-dir " + d + "/b --out " + d + "/f", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--csv-dir " + d + "/b: another run's trajectories (reference.csv.json's scene is \"chain02\""));
+  CHECK(eigenmass("plot " + d + "/old.report.json --csv-dir " + d + "/a --out " + d + "/f").status == 0);
+  // A sidecar whose CSV is gone, and an empty CSV beside a valid sidecar.
+  REQUIRE(eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + d + "/s.csv").status == 0);
+  fs::copy_file(d + "/s.csv.json", d + "/gone.csv.json");
+  fs::copy_file(d + "/s.csv.json", d + "/empty.csv.json");
+  std::ofstream(d + "/empty.csv") << "";
+  for (const auto& [args, phrase] : {std::pair<std::string, std::string>{d + "/gone.csv.json", "gone.csv: no such trajectory"},
+                                     {d + "/empty.csv", "empty.csv: no sample"}}) {
+    r = eigenmass("plot " + args + " --out " + d + "/f", true);
+    INFO(args << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK_THAT(r.out, Catch::Contains(phrase));
+    CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("an interrupted plot leaves no drawing child and no scratch folder", "[cli][hostile][plot]") {
+  // Issue 42, bug 6: SIGINT or SIGTERM to eigenmass plot left its Python child
+  // running and /tmp/eigenmass-plot-* holding its figures. The child now ends
+  // with its parent and removes its folder.
+  namespace fs = std::filesystem;
+  const fs::path dir = freshDir("eigenmass_test_plot_sigint");
+  const std::string report = (dir / "sig.report.json").string();
+  REQUIRE(eigenmass("compare " + scene("pendulum5.json") + " --t-end 2 --out " + report).status == 0);
+  for (const char* sig : {"INT", "TERM"}) {
+    const std::string cmd = std::string("(") + EM_BINARY_DIR + "/bin/eigenmass plot " + report + " --format pdf --out " +
+                            (dir / "f").string() + " & p=$!; sleep 0.8; kill -" + sig + " $p; wait $p; sleep 0.5; " +
+                            "pgrep -f '[p]lot.py report " + report + "' | wc -l)";  // [p]: not the shell's own line
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[64] = "";
+    const bool read = std::fgets(buf, sizeof buf, p) != nullptr;
+    pclose(p);
+    INFO(sig);
+    REQUIRE(read);
+    CHECK(std::string(buf) == "0\n");  // no child drawing on
+  }
+  // No scratch folder of this report's: the child removed its own.
+  for (const auto& e : fs::directory_iterator("/tmp"))
+    if (e.path().filename().string().rfind("eigenmass-plot-", 0) == 0)
+      for (const auto& f : fs::directory_iterator(e.path())) CHECK(f.path().filename().string().rfind("sig-", 0) != 0);
+  fs::remove_all(dir);
+}
