@@ -53,6 +53,20 @@ namespace dd = dart::dynamics;
 // pendulum at 16 m/s^2), and u' is the explicit one the other engines give.
 constexpr double kStateTimeStep = 1e-15;
 
+// Eigen objects are never passed by value out of libdart: a dynamic vector
+// allocated there (its Eigen takes glibc's malloc as aligned) and freed here
+// mismatches under ASan, where Eigen allocates with its own alignment header.
+// DART's state is read one degree of freedom at a time, into our vectors.  // x: (dofs)
+void readPositions(const dd::Skeleton& s, Eigen::VectorXd& x) {
+  for (size_t k = 0; k < s.getNumDofs(); ++k) x[k] = s.getPosition(k);
+}
+void readVelocities(const dd::Skeleton& s, Eigen::VectorXd& x) {
+  for (size_t k = 0; k < s.getNumDofs(); ++k) x[k] = s.getVelocity(k);
+}
+void readAccelerations(const dd::Skeleton& s, Eigen::VectorXd& x) {
+  for (size_t k = 0; k < s.getNumDofs(); ++k) x[k] = s.getAcceleration(k);
+}
+
 // DART writes its warnings to std::cout and std::cerr: none may reach
 // eigenmass's output. Both are held while DART works; what it said is kept.
 class QuietDart {
@@ -133,6 +147,7 @@ class DartSkeleton {
     skel_->setGravity(m.gravity);
     pos_.resize(m.nu);
     vel_.resize(m.nu);
+    accel_.resize(m.nu);
   }
 
   const dd::SkeletonPtr& skeleton() const { return skel_; }
@@ -168,8 +183,10 @@ class DartSkeleton {
   }
 
   // DART's state as our (q, u), internal order.
-  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
-    const Eigen::VectorXd pos = skel_->getPositions(), vel = skel_->getVelocities();
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) {
+    readPositions(*skel_, pos_);
+    readVelocities(*skel_, vel_);
+    const Eigen::VectorXd &pos = pos_, &vel = vel_;
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
@@ -196,8 +213,9 @@ class DartSkeleton {
   }
 
   // Our u' from DART's accelerations at the state last set (u: ours there).  // udot: (nu)
-  void accelerations(const double* u, double* udot) const {
-    const Eigen::VectorXd& a = skel_->getAccelerations();
+  void accelerations(const double* u, double* udot) {
+    readAccelerations(*skel_, accel_);
+    const Eigen::VectorXd& a = accel_;
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
@@ -258,6 +276,7 @@ class DartSkeleton {
   std::vector<dd::BodyNode*> nodes_;  // internal order
   std::vector<int> dof_;              // DART index of body i's first speed
   Eigen::VectorXd pos_, vel_;         // (nu): DART's positions and speeds (nq_D = nu)
+  Eigen::VectorXd accel_;             // (nu): DART's accelerations, read by accelerations()
 };
 
 // DART's equations at any state: its mass matrix, its C + g, its joint
@@ -334,7 +353,8 @@ class DartUrdfModel : public EngineModel {
     const Eigen::MatrixXd M = skel_->getMassMatrix();
     const Eigen::VectorXd C = skel_->getCoriolisAndGravityForces();
     skel_->computeForwardDynamics();
-    const Eigen::VectorXd a = skel_->getAccelerations();
+    Eigen::VectorXd a(skel_->getNumDofs());
+    readAccelerations(*skel_, a);
     EngineEquations e{Eigen::MatrixXd(m_.nu, m_.nu), Eigen::VectorXd(m_.nu), Eigen::VectorXd(m_.nu), 0, 0};
     for (int i = 0; i < m_.n(); ++i) {
       const int r = m_.bodies[i].iu;

@@ -1,5 +1,6 @@
 #pragma once
 // Shared helpers of the tests: data paths, run settings, relative errors, random states.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -123,6 +124,14 @@ inline double udotTolerance(const Eigen::MatrixXd& A, double floor = 1e-12) {
 }
 
 /// Largest CM distance (m) or rotation angle (rad) between two runs' body poses, over their common samples.
+/// Largest |q - q'| and |u - u'| over the samples of two runs up to t_max.
+inline double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
+  double d = 0;
+  for (size_t k = 0; k < std::min(a.size(), b.size()) && a.t[k] <= t_max + 1e-12; ++k)
+    d = std::max({d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff(), (a.u[k] - b.u[k]).cwiseAbs().maxCoeff()});
+  return d;
+}
+
 inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
   double d = 0;
   for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)

@@ -16,14 +16,6 @@ using namespace em;
 
 namespace {
 
-// Largest |q - q'| and |u - u'| over the samples up to t_max.
-double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
-  double d = 0;
-  for (size_t k = 0; k < std::min(a.size(), b.size()) && a.t[k] <= t_max + 1e-12; ++k)
-    d = std::max({d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff(), (a.u[k] - b.u[k]).cwiseAbs().maxCoeff()});
-  return d;
-}
-
 // A free top in zero gravity: full inertia, its joint point off the CM.
 Model freeTop() {
   SceneSpec s;
@@ -64,8 +56,8 @@ TEST_CASE("DART's u' under the in-house rk4 agrees with classical rk4 to round-o
     const Trajectory dart = runMethod(m, test::runSpec(udot, Integrator::RK4, 1.0, 1e-3));
     REQUIRE_FALSE(in.failed());
     REQUIRE_FALSE(dart.failed());
-    INFO(m.name << ": max |dq|, |du| over 1 s " << stateDiff(in, dart, 1.0));
-    CHECK(stateDiff(in, dart, 1.0) <= 1e-10);
+    INFO(m.name << ": max |dq|, |du| over 1 s " << test::stateDiff(in, dart, 1.0));
+    CHECK(test::stateDiff(in, dart, 1.0) <= 1e-10);
     CHECK(test::maxPoseDiff(in, dart) <= 1e-10);
   }
 }
@@ -82,7 +74,7 @@ TEST_CASE("DART's World::step is first order against the reference", "[dart]") {
       const Trajectory d = runMethod(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 0.5, i == 0 ? 1e-3 : 5e-4));
       REQUIRE_FALSE(d.failed());
       CHECK(d.rhs_evals == d.steps);  // one forward dynamics per step
-      err[i] = stateDiff(d, ref, 0.5);
+      err[i] = test::stateDiff(d, ref, 0.5);
     }
     INFO(s << ": " << err[0] << " at 1e-3, " << err[1] << " at 5e-4");
     CHECK(err[0] > 1.6 * err[1]);

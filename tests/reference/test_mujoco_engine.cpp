@@ -14,18 +14,6 @@
 
 using namespace em;
 
-namespace {
-
-// Largest |q - q'| and |u - u'| over the samples up to t_max.
-double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
-  double d = 0;
-  for (size_t k = 0; k < std::min(a.size(), b.size()) && a.t[k] <= t_max + 1e-12; ++k)
-    d = std::max({d, (a.q[k] - b.q[k]).cwiseAbs().maxCoeff(), (a.u[k] - b.u[k]).cwiseAbs().maxCoeff()});
-  return d;
-}
-
-}  // namespace
-
 TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over the first second", "[crosscheck][mujoco]") {
   // Same ODE (the same A and B to 1e-15, crosscheck), same tableau, same step:
   // what differs is round-off (~1e-16 per evaluation), amplified by the
@@ -41,8 +29,8 @@ TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over
     REQUIRE_FALSE(in.failed());
     REQUIRE_FALSE(mj.failed());
     REQUIRE(mj.size() == in.size());
-    INFO(m.name << ": max |dq|, |du| over 1 s " << stateDiff(in, mj, 1.0));
-    CHECK(stateDiff(in, mj, 1.0) <= 1e-10);
+    INFO(m.name << ": max |dq|, |du| over 1 s " << test::stateDiff(in, mj, 1.0));
+    CHECK(test::stateDiff(in, mj, 1.0) <= 1e-10);
     // MuJoCo's own energies and poses of the same states are ours.
     for (size_t k = 0; k < in.size(); ++k) CHECK(std::abs(mj.energy[k] - in.energy[k]) <= 1e-10 * std::max(1.0, std::abs(in.energy[k])));
     CHECK(test::maxPoseDiff(in, mj) <= 1e-10);
@@ -61,8 +49,8 @@ TEST_CASE("ball joints: MuJoCo 2.2's RK4 is second order on a quaternion, the in
   double mj_err[2], in_err[2];
   for (int i = 0; i < 2; ++i) {
     const double dt = i == 0 ? 1e-3 : 5e-4;
-    in_err[i] = stateDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, dt)), sb, 0.1);
-    mj_err[i] = stateDiff(simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 0.1, dt)), sb, 0.1);
+    in_err[i] = test::stateDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, dt)), sb, 0.1);
+    mj_err[i] = test::stateDiff(simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 0.1, dt)), sb, 0.1);
   }
   INFO("MuJoCo " << mj_err[0] << " -> " << mj_err[1] << ", in-house " << in_err[0] << " -> " << in_err[1]);
   CHECK(mj_err[0] / mj_err[1] > 3.5);  // second order: 4
@@ -97,7 +85,7 @@ TEST_CASE("MuJoCo's Euler and implicit schemes run, first order, and a damped sc
     for (int i = 0; i < 2; ++i) {
       const Trajectory mj = simulateMujoco(m, test::runSpec(em::test::method("mujoco"), scheme, 1.0, i == 0 ? 1e-3 : 5e-4));
       REQUIRE_FALSE(mj.failed());
-      err[i] = stateDiff(mj, sb, 1.0);
+      err[i] = test::stateDiff(mj, sb, 1.0);
       const double balance = std::abs(mj.energy.back() + mj.dissipated.back() - mj.energy.front());
       CHECK(balance <= 0.05 * std::abs(mj.energy.front()));
       CHECK(mj.dissipated.back() > 0);
