@@ -49,8 +49,10 @@ int runCrossCheck(const CrossCheckArgs& a) {
       }
     if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
   }
-  for (Engine e : otherEngines())
+  for (Engine e : otherEngines()) {
     if (const char* note = engineRow(e).mass_note) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
+    if (const char* note = engineRow(e).equations_note) std::printf("(%s: %s)\n", engineName(e), note);
+  }
   double worst = 0;
   for (const CrossCheckRow& r : c.rows) {
     const bool raw_udot_aside = std::count(unjudged_udot.begin(), unjudged_udot.end(), r.engine) > 0;

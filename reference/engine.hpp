@@ -86,6 +86,10 @@ struct EngineRow {
   const char* mass_note;
   /// Its u' as a method under the in-house integrators, where it offers one.
   EngineUdotMethod udot_method;
+  /// One line on how its A and B are had where it exposes no mass matrix
+  /// (Bullet: from its forward dynamics), else nullptr. Such A and B err by
+  /// ~eps cond(A), as every u' does.
+  const char* equations_note = nullptr;
 };
 
 /// Every engine, in the order every listing uses.

@@ -9,9 +9,10 @@ namespace em {
 EngineRow simbodyEngine();
 EngineRow mujocoEngine();
 EngineRow dartEngine();
+EngineRow bulletEngine();
 
 const std::vector<EngineRow>& engineRows() {
-  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine()};
+  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine(), bulletEngine()};
   return rows;
 }
 

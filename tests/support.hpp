@@ -123,7 +123,6 @@ inline double udotTolerance(const Eigen::MatrixXd& A, double floor = 1e-12) {
   return std::max(floor, 4 * 2.220446049250313e-16 * ev.maxCoeff() / ev.minCoeff());
 }
 
-/// Largest CM distance (m) or rotation angle (rad) between two runs' body poses, over their common samples.
 /// Largest |q - q'| and |u - u'| over the samples of two runs up to t_max.
 inline double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) {
   double d = 0;
@@ -132,6 +131,7 @@ inline double stateDiff(const Trajectory& a, const Trajectory& b, double t_max) 
   return d;
 }
 
+/// Largest CM distance (m) or rotation angle (rad) between two runs' body poses, over their common samples.
 inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
   double d = 0;
   for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
@@ -140,6 +140,30 @@ inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
       d = std::max(d, rotationAngleBetween(quatToMatrix(a.poses[k][i].quat), quatToMatrix(b.poses[k][i].quat)));
     }
   return d;
+}
+
+/// A free top in zero gravity: a full inertia, its joint point off the CM,
+/// turning about all three axes (Erez et al.'s momentum test).
+inline Model freeTop() {
+  SceneSpec s;
+  s.name = "free_top";
+  s.gravity = Vec3::Zero();
+  BodySpec b;
+  b.name = "top";
+  b.parent = "ground";
+  b.mass = 3.0;
+  b.inertia = Vec3(0.3, 0.5, 0.65).asDiagonal();
+  b.inertia(0, 1) = b.inertia(1, 0) = 0.04;
+  b.joint.type = JointType::Free;
+  b.joint.in_parent = Vec3(0.1, 0.2, 0.3);
+  b.joint.in_body = Vec3(0.2, -0.1, 0.3);
+  b.joint.q0.resize(7);
+  b.joint.q0 << 0.1, -0.2, 0.3, 0.9, 0.1, -0.3, 0.2;
+  b.joint.q0.tail<4>().normalize();
+  b.joint.u0.resize(6);
+  b.joint.u0 << 0.3, -0.5, 0.2, 1.5, -2.0, 0.7;
+  s.bodies.push_back(b);
+  return buildModel(s);
 }
 
 /// A random state (solver/model.hpp): angles in [-pi, pi], unit quaternions, speeds in [-2, 2] rad/s.

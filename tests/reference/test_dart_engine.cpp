@@ -14,33 +14,6 @@
 
 using namespace em;
 
-namespace {
-
-// A free top in zero gravity: full inertia, its joint point off the CM.
-Model freeTop() {
-  SceneSpec s;
-  s.name = "free_top";
-  s.gravity = Vec3::Zero();
-  BodySpec b;
-  b.name = "top";
-  b.parent = "ground";
-  b.mass = 3.0;
-  b.inertia = Vec3(0.3, 0.5, 0.65).asDiagonal();
-  b.inertia(0, 1) = b.inertia(1, 0) = 0.04;
-  b.joint.type = JointType::Free;
-  b.joint.in_parent = Vec3(0.1, 0.2, 0.3);
-  b.joint.in_body = Vec3(0.2, -0.1, 0.3);
-  b.joint.q0.resize(7);
-  b.joint.q0 << 0.1, -0.2, 0.3, 0.9, 0.1, -0.3, 0.2;
-  b.joint.q0.tail<4>().normalize();
-  b.joint.u0.resize(6);
-  b.joint.u0 << 0.3, -0.5, 0.2, 1.5, -2.0, 0.7;
-  s.bodies.push_back(b);
-  return buildModel(s);
-}
-
-}  // namespace
-
 TEST_CASE("DART's u' under the in-house rk4 agrees with classical rk4 to round-off over the first second", "[crosscheck][dart]") {
   // The same A and B (crosscheck: 1e-14), the same tableau, the same step:
   // what differs is round-off, amplified by the motion. Measured over 1 s at
@@ -89,7 +62,7 @@ TEST_CASE("DART's World::step on a free body in zero gravity: momenta drift at f
   // point by semi-implicit Euler, so neither is kept: measured over 10 s,
   // |dp|/|p| 2.3e-3 and |dH|/|H| 4.2e-2 at dt 1e-3, both halving with dt
   // (first order). The in-house rk8pd keeps both to 1e-12 (test_sliding).
-  const Model m = freeTop();
+  const Model m = test::freeTop();
   double dp[2], dH[2];
   for (int i = 0; i < 2; ++i) {
     const Trajectory d = runMethod(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));

@@ -1,0 +1,613 @@
+// Bullet 3.24 (libbullet-dev, in double precision: bullet-float64) as an
+// engine, row `bullet` (docs/reference-engines.md):
+//
+// The Model as one btMultiBody (Featherstone, reduced coordinates), built in
+// code. Bullet keeps a link's frame at its CM along its principal axes (its
+// inertia is diagonal), so body i's Bullet frame is ours turned by P_i
+// (J_i = P_i diag(I_i) P_i^T, ours <- Bullet's), and every vector of the
+// joint is expressed in it. The ground is a fixed base at the world origin;
+// a free root is the floating base instead (it must be the only root).
+//   revolute, prismatic: Bullet's, angle (or slide) and speed ours;
+//   universal: two revolutes through a massless link at the joint point (exact);
+//   ball: spherical, its quaternion that of P^T R P, its speed the angular
+//         velocity in the link frame, P^T R^T w;
+//   gimbal: spherical too, R = Rx Ry Rz (q), its speed P^T R^T E(q) u;
+//   free (the root): the floating base, at the CM in the P frame, its speeds
+//         [w, v_CM] in the world frame, v_CM = v + (R c) x w.
+// So u_B = G u (per joint, invertible away from the gimbal's lock), and
+// u' = G^-1 (u'_B - g), g = G' u. Bullet exposes no mass matrix: crosscheck's
+// A is Bullet's, inverted from its forward dynamics under unit forces at rest
+// without gravity, and B = A u'. Springs and dampers are joint torques
+// -k (q - q_rest) - c u (gimbal: mapped by G^-T), held over each step: Bullet
+// has no joint springs. Its own velocity damping (0.04 on every link by
+// default) is turned off.
+//
+// Two ways to run it: `bullet` is btMultiBodyDynamicsWorld::stepSimulation at
+// a fixed dt with no sub-steps: semi-implicit Euler (bullet-euler), or
+// btMultiBody's own rk4 (bullet-rk4). `bullet-udot` is Bullet's u' (its
+// articulated-body forward dynamics) under the in-house integrators.
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <LinearMath/btScalar.h>
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
+#include "solver/joint.hpp"
+#include "solver/method.hpp"
+
+static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build (bullet-float64)");
+
+namespace em {
+
+namespace {
+
+btVector3 bt(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+Vec3 ev(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+btQuaternion btQuat(const Mat3& R) {  // Bullet's (x, y, z, w) of the same rotation
+  const Vec4 q = matrixToQuat(R);
+  return {q[1], q[2], q[3], q[0]};
+}
+Mat3 ev(const btQuaternion& q) { return quatToMatrix(Vec4(q.w(), q.x(), q.y(), q.z())); }
+
+// A body's principal frame: J = P diag(I) P^T, P proper (ours <- Bullet's);
+// P = 1 when J is diagonal already.
+struct Principal {
+  Mat3 P = Mat3::Identity();
+  Vec3 I = Vec3::Zero();
+};
+Principal principal(const Mat3& J) {
+  Principal p;
+  if (J.isDiagonal(0.0)) {
+    p.I = J.diagonal();
+    return p;
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(J);
+  p.P = es.eigenvectors();
+  if (p.P.determinant() < 0) p.P.col(2) *= -1;
+  p.I = es.eigenvalues();
+  return p;
+}
+
+// A spherical link's speed map at (q, w) (ball, gimbal, a free joint's
+// turning): u_B = G w, g = G' w, w the joint's rotational speeds.
+void sphericalMap(const Joint& j, const Mat3& P, const double* q, const double* w, Mat3& G, Vec3& g) {
+  const Mat3 Rt = relativeRotation(j, q).transpose();
+  if (j.type != JointType::Gimbal) {  // w is the angular velocity, parent frame
+    G = P.transpose() * Rt;
+    g.setZero();
+    return;
+  }
+  Axes E, Edot;
+  worldAxes(j, Mat3::Identity(), q, E);  // the relative angular velocity, parent frame: E w
+  const Eigen::Map<const Vec3> wi(w);
+  axisRates(j, E, Vec3::Zero(), E * wi, w, Edot);
+  G = P.transpose() * Rt * E;
+  g = P.transpose() * Rt * (Edot * wi);  // (R^T)' (E w) = -R^T [E w]x E w = 0
+}
+
+// Euler angles x-y-z of R = Rx(a) Ry(b) Rz(c) on the branch nearest `near`,
+// each angle within pi of it (a read-back keeps the run's own angles).  // near: (3)
+Vec3 gimbalAngles(const Mat3& R, const double* near) {
+  const double b = std::asin(std::clamp(R(0, 2), -1.0, 1.0));
+  const double a = std::atan2(-R(1, 2), R(2, 2)), c = std::atan2(-R(0, 1), R(0, 0));
+  const Vec3 branch[2] = {{a, b, c}, {a + M_PI, M_PI - b, c + M_PI}};
+  Vec3 best;
+  double best_d = HUGE_VAL;
+  for (Vec3 x : branch) {
+    for (int k = 0; k < 3; ++k) x[k] -= 2 * M_PI * std::round((x[k] - near[k]) / (2 * M_PI));
+    const double d = (x - Vec3(near)).squaredNorm();
+    if (d < best_d) best_d = d, best = x;
+  }
+  return best;
+}
+
+// Body i in the btMultiBody: `scalars` one-speed links carrying its first
+// speeds as they are (revolute, prismatic, universal, a free joint's slide),
+// then a spherical link for the rest when `spherical` (ball, gimbal, a free
+// joint's turning), or the floating base.
+struct BulletLink {
+  int first = -1, link = -1;  // its first and its own (last) Bullet link; -1: the floating base
+  int dof = 0;                // its first speed in Bullet's order: [base w, v_CM] (6), then the links'
+  int scalars = 0;
+  bool spherical = false;
+  Principal frame;
+};
+
+// The Model as a btMultiBody, and the map between our state and Bullet's.
+class BulletChain {
+ public:
+  explicit BulletChain(const Model& m);
+
+  btMultiBody& body() { return *mb_; }
+  int firstSpeed() const { return floating_ ? 0 : 6; }  // Bullet's speeds used: [first, 6 + link dofs)
+  int speeds() const { return 6 + mb_->getNumDofs() - firstSpeed(); }
+
+  // Our (q, u), internal order, into Bullet's state.
+  void setState(const double* q, const double* u);
+  // Bullet's state as our (q, u); angles on the branch nearest the last read.
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& u);
+  // Our u' at (q, u), the state last set: Bullet's forward dynamics under
+  // gravity and the springs and dampers.  // udot: (nu)
+  void forwardDynamics(const double* q, const double* u, double* udot);
+  // Gravity and the springs' and dampers' torques at (q, u), added to Bullet's forces.
+  void addGravity();
+  void addSpringTorques(const double* q, const double* u);
+  // Bullet's accelerations with the forces added ([w', v'_CM] of the base, the links'), forces cleared after.
+  const double* solve();
+  // Bullet's mass matrix in its speeds from firstSpeed(), at the state last set (then set again).  // (speeds^2)
+  Eigen::MatrixXd massMatrix(const double* q, const double* u);
+  // G and g = G' u: Bullet's speeds from firstSpeed() by rows, ours by columns.
+  void speedMap(const double* q, const double* u, Eigen::MatrixXd& G, Eigen::VectorXd& g) const;
+  // Our u' from Bullet's accelerations `a` (solve()'s layout) at (q, u).  // udot: (nu)
+  void ours(const double* q, const double* u, const double* a, double* udot) const;
+  void poses(std::vector<Pose>& out) const;
+  double kinetic() const;
+  // Gravity's potential at Bullet's state and the springs' at q, ours (the same state).  // q: (nq)
+  double potential(const double* q) const;
+
+ private:
+  void addLinks(const Body& b, const BulletLink& me);
+  void setBase(const Body& b, const BulletLink& me, const double* q, const double* u);
+  void getBase(const Body& b, const BulletLink& me, double* q, double* u) const;
+
+  const Model& m_;
+  bool floating_ = false;
+  std::unique_ptr<btMultiBody> mb_;
+  std::vector<BulletLink> links_;                 // internal order
+  Eigen::VectorXd last_q_;                        // (nq): the last read-back, for angle branches
+  btAlignedObjectArray<btScalar> scratch_r_;      // Bullet's forward-dynamics scratch
+  btAlignedObjectArray<btVector3> scratch_v_;
+  btAlignedObjectArray<btMatrix3x3> scratch_m_;
+  mutable btAlignedObjectArray<btVector3> w_, v_; // (links + 1): link velocities, local frames
+};
+
+// Body i's place in Bullet: a free root alone is the floating base; else its
+// one-speed links and its spherical one.
+BulletLink bulletLink(const Body& b, bool base) {
+  BulletLink l;
+  l.frame = principal(b.J);
+  if (base) return l;
+  switch (b.joint.type) {
+    case JointType::Revolute:
+    case JointType::Prismatic:
+    case JointType::Universal: l.scalars = b.nu(); break;
+    case JointType::Ball:
+    case JointType::Gimbal: l.spherical = true; break;
+    case JointType::Free: l.scalars = 3, l.spherical = true; break;
+  }
+  return l;
+}
+
+BulletChain::BulletChain(const Model& m) : m_(m), links_(m.n()), last_q_(m.q0()) {
+  int roots = 0, nlinks = 0;
+  for (const Body& b : m.bodies) roots += b.parent < 0;
+  floating_ = roots == 1 && m.bodies[0].joint.type == JointType::Free;
+  for (int i = 0; i < m.n(); ++i) {
+    BulletLink& l = links_[i];
+    l = bulletLink(m.bodies[i], floating_ && i == 0);
+    if (l.scalars + l.spherical == 0) continue;
+    l.first = nlinks;
+    nlinks += l.scalars + l.spherical;
+    l.link = nlinks - 1;
+  }
+  const double base_mass = floating_ ? m.bodies[0].mass : 1.0;  // a fixed base's are never read
+  const Vec3 base_I = floating_ ? links_[0].frame.I : Vec3::Ones();
+  mb_ = std::make_unique<btMultiBody>(nlinks, base_mass, bt(base_I), !floating_, false);
+  mb_->setLinearDamping(0);
+  mb_->setAngularDamping(0);
+  mb_->setMaxCoordinateVelocity(HUGE_VAL);
+  mb_->setHasSelfCollision(false);
+  for (int i = 0; i < m.n(); ++i)
+    if (links_[i].link >= 0) addLinks(m.bodies[i], links_[i]);
+  mb_->finalizeMultiDof();
+  for (BulletLink& l : links_)
+    if (l.link >= 0) l.dof = 6 + mb_->getLink(l.first).m_dofOffset;
+  setState(m.q0().data(), m.u0().data());
+}
+
+// Body b's links: one-speed links massless at the joint point, parallel to
+// the parent's frame (ours), then its own.
+void BulletChain::addLinks(const Body& b, const BulletLink& me) {
+  const Joint& j = b.joint;
+  const Mat3& P = me.frame.P;
+  const Mat3 Pp = b.parent < 0 ? Mat3::Identity() : links_[b.parent].frame.P;
+  const btVector3 I = bt(me.frame.I), zero(0, 0, 0), d = bt(-(P.transpose() * j.in_body));
+  int parent = b.parent < 0 ? -1 : links_[b.parent].link;
+  btVector3 e = bt(Pp.transpose() * j.in_parent);
+  btQuaternion rot = btQuat(Pp);  // the parent's frame -> a link parallel to ours, at q = 0
+  auto own = [&](int k) { return k == me.link - me.first; };
+  for (int k = 0; k < me.scalars; ++k) {
+    const int l = me.first + k;
+    const Vec3 axis = j.type == JointType::Free ? Vec3::Unit(k) : j.axis[j.type == JointType::Universal ? k : 0];
+    const bool mine = own(k);
+    const btQuaternion r = mine ? btQuat(P.transpose()) * rot : rot;
+    const btVector3 a = bt(mine ? P.transpose() * axis : axis);
+    if (j.type == JointType::Prismatic || (j.type == JointType::Free && k < 3))
+      mb_->setupPrismatic(l, mine ? b.mass : 0, mine ? I : zero, parent, r, a, e, mine ? d : zero, true);
+    else
+      mb_->setupRevolute(l, mine ? b.mass : 0, mine ? I : zero, parent, r, a, e, mine ? d : zero, true);
+    parent = l, e = zero, rot = btQuaternion::getIdentity();
+  }
+  if (me.spherical) mb_->setupSpherical(me.link, b.mass, I, parent, btQuat(P.transpose()) * rot, e, d, true);
+}
+
+void BulletChain::setBase(const Body& b, const BulletLink& me, const double* q, const double* u) {
+  const Mat3 R = relativeRotation(b.joint, q);
+  const Vec3 Rc = R * b.joint.in_body, v(u), w(u + 3);
+  mb_->setBasePos(bt(b.joint.in_parent + slideOffset(b.joint, q) - Rc));
+  mb_->setWorldToBaseRot(btQuat((R * me.frame.P).transpose()));
+  mb_->setBaseVel(bt(v + Rc.cross(w)));
+  mb_->setBaseOmega(bt(w));
+}
+
+void BulletChain::setState(const double* q, const double* u) {
+  for (int i = 0; i < m_.n(); ++i) {
+    const Body& b = m_.bodies[i];
+    const BulletLink& l = links_[i];
+    const double *qi = q + b.iq, *ui = u + b.iu;
+    if (l.link < 0) {
+      setBase(b, l, qi, ui);
+      continue;
+    }
+    for (int k = 0; k < l.scalars; ++k) {
+      mb_->setJointPos(l.first + k, qi[k]);
+      mb_->setJointVel(l.first + k, ui[k]);
+    }
+    if (!l.spherical) continue;
+    const Mat3& P = l.frame.P;
+    const Vec4 r = matrixToQuat(P.transpose() * relativeRotation(b.joint, qi) * P);
+    const double pos[4] = {r[1], r[2], r[3], r[0]};
+    mb_->setJointPosMultiDof(l.link, pos);
+    Mat3 G;
+    Vec3 g;
+    sphericalMap(b.joint, P, qi, ui + l.scalars, G, g);
+    const Vec3 w = G * Vec3(ui + l.scalars);
+    mb_->setJointVelMultiDof(l.link, w.data());
+  }
+}
+
+void BulletChain::getBase(const Body& b, const BulletLink& me, double* q, double* u) const {
+  const Mat3 R = ev(mb_->getWorldToBaseRot()).transpose() * me.frame.P.transpose();
+  const Vec3 Rc = R * b.joint.in_body, w = ev(mb_->getBaseOmega());
+  Eigen::Map<Vec3>{q} = ev(mb_->getBasePos()) + Rc - b.joint.in_parent;
+  Vec4 r = matrixToQuat(R);
+  if (r.dot(last_q_.segment<4>(b.iq + 3)) < 0) r = -r;  // the run's own hemisphere
+  Eigen::Map<Vec4>{q + 3} = r;
+  Eigen::Map<Vec3>{u} = ev(mb_->getBaseVel()) - Rc.cross(w);
+  Eigen::Map<Vec3>{u + 3} = w;
+}
+
+void BulletChain::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) {
+  for (int i = 0; i < m_.n(); ++i) {
+    const Body& b = m_.bodies[i];
+    const BulletLink& l = links_[i];
+    double *qi = q.data() + b.iq, *ui = u.data() + b.iu;
+    if (l.link < 0) {
+      getBase(b, l, qi, ui);
+      continue;
+    }
+    for (int k = 0; k < l.scalars; ++k) {
+      qi[k] = mb_->getJointPos(l.first + k);
+      ui[k] = mb_->getJointVel(l.first + k);
+    }
+    if (!l.spherical) continue;
+    const double* p = mb_->getJointPosMultiDof(l.link);
+    const Mat3 R = l.frame.P * quatToMatrix(Vec4(p[3], p[0], p[1], p[2])) * l.frame.P.transpose();
+    if (b.joint.type == JointType::Gimbal) {
+      Eigen::Map<Vec3>{qi} = gimbalAngles(R, last_q_.data() + b.iq);
+    } else {
+      const int at = jointQuat(b.joint.type);
+      Vec4 r = matrixToQuat(R);
+      if (r.dot(last_q_.segment<4>(b.iq + at)) < 0) r = -r;  // the run's own hemisphere
+      Eigen::Map<Vec4>{qi + at} = r;
+    }
+    Mat3 G;
+    Vec3 g;
+    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, G, g);  // G depends on q alone
+    Eigen::Map<Vec3>{ui + l.scalars} = G.partialPivLu().solve(Vec3(mb_->getJointVelMultiDof(l.link)));
+  }
+  last_q_ = q;
+}
+
+void BulletChain::addGravity() {
+  const btVector3 g = bt(m_.gravity);
+  if (floating_) mb_->addBaseForce(g * mb_->getBaseMass());
+  for (int l = 0; l < mb_->getNumLinks(); ++l) mb_->addLinkForce(l, g * mb_->getLinkMass(l));
+}
+
+void BulletChain::addSpringTorques(const double* q, const double* u) {
+  for (int i = 0; i < m_.n(); ++i) {
+    const Body& b = m_.bodies[i];
+    if (!b.joint.has_spring) continue;  // ball and free joints carry none (io/scene_json.cpp)
+    const Spring& s = b.joint.spring;
+    const BulletLink& l = links_[i];
+    const double *qi = q + b.iq, *ui = u + b.iu;
+    Vec3 Q = Vec3::Zero();
+    for (int k = 0; k < b.nu(); ++k) Q[k] = -s.k[k] * (qi[k] - s.q_rest[k]) - s.c[k] * ui[k];
+    for (int k = 0; k < l.scalars; ++k) mb_->addJointTorque(l.first + k, Q[k]);
+    if (l.spherical) {  // a gimbal's: Q = G^T tau
+      Mat3 G;
+      Vec3 g;
+      sphericalMap(b.joint, l.frame.P, qi, ui, G, g);
+      const Vec3 tau = G.transpose().partialPivLu().solve(Q);
+      mb_->addJointTorqueMultiDof(l.link, tau.data());
+    }
+  }
+}
+
+const double* BulletChain::solve() {
+  mb_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(0, scratch_r_, scratch_v_, scratch_m_, false, false, false);
+  mb_->clearForcesAndTorques();
+  return &scratch_r_[mb_->getNumDofs()];  // Bullet's layout: [w', v'_CM] of the base, then the links' (dt 0: speeds kept)
+}
+
+void BulletChain::forwardDynamics(const double* q, const double* u, double* udot) {
+  mb_->clearForcesAndTorques();
+  addGravity();
+  addSpringTorques(q, u);
+  ours(q, u, solve(), udot);
+}
+
+void BulletChain::ours(const double* q, const double* u, const double* a, double* udot) const {
+  for (int i = 0; i < m_.n(); ++i) {
+    const Body& b = m_.bodies[i];
+    const BulletLink& l = links_[i];
+    const double *qi = q + b.iq, *ui = u + b.iu;
+    double* ud = udot + b.iu;
+    if (l.link < 0) {  // the base: v' = v'_CM - (R c) x w' - (w x R c) x w
+      const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body, w(ui + 3), wdot(a);
+      Eigen::Map<Vec3>{ud} = Vec3(a + 3) - Rc.cross(wdot) - w.cross(Rc).cross(w);
+      Eigen::Map<Vec3>{ud + 3} = wdot;
+      continue;
+    }
+    for (int k = 0; k < l.scalars; ++k) ud[k] = a[l.dof + k];
+    if (!l.spherical) continue;
+    Mat3 G;
+    Vec3 g;
+    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, G, g);
+    Eigen::Map<Vec3>{ud + l.scalars} = G.partialPivLu().solve(Vec3(a + l.dof + l.scalars) - g);
+  }
+}
+
+Eigen::MatrixXd BulletChain::massMatrix(const double* q, const double* u) {
+  const int n = speeds(), first = firstSpeed();
+  Eigen::MatrixXd Minv(n, n);
+  mb_->clearVelocities();
+  for (int k = 0; k < n; ++k) {
+    mb_->clearForcesAndTorques();
+    const int s = first + k;  // a unit generalized force on Bullet's speed s
+    if (s < 3) {
+      btVector3 t(0, 0, 0);
+      t[s] = 1;
+      mb_->addBaseTorque(t);
+    } else if (s < 6) {
+      btVector3 f(0, 0, 0);
+      f[s - 3] = 1;
+      mb_->addBaseForce(f);
+    } else {
+      for (int l = 0; l < mb_->getNumLinks(); ++l) {
+        const btMultibodyLink& link = mb_->getLink(l);
+        if (s - 6 >= link.m_dofOffset && s - 6 < link.m_dofOffset + link.m_dofCount)
+          mb_->addJointTorqueMultiDof(l, s - 6 - link.m_dofOffset, 1);
+      }
+    }
+    Minv.col(k) = Eigen::Map<const Eigen::VectorXd>(solve() + first, n);
+  }
+  setState(q, u);
+  return Minv.inverse();
+}
+
+void BulletChain::speedMap(const double* q, const double* u, Eigen::MatrixXd& G, Eigen::VectorXd& g) const {
+  const int first = firstSpeed();
+  G.setZero(speeds(), m_.nu);
+  g.setZero(speeds());
+  for (int i = 0; i < m_.n(); ++i) {
+    const Body& b = m_.bodies[i];
+    const BulletLink& l = links_[i];
+    const int r = l.dof - first;
+    const double *qi = q + b.iq, *ui = u + b.iu;
+    if (l.link < 0) {  // [w, v_CM] = [w, v + (R c) x w]
+      const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body, w(ui + 3);
+      G.block<3, 3>(r, b.iu + 3) = Mat3::Identity();
+      G.block<3, 3>(r + 3, b.iu) = Mat3::Identity();
+      G.block<3, 3>(r + 3, b.iu + 3) = skew(Rc);
+      g.segment<3>(r + 3) = w.cross(Rc).cross(w);
+      continue;
+    }
+    for (int k = 0; k < l.scalars; ++k) G(r + k, b.iu + k) = 1;
+    if (!l.spherical) continue;
+    Mat3 Gi;
+    Vec3 gi;
+    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, Gi, gi);
+    G.block<3, 3>(r + l.scalars, b.iu + l.scalars) = Gi;
+    g.segment<3>(r + l.scalars) = gi;
+  }
+}
+
+void BulletChain::poses(std::vector<Pose>& out) const {
+  out.resize(m_.n());
+  for (int i = 0; i < m_.n(); ++i) {
+    const BulletLink& l = links_[i];
+    if (l.link < 0) {
+      out[i] = {ev(mb_->getBasePos()), matrixToQuat(ev(mb_->getWorldToBaseRot()).transpose() * l.frame.P.transpose())};
+      continue;
+    }
+    const btMatrix3x3 B = mb_->localFrameToWorld(l.link, btMatrix3x3::getIdentity());
+    Mat3 R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = B[r][c];
+    out[i] = {ev(mb_->localPosToWorld(l.link, btVector3(0, 0, 0))), matrixToQuat(R * l.frame.P.transpose())};
+  }
+}
+
+double BulletChain::kinetic() const {
+  const int n = mb_->getNumLinks();
+  w_.resize(n + 1);
+  v_.resize(n + 1);
+  mb_->compTreeLinkVelocities(&w_[0], &v_[0]);
+  double T = 0;
+  if (floating_) T += 0.5 * (mb_->getBaseMass() * v_[0].length2() + w_[0].dot(mb_->getBaseInertia() * w_[0]));
+  for (int l = 0; l < n; ++l)
+    T += 0.5 * (mb_->getLinkMass(l) * v_[l + 1].length2() + w_[l + 1].dot(mb_->getLinkInertia(l) * w_[l + 1]));
+  return T;
+}
+
+double BulletChain::potential(const double* q) const {
+  const Vec3& g = m_.gravity;
+  double V = floating_ ? -mb_->getBaseMass() * g.dot(ev(mb_->getBasePos())) : 0;
+  for (int l = 0; l < mb_->getNumLinks(); ++l)
+    V -= mb_->getLinkMass(l) * g.dot(ev(mb_->localPosToWorld(l, btVector3(0, 0, 0))));
+  for (const Body& b : m_.bodies)  // the springs' own: Bullet has none
+    if (b.joint.has_spring)
+      for (int k = 0; k < b.nu(); ++k) {
+        const double x = q[b.iq + k] - b.joint.spring.q_rest[k];
+        V += 0.5 * b.joint.spring.k[k] * x * x;
+      }
+  return V;
+}
+
+// Bullet's equations at any state: its forward dynamics, and the mass matrix
+// and right-hand side it implies (Bullet exposes no other).
+class BulletModel : public EngineModel {
+ public:
+  explicit BulletModel(const Model& m) : m_(m), chain_(m) {}
+  EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
+    EngineEquations e;
+    chain_.setState(q.data(), u.data());
+    e.udot.resize(m_.nu);
+    chain_.forwardDynamics(q.data(), u.data(), e.udot.data());
+    e.kinetic = chain_.kinetic();
+    e.potential = chain_.potential(q.data());
+    const Eigen::MatrixXd M = chain_.massMatrix(q.data(), u.data());
+    Eigen::MatrixXd G;
+    Eigen::VectorXd g;
+    chain_.speedMap(q.data(), u.data(), G, g);
+    e.A = G.transpose() * M * G;
+    e.B = e.A * e.udot;
+    return e;
+  }
+
+ private:
+  const Model& m_;
+  BulletChain chain_;
+};
+
+// btMultiBodyDynamicsWorld::stepSimulation at exactly dt (no sub-steps), no
+// colliders: Bullet's semi-implicit Euler, or btMultiBody's rk4 (four
+// forward dynamics per step), the springs' torques held over the step.
+class BulletStepper : public FixedStepEngine {
+ public:
+  BulletStepper(const Model& m, const RunSpec& spec)
+      : m_(m), chain_(m), dt_(spec.dt), q_(m.q0()), u_(m.u0()), udot_(m.nu), springs_(false) {
+    for (const Body& b : m.bodies) springs_ = springs_ || b.joint.has_spring;
+    rk4_ = std::string(integratorName(spec.integrator)) == "bullet-rk4";
+    chain_.body().useRK4Integration(rk4_);
+    world_.setGravity(bt(m.gravity));
+    world_.addMultiBody(&chain_.body());
+  }
+  ~BulletStepper() override { world_.removeMultiBody(&chain_.body()); }
+  std::string step() override {
+    if (springs_) {
+      chain_.getState(q_, u_);
+      chain_.addSpringTorques(q_.data(), u_.data());
+    }
+    world_.stepSimulation(dt_, 0, dt_);
+    evaluations_ += rk4_ ? 5 : 1;  // rk4: four stages and a fifth at the start state (btMultiBodyDynamicsWorld)
+    return "";
+  }
+  long evaluations() const override { return evaluations_; }
+  void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { chain_.getState(q, u); }
+  void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
+    chain_.getState(q_, u_);
+    chain_.poses(poses);
+    kinetic = chain_.kinetic();
+    potential = chain_.potential(q_.data());
+  }
+  void dissipation(double& P, double& Pdot) override {
+    chain_.getState(q_, u_);
+    chain_.forwardDynamics(q_.data(), u_.data(), udot_.data());
+    P = Pdot = 0;
+    for (const Body& b : m_.bodies) {
+      if (!b.joint.has_spring) continue;
+      for (int k = 0; k < b.nu(); ++k) {
+        const double c = b.joint.spring.c[k], v = u_[b.iu + k];
+        P += c * v * v;
+        Pdot += 2 * c * v * udot_[b.iu + k];
+      }
+    }
+  }
+
+ private:
+  const Model& m_;
+  BulletChain chain_;
+  double dt_;
+  Eigen::VectorXd q_, u_, udot_;  // (nq), (nu), (nu): the state the springs act at
+  bool springs_, rk4_ = false;
+  long evaluations_ = 0;
+  btDefaultCollisionConfiguration config_;
+  btCollisionDispatcher dispatcher_{&config_};
+  btDbvtBroadphase broadphase_;
+  btMultiBodyConstraintSolver solver_;
+  btMultiBodyDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &config_};
+};
+
+// bullet-udot: Bullet's u' (its forward dynamics) under the in-house integrators.
+class BulletUdot final : public MethodImpl {
+ public:
+  explicit BulletUdot(const Model& m) : chain_(m) {}
+  bool needsEquations() const override { return false; }
+  bool needsKinematics() const override { return false; }
+  Status rates(double, const double* q, const double* u, const Workspace&, const double*, double* udot, double*,
+               EvalInfo&) override {
+    chain_.setState(q, u);
+    chain_.forwardDynamics(q, u, udot);
+    return {};
+  }
+
+ private:
+  BulletChain chain_;
+};
+
+std::unique_ptr<MethodImpl> makeBulletUdot(const Model& m, const MethodInfo&, const MethodOptions&) {
+  return std::make_unique<BulletUdot>(m);
+}
+
+}  // namespace
+
+EngineRow bulletEngine() {
+  return {"bullet",
+          "Bullet 3.24's btMultiBody stepped by btMultiBodyDynamicsWorld (Featherstone's articulated bodies, "
+          "semi-implicit Euler or its rk4, springs and dampers as joint torques held over a step), fixed step "
+          "(what PyBullet runs)",
+          {{"bullet-euler", true, "Bullet's semi-implicit Euler (stepSimulation: velocities, then positions from them)",
+            "P"},
+           {"bullet-rk4", true, "btMultiBody's own rk4 (useRK4Integration; the springs' torques held over the step)",
+            "X"}},
+          "bullet-euler",
+          "bullet-euler",  // Bullet has no adaptive scheme
+          HUGE_VAL,
+          "tab:olive",
+          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+            checkRunSpec(spec);
+            BulletStepper stepper(m, spec);
+            return runFixedStep(m, spec, stepper, observe);
+          },
+          [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<BulletModel>(m); },
+          nullptr,  // Bullet's URDF importer is not in libbullet-dev
+          [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); },
+          nullptr,
+          {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
+                          "Bullet's formulation apart from its integrator", "#6b6b1e", makeBulletUdot},
+          "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
+          "without gravity, B = A u'; both err by ~eps cond(A), as u' does"};
+}
+
+}  // namespace em

@@ -1,0 +1,126 @@
+// Bullet as an engine (reference/bullet_engine.cpp): its u' under the
+// in-house rk4 integrates the same ODE as classical rk4, so the two agree to
+// round-off until chaos amplifies it, on every joint kind (a free joint as
+// the floating base and inside a tree); stepSimulation's semi-implicit Euler
+// is first order and btMultiBody's own rk4 second order, first with a
+// floating base (as measured here);
+// on a free body in zero gravity its stepping keeps momenta as measured here
+// (Erez, Tassa and Todorov 2015's test); its energy balance closes on damped
+// scenes at its order.
+#include <catch2/catch.hpp>
+
+#include <tuple>
+
+#include "compare/engines.hpp"
+#include "engines.hpp"
+#include "momenta.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// The largest pose error against the reference over 0.5 s at dt and dt/2.
+std::pair<double, double> halvedErrors(const Model& m, const Trajectory& ref, const char* scheme, double dt, int evals) {
+  double err[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory b = runMethod(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 0.5, dt / (1 + i)));
+    REQUIRE_FALSE(b.failed());
+    CHECK(b.rhs_evals == evals * b.steps);
+    err[i] = test::stateDiff(b, ref, 0.5);
+  }
+  return {err[0], err[1]};
+}
+
+}  // namespace
+
+TEST_CASE("Bullet's u' under the in-house rk4 agrees with classical rk4 to round-off over the first second", "[crosscheck][bullet]") {
+  // The same A and B (crosscheck: 1e-14), the same tableau, the same step:
+  // what differs is round-off, amplified by the motion. Measured over 1 s at
+  // dt 1e-3 on scenes of every joint kind and random trees of every kind
+  // (free joints inside the tree: prismatic links and a spherical one) and a
+  // free top: at most 2.1e-13; 1e-10 leaves room for other machines and
+  // chaos, 1e4 below a wrong term.
+  std::vector<Model> models;
+  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
+    models.push_back(test::loadData(s));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  models.push_back(test::freeTop());
+  const Method udot = test::method("bullet-udot");
+  for (const Model& m : models) {
+    const Trajectory in = runMethod(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory bullet = runMethod(m, test::runSpec(udot, Integrator::RK4, 1.0, 1e-3));
+    REQUIRE_FALSE(in.failed());
+    REQUIRE_FALSE(bullet.failed());
+    INFO(m.name << ": max |dq|, |du| over 1 s " << test::stateDiff(in, bullet, 1.0));
+    CHECK(test::stateDiff(in, bullet, 1.0) <= 1e-10);
+    CHECK(test::maxPoseDiff(in, bullet) <= 1e-10);
+  }
+}
+
+TEST_CASE("Bullet's stepping is first order (semi-implicit Euler), its rk4 second order, first with a floating base", "[bullet]") {
+  // Halving dt divides the error by 2^order (1.6 to 2.4 for 2, 3.2 to 4.8 for
+  // 4 asserted). btMultiBody's rk4 (btMultiBodyDynamicsWorld) evaluates every
+  // stage's accelerations at the step's start positions, so it is second
+  // order on a fixed base, not fourth, and first order with a floating base.
+  // Measured over 0.5 s at 1e-3 / 5e-4: pendulum5 euler 0.23 / 0.12 rad, rk4
+  // 2.5e-6 / 6.3e-7; tree_mixed euler 0.10 / 0.050, rk4 1.6e-4 / 4.1e-5;
+  // floating_arm euler 7.1e-4 / 3.5e-4, rk4 2.7e-4 / 1.3e-4. Four rk4 stages
+  // and a fifth forward dynamics at the start state are five evaluations a step.
+  const std::tuple<const char*, double> scenes[] = {{"pendulum5.json", 4}, {"tree_mixed.json", 4}, {"floating_arm.json", 2}};
+  for (const auto& [s, rk4_ratio] : scenes) {
+    const Model m = test::loadData(s);
+    const Trajectory ref = runMethod(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    const auto [e1, e2] = halvedErrors(m, ref, "bullet-euler", 1e-3, 1);
+    INFO(s << " euler: " << e1 << " at 1e-3, " << e2 << " at 5e-4");
+    CHECK(e1 > 1.6 * e2);
+    CHECK(e1 < 2.4 * e2);
+    const auto [r1, r2] = halvedErrors(m, ref, "bullet-rk4", 1e-3, 5);
+    INFO(s << " rk4: " << r1 << " at 1e-3, " << r2 << " at 5e-4");
+    CHECK(r1 > 0.8 * rk4_ratio * r2);
+    CHECK(r1 < 1.2 * rk4_ratio * r2);
+  }
+}
+
+TEST_CASE("Bullet's stepping on a free body in zero gravity: momenta drift at its order", "[conservation][bullet]") {
+  // Erez et al.'s test: p and H about the origin are invariants. Bullet's
+  // floating base moves its CM at v_CM and turns by the exponential map; its
+  // world-frame [w, v_CM] change only through the gyroscopic term. Measured
+  // over 10 s (dt 1e-3 / 5e-4): p is kept to round-off (a force-free CM
+  // moves straight, |dp|/|p| 1e-15), H drifts 4.8e-3 / 2.4e-3 under euler
+  // and 8.2e-3 / 4.1e-3 under rk4 (both first order with a floating base).
+  const Model m = test::freeTop();
+  for (const char* scheme : {"bullet-euler", "bullet-rk4"}) {
+    double dp[2], dH[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory b = runMethod(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+      REQUIRE_FALSE(b.failed());
+      std::tie(dp[i], dH[i]) = test::momentumDrift(m, b);
+    }
+    INFO(scheme << ": |dp|/|p| " << dp[0] << " -> " << dp[1] << ", |dH|/|H| " << dH[0] << " -> " << dH[1]);
+    CHECK(dp[0] <= 1e-12);
+    CHECK(dH[0] <= 1e-2);
+    CHECK(dH[0] > 1.6 * dH[1]);
+  }
+}
+
+TEST_CASE("Bullet's stepping closes the energy balance on a damped scene at first order", "[bullet]") {
+  // The springs' and dampers' torques are held over a step (Bullet has no
+  // joint springs), so both schemes are first order in them; W_diss is the
+  // harness's fourth-order sum of c u^2; E includes the springs' potential.
+  // Measured over 1 s, |E + W_diss - E(0)| / |E(0)| at dt 1e-3 / 5e-4: euler
+  // 8.2e-3 / 4.0e-3, rk4 3.1e-2 / 1.6e-2.
+  const Model m = test::loadData("spring_damper.json");
+  for (const char* scheme : {"bullet-euler", "bullet-rk4"}) {
+    double balance[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory b = runMethod(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 1.0, i == 0 ? 1e-3 : 5e-4));
+      REQUIRE_FALSE(b.failed());
+      CHECK(b.dissipated.back() > 1);
+      balance[i] = std::abs(b.energy.back() + b.dissipated.back() - b.energy.front()) / std::abs(b.energy.front());
+    }
+    INFO(scheme << ": balance " << balance[0] << " -> " << balance[1]);
+    CHECK(balance[0] <= 0.1);
+    CHECK(balance[0] > 1.6 * balance[1]);
+  }
+}
