@@ -233,10 +233,15 @@ std::string summaryTable(const ComparisonResult& r) {
   std::ostringstream o;
   tableHeader(o, r.options.thresholds);
   for (const MethodMetrics& m : r.metrics) tableRow(o, m);
+  for (const MethodMetrics& m : r.metrics)
+    if (std::isfinite(m.max_joint_separation))
+      o << m.name() << ": its joints' two points drifted apart by up to " << gnum(m.max_joint_separation, 3)
+        << " m (maximal coordinates: the constraint violation)\n";
   referenceLine(o, r);
   if (r.lyapunov && std::isfinite(r.lyapunov->per_s))
-    o << "reference motion: maximal Lyapunov exponent " << gnum(r.lyapunov->per_s, 3) << " +- "
-      << gnum(r.lyapunov->uncertainty_per_s, 2) << " /s over " << gnum(r.lyapunov->t_stop)
+    o << "reference motion: maximal Lyapunov exponent " << gnum(r.lyapunov->per_s, 3)
+      << (std::isfinite(r.lyapunov->uncertainty_per_s) ? " +- " + gnum(r.lyapunov->uncertainty_per_s, 2) : std::string(" (one window)"))
+      << " /s over " << gnum(r.lyapunov->t_stop)
       << " s (an error grows e-fold every " << gnum(1 / r.lyapunov->per_s, 3) << " s when > 0)\n";
   for (const MethodMetrics& m : r.metrics) {
     const MethodInfo& row = info(m.run.method);

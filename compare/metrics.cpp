@@ -88,6 +88,7 @@ MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std
   m.steps = run.steps;
   m.rhs_evals = run.rhs_evals;
   m.step_retries = run.step_retries;
+  m.max_joint_separation = run.max_joint_separation;
   m.series = errorSeries(run, ref, energy_scale);
   const ErrorSeries& s = m.series;
   m.pose = peakOf(s.t, s.pose_rad);

@@ -42,6 +42,7 @@ struct MethodMetrics {
   double run_time_s = 0;
   long steps = 0, rhs_evals = 0;
   long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
+  double max_joint_separation = std::numeric_limits<double>::quiet_NaN();  ///< m; maximal-coordinate engines (ODE)
   Peak pose, position, coord, energy;
   bool coords_shared = false;
   double energy_error_final = 0;

@@ -63,7 +63,8 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"energy_error_max", finiteOrNull(m.energy.value)},
             {"energy_error_max_t", m.energy.t},
             {"energy_error_final", finiteOrNull(m.energy_error_final)},
-            {"dissipated_final_J", finiteOrNull(m.dissipated_final)}};
+            {"dissipated_final_J", finiteOrNull(m.dissipated_final)},
+            {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
   if (m.run.fixedStep()) j["step"] = m.run.dt;
   else j["tolerance"] = m.run.tol;
   json meaningful = json::object();

@@ -93,22 +93,6 @@ void sphericalMap(const Joint& j, const Mat3& P, const double* q, const double* 
   g = P.transpose() * Rt * (Edot * wi);  // (R^T)' (E w) = -R^T [E w]x E w = 0
 }
 
-// Euler angles x-y-z of R = Rx(a) Ry(b) Rz(c) on the branch nearest `near`,
-// each angle within pi of it (a read-back keeps the run's own angles).  // near: (3)
-Vec3 gimbalAngles(const Mat3& R, const double* near) {
-  const double b = std::asin(std::clamp(R(0, 2), -1.0, 1.0));
-  const double a = std::atan2(-R(1, 2), R(2, 2)), c = std::atan2(-R(0, 1), R(0, 0));
-  const Vec3 branch[2] = {{a, b, c}, {a + M_PI, M_PI - b, c + M_PI}};
-  Vec3 best;
-  double best_d = HUGE_VAL;
-  for (Vec3 x : branch) {
-    for (int k = 0; k < 3; ++k) x[k] -= 2 * M_PI * std::round((x[k] - near[k]) / (2 * M_PI));
-    const double d = (x - Vec3(near)).squaredNorm();
-    if (d < best_d) best_d = d, best = x;
-  }
-  return best;
-}
-
 // Body i in the btMultiBody: `scalars` one-speed links carrying its first
 // speeds as they are (revolute, prismatic, universal, a free joint's slide),
 // then a spherical link for the rest when `spherical` (ball, gimbal, a free
@@ -132,7 +116,7 @@ class BulletChain {
 
   // Our (q, u), internal order, into Bullet's state.
   void setState(const double* q, const double* u);
-  // Bullet's state as our (q, u); angles on the branch nearest the last read.
+  // Bullet's state as our (q, u); angles on the branch nearest the last read (jointCoordinates).
   void getState(Eigen::VectorXd& q, Eigen::VectorXd& u);
   // Our u' at (q, u), the state last set: Bullet's forward dynamics under
   // gravity and the springs and dampers.  // udot: (nu)
@@ -277,10 +261,7 @@ void BulletChain::setState(const double* q, const double* u) {
 void BulletChain::getBase(const Body& b, const BulletLink& me, double* q, double* u) const {
   const Mat3 R = ev(mb_->getWorldToBaseRot()).transpose() * me.frame.P.transpose();
   const Vec3 Rc = R * b.joint.in_body, w = ev(mb_->getBaseOmega());
-  Eigen::Map<Vec3>{q} = ev(mb_->getBasePos()) + Rc - b.joint.in_parent;
-  Vec4 r = matrixToQuat(R);
-  if (r.dot(last_q_.segment<4>(b.iq + 3)) < 0) r = -r;  // the run's own hemisphere
-  Eigen::Map<Vec4>{q + 3} = r;
+  jointCoordinates(b.joint, R, ev(mb_->getBasePos()) + Rc - b.joint.in_parent, last_q_.data() + b.iq, q);
   Eigen::Map<Vec3>{u} = ev(mb_->getBaseVel()) - Rc.cross(w);
   Eigen::Map<Vec3>{u + 3} = w;
 }
@@ -301,14 +282,7 @@ void BulletChain::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) {
     if (!l.spherical) continue;
     const double* p = mb_->getJointPosMultiDof(l.link);
     const Mat3 R = l.frame.P * quatToMatrix(Vec4(p[3], p[0], p[1], p[2])) * l.frame.P.transpose();
-    if (b.joint.type == JointType::Gimbal) {
-      Eigen::Map<Vec3>{qi} = gimbalAngles(R, last_q_.data() + b.iq);
-    } else {
-      const int at = jointQuat(b.joint.type);
-      Vec4 r = matrixToQuat(R);
-      if (r.dot(last_q_.segment<4>(b.iq + at)) < 0) r = -r;  // the run's own hemisphere
-      Eigen::Map<Vec4>{qi + at} = r;
-    }
+    jointCoordinates(b.joint, R, slideOffset(b.joint, qi), last_q_.data() + b.iq, qi);  // a free joint's slide as read
     Mat3 G;
     Vec3 g;
     sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, G, g);  // G depends on q alone

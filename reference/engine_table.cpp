@@ -10,9 +10,10 @@ EngineRow simbodyEngine();
 EngineRow mujocoEngine();
 EngineRow dartEngine();
 EngineRow bulletEngine();
+EngineRow odeEngine();
 
 const std::vector<EngineRow>& engineRows() {
-  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine(), bulletEngine()};
+  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine(), bulletEngine(), odeEngine()};
   return rows;
 }
 

@@ -1,5 +1,6 @@
 #include "reference/fixed_step.hpp"
 
+#include <cmath>
 #include <ctime>
 
 namespace em {
@@ -43,6 +44,8 @@ Trajectory runFixedStep(const Model& m, const RunSpec& spec, FixedStepEngine& en
       cpu += cpuSeconds() - c0;
       ++tr.steps;
       engine.state(q, u);
+      if (const double apart = engine.jointSeparation(); !std::isnan(apart))  // NaN: the joints hold by construction
+        tr.max_joint_separation = std::isnan(tr.max_joint_separation) ? apart : std::max(tr.max_joint_separation, apart);
       if (!checkStep(tr, static_cast<double>(tr.steps) * spec.dt, complaint, q, u, spec.options.blowup_speed)) break;
       if (!m.has_dampers) continue;
       double P1 = 0, Pdot1 = 0;

@@ -5,6 +5,7 @@
 /// the blow-up bound: each at the step's time, not the next sample's),
 /// evaluations as the engine counts them, and the dampers' work W_diss
 /// integrated by the harness to fourth order (docs/report-format.md).
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ class FixedStepEngine {
   /// The dampers' power P = sum c u^2 at the current state and its rate
   /// P' = 2 sum c u u' (the model has dampers only).
   virtual void dissipation(double& P, double& Pdot) = 0;
+  /// The largest distance (m) between a joint's two points at the state
+  /// state() last read: a maximal-coordinate engine's constraint violation
+  /// (ODE); NaN where the joints hold by construction.
+  virtual double jointSeparation() const { return std::numeric_limits<double>::quiet_NaN(); }
 };
 
 /// Integrate `engine` from its initial state on the grid of `spec` (fixed

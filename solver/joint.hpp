@@ -29,4 +29,22 @@ void axisRates(const Joint& j, const Axes& P, const Vec3& omega_p, const Vec3& o
 /// q' = (1/2) (0,w) (x) q (w in the parent frame).
 void jointQdot(const Joint& j, const double* q, const double* u, double* qdot);
 
+/// The inverse of relativeRotation and slideOffset: the joint's coordinates
+/// from its relative rotation R (parent <- body) and its joint point's
+/// displacement x (parent frame), on the branch nearest `near` (angles within
+/// pi of it, a quaternion in its hemisphere, a gimbal's middle angle on the
+/// nearer of its two branches). What the joint cannot take (a revolute's
+/// rotation off its axis, a hinge's x) is dropped: a constraint violation,
+/// measured apart (jointSeparation).  // near, q: (nq)
+void jointCoordinates(const Joint& j, const Mat3& R, const Vec3& x, const double* near, double* q);
+
+/// The joint's speeds at q from the body's angular velocity relative to its
+/// parent, w, and the rate x' of its joint point's displacement, both in the
+/// parent frame (the least-squares u where the joint cannot take all of w).  // q: (nq), u: (nu)
+void jointSpeeds(const Joint& j, const double* q, const Vec3& w, const Vec3& xdot, double* u);
+
+/// The part of x the joint cannot take: all of it, but a prismatic joint's
+/// slide along its axis and a free joint's (m).
+double jointSeparation(const Joint& j, const Vec3& x);
+
 }  // namespace em

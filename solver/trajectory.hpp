@@ -58,6 +58,9 @@ struct Trajectory {
   /// cond(A) = max/min eigenvalue of A at the state where the run stopped
   /// (in-house methods; NaN when it completed or for another engine).
   double failure_cond_A = std::numeric_limits<double>::quiet_NaN();
+  /// The largest distance (m) between a joint's two points over the steps:
+  /// a maximal-coordinate engine's constraint violation (ODE); NaN otherwise.
+  double max_joint_separation = std::numeric_limits<double>::quiet_NaN();
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   double sample_time_s = 0;                ///< CPU time spent recording samples
   long steps = 0, rhs_evals = 0;

@@ -106,7 +106,7 @@ TEST_CASE("a method from outside is added at run time and refused under a taken 
   const Method m = addMethod(row);
   CHECK(parseMethod("mine") == m);
   CHECK(info(m).engine == Engine::InHouse);
-  CHECK(static_cast<int>(m) == static_cast<int>(Method::EigenBlockJacobi) + 1);
+  CHECK(static_cast<int>(m) > static_cast<int>(Method::EigenBlockJacobi));  // after the built-ins (and any row added before)
   row.name = "eigen";
   CHECK_THROWS_WITH(addMethod(row), "the method name 'eigen' is taken");
 }

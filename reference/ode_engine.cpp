@@ -1,0 +1,319 @@
+// ODE 0.16 (libode-dev, double precision) as an engine, row `ode`
+// (docs/reference-engines.md):
+//
+// Maximal coordinates: every body is an ODE body (its frame ours, at its CM,
+// the full inertia), every joint an ODE joint between it and its parent (the
+// static world for roots), made with every body at our zero configuration:
+//   revolute: hinge; prismatic: slider; universal: universal (axis 1 fixed in
+//   the parent, axis 2 in the body); ball and gimbal: ball (a gimbal's angles
+//   are read back from the relative rotation); free: no joint.
+// ODE holds the joints by constraint forces, its drift fed back at ERP 0.2 and
+// the constraints softened by CFM 1e-10 (its defaults in double precision,
+// kept and stated in every report). Our coordinates and speeds are read back
+// from the bodies' relative poses and velocities (jointCoordinates,
+// jointSpeeds); how far each joint's two points have drifted apart is the
+// run's constraint violation (max_joint_separation). Springs and dampers are
+// joint torques (a slider's: forces at the joint point) from the state at a
+// step's start, held over it: ODE has no joint springs. ODE gives no
+// accelerations at a state, so it has no crosscheck rows and no u' method.
+//
+// Two schemes: ode-step (dWorldStep: a direct solve of the constraint forces,
+// then semi-implicit Euler) and ode-quickstep (dWorldQuickStep: 20 iterations
+// of projected Gauss-Seidel, its default, in place of the direct solve).
+#include <ode/ode.h>
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
+#include "solver/formation.hpp"
+#include "solver/joint.hpp"
+
+static_assert(sizeof(dReal) == sizeof(double), "ODE must be its double-precision build (libode-dev's)");
+
+namespace em {
+
+namespace {
+
+// ODE's messages (warnings) go to stderr unless handled: none may reach
+// eigenmass's output. The last one is kept; a step that raises one ends the
+// run with it (a construction's, such as a universal joint's first axis set
+// before its second, are dropped).
+thread_local std::string g_message;
+void keepMessage(int, const char* format, va_list args) {
+  char text[256];
+  std::vsnprintf(text, sizeof text, format, args);
+  g_message = text;
+}
+
+void initOde() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dInitODE2(0);
+    dSetMessageHandler(keepMessage);
+  });
+}
+
+Vec3 ev(const dReal* v) { return {v[0], v[1], v[2]}; }
+Mat3 rotationOf(dBodyID b) {
+  const dReal* q = dBodyGetQuaternion(b);  // [w, x, y, z]
+  return quatToMatrix(Vec4(q[0], q[1], q[2], q[3]));
+}
+
+// Our zero configuration: angles and slides 0, quaternions the identity.  // (nq)
+Eigen::VectorXd zeroConfiguration(const Model& m) {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(m.nq);
+  for (const Body& b : m.bodies)
+    if (const int at = jointQuat(b.joint.type); at >= 0) q[b.iq + at] = 1;
+  return q;
+}
+
+// A body's frame and motion as ODE keeps them, world frame.
+struct BodyState {
+  Mat3 R = Mat3::Identity();
+  Vec3 r = Vec3::Zero(), v = Vec3::Zero(), w = Vec3::Zero();
+};
+
+// The Model as ODE bodies and joints in one world.
+class OdeSystem {
+ public:
+  explicit OdeSystem(const Model& m) : m_(m), body_(m.n()), joint_(m.n(), nullptr), last_q_(m.q0()) {
+    initOde();
+    world_ = dWorldCreate();
+    dWorldSetGravity(world_, m.gravity.x(), m.gravity.y(), m.gravity.z());
+    for (int i = 0; i < m.n(); ++i) {
+      const Body& b = m.bodies[i];
+      body_[i] = dBodyCreate(world_);
+      dMass mass;
+      dMassSetParameters(&mass, b.mass, 0, 0, 0, b.J(0, 0), b.J(1, 1), b.J(2, 2), b.J(0, 1), b.J(0, 2), b.J(1, 2));
+      dBodySetMass(body_[i], &mass);
+    }
+    setBodies(zeroConfiguration(m), Eigen::VectorXd::Zero(m.nu));
+    for (int i = 0; i < m.n(); ++i) joint_[i] = makeJoint(i);
+    setBodies(m.q0(), m.u0());
+    g_message.clear();
+  }
+  ~OdeSystem() { dWorldDestroy(world_); }  // its bodies and joints with it
+  OdeSystem(const OdeSystem&) = delete;
+  OdeSystem& operator=(const OdeSystem&) = delete;
+
+  dWorldID world() const { return world_; }
+
+  // Our state into ODE's bodies (the in-house kinematics places them).
+  void setBodies(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    Workspace ws(m_);
+    formKinematics(m_, q.data(), u.data(), ws);
+    for (int i = 0; i < m_.n(); ++i) {
+      const Vec4 quat = matrixToQuat(ws.R[i]);
+      const dQuaternion dq = {quat[0], quat[1], quat[2], quat[3]};
+      dBodySetPosition(body_[i], ws.r[i].x(), ws.r[i].y(), ws.r[i].z());
+      dBodySetQuaternion(body_[i], dq);
+      dBodySetLinearVel(body_[i], ws.v[i].x(), ws.v[i].y(), ws.v[i].z());
+      dBodySetAngularVel(body_[i], ws.omega[i].x(), ws.omega[i].y(), ws.omega[i].z());
+    }
+  }
+
+  // ODE's bodies as our (q, u), and the largest joint separation (m) there.
+  double getState(Eigen::VectorXd& q, Eigen::VectorXd& u) {
+    double apart = 0;
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const BodyState s = state(i), p = b.parent < 0 ? BodyState{} : state(b.parent);
+      const Vec3 jp = p.r + p.R * b.joint.in_parent, jb = s.r + s.R * b.joint.in_body;  // the joint's two points
+      const Vec3 x = p.R.transpose() * (jb - jp);
+      const Vec3 jp_dot = p.v + p.w.cross(jp - p.r), jb_dot = s.v + s.w.cross(jb - s.r);
+      const Vec3 xdot = p.R.transpose() * (jb_dot - jp_dot - p.w.cross(jb - jp));
+      jointCoordinates(b.joint, p.R.transpose() * s.R, x, last_q_.data() + b.iq, q.data() + b.iq);
+      jointSpeeds(b.joint, q.data() + b.iq, p.R.transpose() * (s.w - p.w), xdot, u.data() + b.iu);
+      apart = std::max(apart, jointSeparation(b.joint, x));
+    }
+    last_q_ = q;
+    return apart;
+  }
+
+  // The springs' and dampers' generalized forces Q = -k (q - q_rest) - c u at
+  // (q, u), as torques (a slider's: forces at the joint point) on the body
+  // and the opposite on its parent: Q = E^T tau for tau = E (E^T E)^-1 Q.
+  void addSpringForces(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      if (!b.joint.has_spring) continue;  // ball and free joints carry none (io/scene_json.cpp)
+      const Spring& sp = b.joint.spring;
+      const int nu = b.nu();
+      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> Q(nu);
+      for (int k = 0; k < nu; ++k) Q[k] = -sp.k[k] * (q[b.iq + k] - sp.q_rest[k]) - sp.c[k] * u[b.iu + k];
+      const Mat3 Rp = b.parent < 0 ? Mat3::Identity() : rotationOf(body_[b.parent]);
+      Axes E;
+      worldAxes(b.joint, Rp, q.data() + b.iq, E);  // world frame
+      const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> EtE = E.transpose() * E;
+      const Vec3 f = E * EtE.ldlt().solve(Q);
+      applyPair(i, f, jointNt(b.joint.type) > 0);
+    }
+  }
+
+  void poses(std::vector<Pose>& out) const {
+    out.resize(m_.n());
+    for (int i = 0; i < m_.n(); ++i) {
+      const dReal* qq = dBodyGetQuaternion(body_[i]);
+      out[i] = {ev(dBodyGetPosition(body_[i])), Vec4(qq[0], qq[1], qq[2], qq[3]).normalized()};
+    }
+  }
+
+  // T of ODE's bodies; V of gravity on them, and of the springs at q (ours, the same state).
+  void energies(const Eigen::VectorXd& q, double& T, double& V) const {
+    T = V = 0;
+    for (int i = 0; i < m_.n(); ++i) {
+      const Body& b = m_.bodies[i];
+      const BodyState s = state(i);
+      T += 0.5 * (b.mass * s.v.squaredNorm() + s.w.dot(s.R * b.J * s.R.transpose() * s.w));
+      V -= b.mass * m_.gravity.dot(s.r);
+      if (b.joint.has_spring)
+        for (int k = 0; k < b.nu(); ++k) V += 0.5 * b.joint.spring.k[k] * std::pow(q[b.iq + k] - b.joint.spring.q_rest[k], 2);
+    }
+  }
+
+ private:
+  BodyState state(int i) const {
+    return {rotationOf(body_[i]), ev(dBodyGetPosition(body_[i])), ev(dBodyGetLinearVel(body_[i])),
+            ev(dBodyGetAngularVel(body_[i]))};
+  }
+
+  // Body i's joint to its parent, made at the configuration the bodies are in.
+  dJointID makeJoint(int i) {
+    const Body& b = m_.bodies[i];
+    const dBodyID me = body_[i], parent = b.parent < 0 ? nullptr : body_[b.parent];
+    const BodyState s = state(i);
+    const Vec3 o = s.r + s.R * b.joint.in_body;       // the joint point
+    const Mat3 Rp = b.parent < 0 ? Mat3::Identity() : rotationOf(parent);
+    const Vec3 a0 = Rp * b.joint.axis[0], a1 = s.R * b.joint.axis[1];  // world frame
+    dJointID j = nullptr;
+    switch (b.joint.type) {
+      case JointType::Revolute:
+        j = dJointCreateHinge(world_, nullptr);
+        dJointAttach(j, parent, me);
+        dJointSetHingeAnchor(j, o.x(), o.y(), o.z());
+        dJointSetHingeAxis(j, a0.x(), a0.y(), a0.z());
+        return j;
+      case JointType::Prismatic:
+        j = dJointCreateSlider(world_, nullptr);
+        dJointAttach(j, parent, me);
+        dJointSetSliderAxis(j, a0.x(), a0.y(), a0.z());
+        return j;
+      case JointType::Universal:  // axis 1 fixed in body 1 (the parent), axis 2 in body 2
+        j = dJointCreateUniversal(world_, nullptr);
+        dJointAttach(j, parent, me);
+        dJointSetUniversalAnchor(j, o.x(), o.y(), o.z());
+        dJointSetUniversalAxis1(j, a0.x(), a0.y(), a0.z());
+        dJointSetUniversalAxis2(j, a1.x(), a1.y(), a1.z());
+        return j;
+      case JointType::Ball:
+      case JointType::Gimbal:
+        j = dJointCreateBall(world_, nullptr);
+        dJointAttach(j, parent, me);
+        dJointSetBallAnchor(j, o.x(), o.y(), o.z());
+        return j;
+      case JointType::Free: return nullptr;
+    }
+    throw std::logic_error("ODE: a joint kind without a joint");
+  }
+
+  // f on body i and -f on its parent: torques, or forces at the joint point (slides).
+  void applyPair(int i, const Vec3& f, bool force) {
+    const Body& b = m_.bodies[i];
+    const BodyState s = state(i);
+    const Vec3 o = s.r + s.R * b.joint.in_body;
+    for (int side = 0; side < 2; ++side) {
+      const dBodyID on = side == 0 ? body_[i] : (b.parent < 0 ? nullptr : body_[b.parent]);
+      if (!on) continue;
+      const Vec3 g = side == 0 ? f : Vec3(-f);
+      if (force) dBodyAddForceAtPos(on, g.x(), g.y(), g.z(), o.x(), o.y(), o.z());
+      else dBodyAddTorque(on, g.x(), g.y(), g.z());
+    }
+  }
+
+  const Model& m_;
+  dWorldID world_ = nullptr;
+  std::vector<dBodyID> body_;    // internal order
+  std::vector<dJointID> joint_;  // body i's joint to its parent (nullptr: free)
+  Eigen::VectorXd last_q_;       // (nq): the last read-back, for angle branches
+};
+
+// dWorldStep or dWorldQuickStep at exactly dt, one evaluation a step.
+class OdeStepper : public FixedStepEngine {
+ public:
+  OdeStepper(const Model& m, const RunSpec& spec)
+      : m_(m), ode_(m), dt_(spec.dt), quick_(std::string(integratorName(spec.integrator)) == "ode-quickstep"),
+        q_(m.q0()), u_(m.u0()) {
+    for (const Body& b : m.bodies) springs_ = springs_ || b.joint.has_spring;
+  }
+  std::string step() override {
+    if (springs_) {
+      ode_.getState(q_, u_);
+      ode_.addSpringForces(q_, u_);
+    }
+    const int ok = quick_ ? dWorldQuickStep(ode_.world(), dt_) : dWorldStep(ode_.world(), dt_);
+    ++evaluations_;
+    if (!ok) return "ODE: the step could not allocate its working memory";
+    std::string said;
+    said.swap(g_message);
+    return said.empty() ? "" : "ODE: " + said;
+  }
+  long evaluations() const override { return evaluations_; }
+  void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { apart_ = ode_.getState(q, u); }
+  double jointSeparation() const override { return apart_; }
+  void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
+    apart_ = ode_.getState(q_, u_);
+    ode_.poses(poses);
+    ode_.energies(q_, kinetic, potential);
+  }
+  // P = sum c u^2 at the read-back speeds; ODE gives no u', so P' = 0 (W_diss
+  // by the plain trapezoid rule: second order, ODE's own error is first).
+  void dissipation(double& P, double& Pdot) override {
+    ode_.getState(q_, u_);
+    P = Pdot = 0;
+    for (const Body& b : m_.bodies)
+      if (b.joint.has_spring)
+        for (int k = 0; k < b.nu(); ++k) P += b.joint.spring.c[k] * u_[b.iu + k] * u_[b.iu + k];
+  }
+
+ private:
+  const Model& m_;
+  OdeSystem ode_;
+  double dt_;
+  bool quick_, springs_ = false;
+  Eigen::VectorXd q_, u_;  // (nq), (nu): the state the springs act at
+  double apart_ = 0;
+  long evaluations_ = 0;
+};
+
+}  // namespace
+
+EngineRow odeEngine() {
+  return {"ode",
+          "ODE 0.16's bodies and joints in maximal coordinates (constraint forces, ERP 0.2 and CFM 1e-10, its "
+          "defaults; springs and dampers as joint torques held over a step), fixed step (Gazebo Classic's default)",
+          {{"ode-step", true, "ODE's dWorldStep: constraint forces by a direct solve, then semi-implicit Euler", "v"},
+           {"ode-quickstep", true, "ODE's dWorldQuickStep: 20 projected Gauss-Seidel iterations in place of the solve",
+            "^"}},
+          "ode-step",
+          "ode-step",  // ODE has no adaptive scheme
+          HUGE_VAL,
+          "tab:cyan",
+          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+            checkRunSpec(spec);
+            OdeStepper stepper(m, spec);
+            return runFixedStep(m, spec, stepper, observe);
+          },
+          nullptr,  // ODE gives no accelerations at a state
+          nullptr,
+          [] { return std::string(dODE_VERSION); },
+          nullptr,
+          {}};
+}
+
+}  // namespace em

@@ -1,0 +1,118 @@
+// ODE as an engine (reference/ode_engine.cpp): maximal coordinates read back
+// into ours give the initial state back to round-off on every joint kind;
+// dWorldStep is first order, and its constraint violation (the joints' two
+// points apart) shrinks with dt; on a free body in zero gravity its stepping
+// keeps momenta as measured here (Erez, Tassa and Todorov 2015's test); its
+// energy balance closes on a damped scene at first order.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <tuple>
+
+#include "compare/engines.hpp"
+#include "engines.hpp"
+#include "momenta.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+RunSpec odeSpec(const char* scheme, double t_end, double dt, double output_dt = 0.01) {
+  return test::runSpec(test::method("ode"), test::scheme(scheme), t_end, dt, output_dt);
+}
+
+}  // namespace
+
+TEST_CASE("ODE's bodies read back as our coordinates give the initial state to round-off", "[ode]") {
+  // The bodies are placed by the in-house kinematics at (q0, u0); the first
+  // sample is ODE's poses and velocities read back through jointCoordinates
+  // and jointSpeeds. Round-off of the placement and read-back, ~1e-15 per
+  // operation on unit quantities: 1e-12 holds it, far below a wrong map (>= 1e-2).
+  std::vector<Model> models;
+  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
+    models.push_back(test::loadData(s));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  for (const Model& m : models) {
+    const Trajectory o = runMethod(m, odeSpec("ode-step", 0.01, 1e-3));
+    REQUIRE_FALSE(o.failed());
+    INFO(m.name);
+    const Trajectory in = runMethod(m, test::runSpec(Method::Classical, Integrator::RK4, 0.01, 1e-3));
+    CHECK((o.q[0] - in.q[0]).cwiseAbs().maxCoeff() <= 1e-12);
+    CHECK((o.u[0] - in.u[0]).cwiseAbs().maxCoeff() <= 1e-12);
+    CHECK(std::isfinite(o.max_joint_separation));
+  }
+}
+
+TEST_CASE("ODE's dWorldStep is first order, and its joints' separation shrinks with dt", "[ode]") {
+  // Semi-implicit Euler on the constrained bodies: halving dt halves the pose
+  // error (1.6 to 2.4 asserted). ERP feeds a fifth of the drift back each
+  // step, so what stays apart is a step's own drift, ~dt^2 (3.2 asserted).
+  // Measured over 0.5 s at 1e-3 / 5e-4: pendulum5 pose 8.8e-3 / 4.2e-3 rad,
+  // joints apart 1.6e-4 / 4.2e-5 m; tree_mixed 5.8e-3 / 3.0e-3 rad, 2.2e-5 / 5.5e-6 m.
+  for (const char* s : {"pendulum5.json", "tree_mixed.json"}) {
+    const Model m = test::loadData(s);
+    const Trajectory ref = runMethod(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    double err[2], apart[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory o = runMethod(m, odeSpec("ode-step", 0.5, i == 0 ? 1e-3 : 5e-4));
+      REQUIRE_FALSE(o.failed());
+      CHECK(o.rhs_evals == o.steps);
+      err[i] = test::maxPoseDiff(o, ref);
+      apart[i] = o.max_joint_separation;
+    }
+    INFO(s << ": pose " << err[0] << " at 1e-3, " << err[1] << " at 5e-4; joints apart " << apart[0] << " m, " << apart[1] << " m");
+    CHECK(err[0] > 1.6 * err[1]);
+    CHECK(err[0] < 2.4 * err[1]);
+    CHECK(apart[0] > 3.2 * apart[1]);
+    CHECK(apart[0] < 1e-3);
+  }
+}
+
+TEST_CASE("ODE's quickstep runs the same scenes near dWorldStep", "[ode]") {
+  // 20 Gauss-Seidel iterations in place of the direct solve: on a chain the
+  // constraint forces then differ from dWorldStep's, by far less than the
+  // first-order error itself: measured 2.2e-4 rad apart over 0.5 s at 1e-3
+  // (its joints 1.7e-4 m apart); 1e-2 holds it, below the 8.8e-3 rad error of either.
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory step = runMethod(m, odeSpec("ode-step", 0.5, 1e-3));
+  const Trajectory quick = runMethod(m, odeSpec("ode-quickstep", 0.5, 1e-3));
+  REQUIRE_FALSE(quick.failed());
+  INFO("step vs quickstep " << test::maxPoseDiff(step, quick) << " rad; joints apart " << quick.max_joint_separation << " m");
+  CHECK(test::maxPoseDiff(step, quick) < 1e-2);
+}
+
+TEST_CASE("ODE's stepping on a free body in zero gravity: momenta as measured", "[conservation][ode]") {
+  // Erez et al.'s test on one free body (no joint): ODE moves the CM at its
+  // velocity (p kept to round-off) and turns the body with its gyroscopic
+  // term; H drifts at first order. Measured over 10 s at dt 1e-3 / 5e-4:
+  // |dp|/|p| 2.4e-15 / 2.2e-15, |dH|/|H| 4.7e-3 / 2.4e-3.
+  const Model m = test::freeTop();
+  double dp[2], dH[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory o = runMethod(m, odeSpec("ode-step", 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+    REQUIRE_FALSE(o.failed());
+    std::tie(dp[i], dH[i]) = test::momentumDrift(m, o);
+  }
+  INFO("|dp|/|p| " << dp[0] << " -> " << dp[1] << ", |dH|/|H| " << dH[0] << " -> " << dH[1]);
+  CHECK(dp[0] <= 1e-12);
+  CHECK(dH[0] <= 0.1);
+  CHECK(dH[0] > 1.6 * dH[1]);
+}
+
+TEST_CASE("ODE's stepping closes the energy balance on a damped scene at first order", "[ode]") {
+  // Springs and dampers as torques held over a step; E includes the springs'
+  // potential; W_diss by the trapezoid rule (ODE gives no u'). Measured over
+  // 1 s, |E + W_diss - E(0)| / |E(0)|: 1.9e-3 at 1e-3, 9.4e-4 at 5e-4.
+  const Model m = test::loadData("spring_damper.json");
+  double balance[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory o = runMethod(m, odeSpec("ode-step", 1.0, i == 0 ? 1e-3 : 5e-4));
+    REQUIRE_FALSE(o.failed());
+    CHECK(o.dissipated.back() > 1);
+    balance[i] = std::abs(o.energy.back() + o.dissipated.back() - o.energy.front()) / std::abs(o.energy.front());
+  }
+  INFO("balance " << balance[0] << " -> " << balance[1]);
+  CHECK(balance[0] <= 0.1);
+  CHECK(balance[0] > 1.6 * balance[1]);
+}
