@@ -568,7 +568,7 @@ EngineRow bulletEngine() {
           "bullet-euler",
           "bullet-euler",  // Bullet has no adaptive scheme
           HUGE_VAL,
-          "tab:olive",
+          "darkgoldenrod",
           [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
             checkRunSpec(spec);
             BulletStepper stepper(m, spec);
@@ -579,7 +579,7 @@ EngineRow bulletEngine() {
           [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); },
           nullptr,
           {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
-                          "Bullet's formulation apart from its integrator", "#6b6b1e", makeBulletUdot},
+                          "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot},
           "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
           "without gravity, B = A u'; both err by ~eps cond(A), as u' does"};
 }

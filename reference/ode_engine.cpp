@@ -303,7 +303,7 @@ EngineRow odeEngine() {
           "ode-step",
           "ode-step",  // ODE has no adaptive scheme
           HUGE_VAL,
-          "tab:cyan",
+          "navy",
           [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
             checkRunSpec(spec);
             OdeStepper stepper(m, spec);
