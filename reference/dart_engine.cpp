@@ -173,7 +173,10 @@ class DartSkeleton {
           vel_.segment<3>(d + 3) = R.transpose() * Vec3(ui);
           break;
         }
-        default:
+        case JointType::Revolute:  // DART's coordinates and speeds are ours
+        case JointType::Universal:
+        case JointType::Gimbal:
+        case JointType::Prismatic:
           for (int k = 0; k < b.nq(); ++k) pos_[d + k] = qi[k];
           for (int k = 0; k < b.nu(); ++k) vel_[d + k] = ui[k];
       }
@@ -205,7 +208,10 @@ class DartSkeleton {
           u.segment<3>(b.iu + 3) = R * vel.segment<3>(d);
           break;
         }
-        default:
+        case JointType::Revolute:  // DART's coordinates and speeds are ours
+        case JointType::Universal:
+        case JointType::Gimbal:
+        case JointType::Prismatic:
           q.segment(b.iq, b.nq()) = pos.segment(d, b.nq());
           u.segment(b.iu, b.nu()) = vel.segment(d, b.nu());
       }
@@ -229,7 +235,10 @@ class DartSkeleton {
           Eigen::Map<Vec3>{ud + 3} = R * a.segment<3>(d);
           break;
         }
-        default:
+        case JointType::Revolute:  // DART's coordinates and speeds are ours
+        case JointType::Universal:
+        case JointType::Gimbal:
+        case JointType::Prismatic:
           for (int k = 0; k < b.nu(); ++k) ud[k] = a[d + k];
       }
     }
@@ -252,7 +261,10 @@ class DartSkeleton {
           g.segment<3>(d + 3) = -Rt * Vec3(u + b.iu + 3).cross(Vec3(u + b.iu));
           break;
         }
-        default:
+        case JointType::Revolute:  // DART's coordinates and speeds are ours
+        case JointType::Universal:
+        case JointType::Gimbal:
+        case JointType::Prismatic:
           for (int k = 0; k < b.nu(); ++k) G(d + k, b.iu + k) = 1;
       }
     }

@@ -63,9 +63,11 @@ Rotation jointFrame(const Joint& j) {
       return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis);
     case JointType::Prismatic:  // Slider slides along its frames' common x: put x on the axis.
       return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis);
-    default:  // Gimbal (x-y-z body-fixed), Ball and Free act in the parent's axes.
-      return Rotation();
+    case JointType::Gimbal:  // Gimbal (x-y-z body-fixed), Ball and Free act in the parent's axes.
+    case JointType::Ball:
+    case JointType::Free: return Rotation();
   }
+  return Rotation();
 }
 
 // One damped mobility: its body, which of its speeds, and c.

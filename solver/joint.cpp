@@ -22,8 +22,12 @@ Vec3 slideOffset(const Joint& j, const double* q) {
   switch (j.type) {
     case JointType::Prismatic: return q[0] * j.axis[0];
     case JointType::Free: return Vec3(q[0], q[1], q[2]);
-    default: return Vec3::Zero();
+    case JointType::Revolute:
+    case JointType::Universal:
+    case JointType::Gimbal:
+    case JointType::Ball: return Vec3::Zero();  // they turn about the joint point
   }
+  return Vec3::Zero();
 }
 
 void worldAxes(const Joint& j, const Mat3& R_p, const double* q, Axes& P) {
@@ -156,8 +160,12 @@ double jointSeparation(const Joint& j, const Vec3& x) {
   switch (j.type) {
     case JointType::Prismatic: return (x - j.axis[0].dot(x) * j.axis[0]).norm();
     case JointType::Free: return 0;
-    default: return x.norm();
+    case JointType::Revolute:
+    case JointType::Universal:
+    case JointType::Gimbal:
+    case JointType::Ball: return x.norm();
   }
+  return x.norm();
 }
 
 }  // namespace em
