@@ -140,7 +140,7 @@ Grid RunArgs::asked(const CLI::App& cmd) const {
 }
 
 void RunArgs::applyTo(MethodOptions& options) const {
-  if (allow_long_run) options.max_steps = HUGE_VAL;
+  if (allow_long_run) options.max_steps = options.max_samples = HUGE_VAL;
   options.params = params;
   options.retry_failed_steps = !no_step_retry;
 }
@@ -193,7 +193,7 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
   cmd->add_option("--t-end", g.t_end, "End time (s); default: the scene's simulate.t_end")->check(positiveFinite());
   cmd->add_option("--output-dt", g.output_dt, output_dt_help + "; default: the scene's simulate.output_dt")
       ->check(positiveFinite());
-  cmd->add_flag("--allow-long-run", g.allow_long_run, "Run fixed-step runs of more than 1e8 steps (refused otherwise, as a likely typo)");
+  cmd->add_flag("--allow-long-run", g.allow_long_run, "Run more than 1e8 fixed steps or 1e6 output samples (refused otherwise, as a likely typo)");
   cmd->add_flag("--no-step-retry", g.no_step_retry,
                 "Adaptive integrators: end the run when the right-hand side fails at a trial stage (default: retry the "
                 "step at a quarter of its size)");
@@ -221,7 +221,9 @@ void addSceneArg(CLI::App* cmd, SceneArg& s) {
       ->delimiter(',');
 }
 
-void progress(const std::string& what) { std::fprintf(stderr, "running %s ...\n", what.c_str()); }
+void progress(const std::string& what) {
+  if (progressMode() != ProgressMode::Off) std::fprintf(stderr, "running %s ...\n", what.c_str());
+}
 
 CLI::Validator methodValidator() { return CLI::IsMember(methodNames()); }
 CLI::Validator integratorValidator() { return CLI::IsMember(integratorNames()); }

@@ -1,6 +1,7 @@
 // `eigenmass import`: a URDF robot as the equivalent eigenmass-scene/1 file,
 // with its provenance in x- keys, for a user to inspect and edit.
 #include <cstdio>
+#include <map>
 #include <iostream>
 #include <memory>
 
@@ -25,8 +26,12 @@ int runImport(const ImportArgs& a) {
   loadSceneText(text, "(the scene written)");  // what is written must load as written
   if (a.out.empty()) std::cout << text;
   else writeAtomic(a.out, "scene", [&](std::ostream& o) { o << text; });
-  std::fprintf(stderr, "%s: %zu moving bodies (revolute joints), %zu links held by the ground%s%s\n",
-               u.spec.name.c_str(), u.spec.bodies.size(), u.spec.extra["x-urdf-ground-links"].size(),
+  std::map<std::string, int> kinds;  // the joints as imported, by kind
+  for (const BodySpec& b : u.spec.bodies) ++kinds[jointTypeName(b.joint.type)];
+  std::string joints;
+  for (const auto& [kind, count] : kinds) joints += (joints.empty() ? "" : ", ") + std::to_string(count) + " " + kind;
+  std::fprintf(stderr, "%s: %zu moving bodies (joints: %s), %zu links held by the ground%s%s\n", u.spec.name.c_str(),
+               u.spec.bodies.size(), joints.c_str(), u.spec.extra["x-urdf-ground-links"].size(),
                a.out.empty() ? "" : " -> ", a.out.c_str());
   for (const std::string& n : u.notes) std::fprintf(stderr, "  note: %s\n", n.c_str());
   return 0;

@@ -11,6 +11,7 @@ constexpr double kTerminalRefreshS = 0.25;  // a terminal line is redrawn at mos
 }  // namespace
 
 void setProgressMode(ProgressMode mode) { g_mode = mode; }
+ProgressMode progressMode() { return g_mode; }
 
 ProgressMeter::ProgressMeter(std::string label, double t_end)
     : label_(std::move(label)), t_end_(t_end), terminal_(isatty(STDERR_FILENO) == 1),

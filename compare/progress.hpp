@@ -2,7 +2,8 @@
 /// Progress of a long run on stderr: which run, simulated time / t_end,
 /// elapsed wall time and the time left. Shown for runs that last longer than
 /// kProgressAfterS; by default only when stderr is a terminal (`--progress`
-/// forces it, one line every kProgressLineS; `--no-progress` silences it).
+/// forces it, one line every kProgressLineS; `--no-progress` silences it and
+/// the commands' "running ..." lines).
 #include <chrono>
 #include <string>
 
@@ -11,6 +12,8 @@ namespace em {
 enum class ProgressMode { Auto, On, Off };
 /// Set once by the CLI before any run.
 void setProgressMode(ProgressMode mode);
+/// The mode set (Off: `--no-progress`, no "running ..." lines either).
+ProgressMode progressMode();
 
 constexpr double kProgressAfterS = 2.0;  ///< a run shorter than this shows nothing
 constexpr double kProgressLineS = 10.0;  ///< interval of the lines when stderr is not a terminal

@@ -22,6 +22,11 @@ volatile std::sig_atomic_t g_tmp_active = 0;
 
 extern "C" void removeTemporaryAndDie(int sig) {
   if (g_tmp_active) ::unlink(g_tmp);
+  // One line, as every ending of the tool (write(2) is async-signal-safe).
+  static const char kInt[] = "eigenmass: interrupted (SIGINT); no output was left half-written\n";
+  static const char kTerm[] = "eigenmass: terminated (SIGTERM); no output was left half-written\n";
+  if (sig == SIGINT) (void)!::write(STDERR_FILENO, kInt, sizeof kInt - 1);
+  else (void)!::write(STDERR_FILENO, kTerm, sizeof kTerm - 1);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }

@@ -259,6 +259,8 @@ SceneSpec spec(const json& doc) {
   SceneSpec s;
   s.name = name(require(doc, "", "name"), "name");
   if (doc.contains("gravity")) s.gravity = vec3(doc["gravity"], "gravity");
+  if (!(s.gravity.norm() <= kGravityMax))
+    throw Err("gravity", "|g| = " + gnum(s.gravity.norm()) + " m/s^2 beyond " + gnum(kGravityMax) + " (a thousand g)");
   const json& bodies = require(doc, "", "bodies");
   if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
   if (bodies.empty()) throw Err("bodies", "empty body list");

@@ -18,6 +18,9 @@ namespace em {
 /// doubles (a 5e-324 kg body made Simbody throw; 1e308 kg overflows).
 inline constexpr double kMassMin = 1e-12, kMassMax = 1e12;
 inline constexpr double kInertiaMin = 1e-24, kInertiaMax = 1e24;
+/// Bound of |gravity| (m/s^2): a thousand times Earth's, beyond any vehicle
+/// or robot; 1e308 made E(0) a 300-digit number and m g l overflow.
+inline constexpr double kGravityMax = 1e4;
 
 /// A body as written in a scene: parent by name ("ground" or a body), file order.
 struct BodySpec {

@@ -45,6 +45,10 @@ long stepsPerOutput(double output_dt, double dt) {
 void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
   requireCompatible(s.method, s.integrator);
   const long intervals = outputIntervals(s.t_end, s.output_dt);
+  if (double(intervals) + 1 > s.options.max_samples)
+    throw SettingError("output_dt", gnum(s.output_dt) + " over t_end " + gnum(s.t_end) + " s is " +
+                                        gnum(double(intervals) + 1, 3) + " samples, more than the budget of " +
+                                        gnum(s.options.max_samples, 3) + " (" + long_run_hint + ")");
   if (!s.fixedStep()) {
     requirePositive("tol", s.tol);
     // An engine may bound it (Simbody asserts, SIGABRT, on an accuracy >= 1): before any run.

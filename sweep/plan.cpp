@@ -257,7 +257,7 @@ Ensemble ensembleAt(const json& v) {
 
 void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
-                                   "reference", "reference_check", "lines", "tables", "max_steps", "ensemble"};
+                                   "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble"};
   for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
   onlyKeys(doc, "", keys);
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
@@ -286,6 +286,7 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
   if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
   if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
+  if (doc.contains("max_samples")) p.options.max_samples = positiveNumber(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);
 }
 
@@ -297,7 +298,7 @@ void checkPlanRuns(const Plan& p) {
   for (const SweepCase& c : cases) {
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
     try {
-      checkRunSpec(c.spec, "the plan key max_steps raises the budget");
+      checkRunSpec(c.spec, "the plan keys max_steps and max_samples raise the budgets");
     } catch (const std::invalid_argument& e) {
       throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
                        c.name + ": " + e.what());

@@ -175,16 +175,20 @@ TEST_CASE("compare --refine records the corrections per eigenfactor method and s
   CHECK(j["methods"][2]["block_gap"] == 3e-2);
 }
 
-TEST_CASE("an interrupted compare leaves no report and no temporary", "[cli][comparison]") {
+TEST_CASE("an interrupted compare leaves no report and no temporary, and says so in one line", "[cli][comparison]") {
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_interrupted.json";
+  const std::string err = std::string(EM_BINARY_DIR) + "/cli_interrupted.err";
   std::filesystem::remove(out);
   // pendulum5 over 10 s takes several seconds; SIGINT after one.
   const std::string cmd = "timeout -s INT 1 " + std::string(EM_BINARY_DIR) + "/bin/eigenmass compare " +
-                          scene("pendulum5.json") + " --out " + out + " >/dev/null 2>&1";
+                          scene("pendulum5.json") + " --no-progress --out " + out + " >/dev/null 2>" + err;
   const int st = std::system(cmd.c_str());
   CHECK(WEXITSTATUS(st) != 0);
   CHECK_FALSE(std::filesystem::exists(out));
   CHECK_FALSE(em::test::temporaryLeft(out));
+  std::ifstream in(err);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(said == "eigenmass: interrupted (SIGINT); no output was left half-written\n");  // --no-progress: nothing else
 }
 
 TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {
@@ -210,6 +214,8 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --refine 11", "--refine: must be a whole number from 0 to 10, got 11"},
       {"compare " + s + " --refine 1.5", "--refine: must be a whole number from 0 to 10, got 1.5"},
       {"simulate " + s + " --dt 1e-12 --t-end 10", "is 1e+13 steps, more than the budget of 1e+08 (--allow-long-run"},
+      {"simulate " + s + " --t-end 20000 --output-dt 0.01", "--output-dt: 0.01 over t_end 20000 s is 2e+06 samples, more than the budget of 1e+06"},
+      {"compare " + s + " --methods classical --t-end 1e5 --output-dt 0.01 --reference-tol 1e-6", "samples, more than the budget of 1e+06"},
       {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
       {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
       {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},

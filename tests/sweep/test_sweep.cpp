@@ -143,10 +143,12 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: block_gap: must be in (0, 1], got 2"));
   p["block_gap"] = 0.1;
   CHECK(planError(p).empty());
-  p = smallPlan();  // beyond the step budget: the hint is the plan's key, not a flag sweep does not take
+  p = smallPlan();  // beyond the budgets: the hint is the plan's keys, not a flag sweep does not take
   p["t_end"] = 1e7;
-  CHECK_THAT(planError(p), Catch::Contains("(the plan key max_steps raises the budget)") &&
+  CHECK_THAT(planError(p), Catch::Contains("1e+09 samples, more than the budget of 1e+06 (the plan keys max_steps and max_samples raise the budgets)") &&
                                !Catch::Contains("--allow-long-run"));
+  p["max_samples"] = 1e10;  // then the steps' budget speaks
+  CHECK_THAT(planError(p), Catch::Contains("steps, more than the budget of 1e+08 (the plan keys max_steps and max_samples"));
   p = smallPlan();  // what becomes a file name, a shell command or a CSV field keeps to the scene-name rule
   p["name"] = "two\nlines";
   CHECK_THAT(planError(p), Catch::Contains("bad.json: name: must be letters, digits"));
