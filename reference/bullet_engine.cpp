@@ -569,11 +569,7 @@ EngineRow bulletEngine() {
           "bullet-euler",  // Bullet has no adaptive scheme
           HUGE_VAL,
           "darkgoldenrod",
-          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-            checkRunSpec(spec);
-            BulletStepper stepper(m, spec);
-            return runFixedStep(m, spec, stepper, observe);
-          },
+          simulateFixedStep<BulletStepper>,
           [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<BulletModel>(m); },
           nullptr,  // Bullet's URDF importer is not in libbullet-dev
           [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); },

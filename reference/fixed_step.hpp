@@ -40,6 +40,15 @@ class FixedStepEngine {
 /// counts the steps alone, the harness's reads and W_diss apart.
 Trajectory runFixedStep(const Model& m, const RunSpec& spec, FixedStepEngine& engine, const SampleObserver& observe);
 
+/// An engine row's `simulate` for a FixedStepEngine made as Stepper(m, spec):
+/// the spec checked, then the one loop.
+template <class Stepper>
+Trajectory simulateFixedStep(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+  checkRunSpec(spec);
+  Stepper stepper(m, spec);
+  return runFixedStep(m, spec, stepper, observe);
+}
+
 /// W_diss over one step of h from (P0, P0') to (P1, P1'): the trapezoid rule
 /// with its end corrections, h/2 (P0 + P1) + h^2/12 (P0' - P1'), exact for
 /// cubics (error h^5/720 P''''): fourth order, as rk4.

@@ -67,9 +67,7 @@ class MujocoStepper : public FixedStepEngine {
 }  // namespace
 
 Trajectory simulateMujoco(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-  checkRunSpec(spec);
-  MujocoStepper stepper(m, spec);
-  return runFixedStep(m, spec, stepper, observe);
+  return simulateFixedStep<MujocoStepper>(m, spec, observe);
 }
 
 namespace {

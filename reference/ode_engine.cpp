@@ -304,11 +304,7 @@ EngineRow odeEngine() {
           "ode-step",  // ODE has no adaptive scheme
           HUGE_VAL,
           "navy",
-          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-            checkRunSpec(spec);
-            OdeStepper stepper(m, spec);
-            return runFixedStep(m, spec, stepper, observe);
-          },
+          simulateFixedStep<OdeStepper>,
           nullptr,  // ODE gives no accelerations at a state
           nullptr,
           [] { return std::string(dODE_VERSION); },

@@ -142,6 +142,17 @@ inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
   return d;
 }
 
+/// Models of every joint kind: the shipped scenes that hold them (gimbal,
+/// ball, universal, slides, a free base, springs and dampers) and random
+/// trees of all six kinds with turned full inertias (free joints inside).
+inline std::vector<Model> modelsOfEveryKind() {
+  std::vector<Model> models;
+  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
+    models.push_back(loadData(s));
+  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(randomTree(seed, 6, true));
+  return models;
+}
+
 /// A free top in zero gravity: a full inertia, its joint point off the CM,
 /// turning about all three axes (Erez et al.'s momentum test).
 inline Model freeTop() {

@@ -41,10 +41,7 @@ TEST_CASE("Bullet's u' under the in-house rk4 agrees with classical rk4 to round
   // (free joints inside the tree: prismatic links and a spherical one) and a
   // free top: at most 2.1e-13; 1e-10 leaves room for other machines and
   // chaos, 1e4 below a wrong term.
-  std::vector<Model> models;
-  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
-    models.push_back(test::loadData(s));
-  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  std::vector<Model> models = test::modelsOfEveryKind();
   models.push_back(test::freeTop());
   const Method udot = test::method("bullet-udot");
   for (const Model& m : models) {

@@ -19,10 +19,7 @@ TEST_CASE("DART's u' under the in-house rk4 agrees with classical rk4 to round-o
   // what differs is round-off, amplified by the motion. Measured over 1 s at
   // dt 1e-3 on scenes of every joint kind and random trees of every kind: at
   // most 1.0e-11; 1e-10 leaves room for other machines, 1e4 below a wrong term.
-  std::vector<Model> models;
-  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
-    models.push_back(test::loadData(s));
-  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  std::vector<Model> models = test::modelsOfEveryKind();
   const Method udot = test::method("dart-udot");
   for (const Model& m : models) {
     const Trajectory in = runMethod(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));

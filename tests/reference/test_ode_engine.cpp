@@ -29,10 +29,7 @@ TEST_CASE("ODE's bodies read back as our coordinates give the initial state to r
   // sample is ODE's poses and velocities read back through jointCoordinates
   // and jointSpeeds. Round-off of the placement and read-back, ~1e-15 per
   // operation on unit quantities: 1e-12 holds it, far below a wrong map (>= 1e-2).
-  std::vector<Model> models;
-  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
-    models.push_back(test::loadData(s));
-  for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6, true));
+  std::vector<Model> models = test::modelsOfEveryKind();
   for (const Model& m : models) {
     const Trajectory o = runMethod(m, odeSpec("ode-step", 0.01, 1e-3));
     REQUIRE_FALSE(o.failed());
