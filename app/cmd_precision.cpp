@@ -51,9 +51,12 @@ void addPrecision(CLI::App& app) {
       ->delimiter(',')
       ->check(methodValidator())
       ->capture_default_str();
+  std::vector<std::string> fixed, adaptive;  // the in-house schemes, by what --settings means for them
+  for (const std::string& n : integratorNames(Engine::InHouse))
+    (info(parseIntegrator(n)).fixed_step ? fixed : adaptive).push_back(n);
   cmd->add_option("--integrator", a->integrator,
-                  "In-house integrator: rk4 (settings are steps dt) or " + joined(integratorNames(Engine::InHouse)) +
-                      " (adaptive ones take tolerances)")
+                  "In-house integrator: fixed-step " + joined(fixed) + " (--settings are steps dt) or adaptive " +
+                      joined(adaptive) + " (--settings are tolerances)")
       ->check(integratorValidator(Engine::InHouse))
       ->capture_default_str();
   cmd->add_option("--settings", a->opt.settings, "Steps (fixed-step integrators) or tolerances, comma-separated")
