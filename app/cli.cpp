@@ -1,5 +1,9 @@
 #include "app/cli.hpp"
 
+#include "outside/plugin.hpp"
+#include "outside/recorded.hpp"
+#include "outside/isolate.hpp"
+
 #include <unistd.h>
 
 #include <cmath>
@@ -231,6 +235,67 @@ CLI::Validator integratorValidator(Engine engine) { return CLI::IsMember(integra
 
 std::string helpWithNames(const std::string& text, const std::vector<std::string>& names) {
   return text + ": " + joined(names);
+}
+
+namespace {
+
+// "NAME=path" as given to `option`: its two halves.
+std::pair<std::string, std::string> namedFile(const std::string& option, const std::string& v) {
+  const size_t eq = v.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
+    throw std::invalid_argument(option + ": '" + v + "': NAME=FILE expected (e.g. " + option + " mine=" +
+                                (option == "--run" ? "run.csv" : "./libmine.so") + ")");
+  return {v.substr(0, eq), v.substr(eq + 1)};
+}
+
+}  // namespace
+
+std::vector<std::string> OutsideArgs::load(const Scene& scene) const {
+  if (plugin_timeout > 0) setPluginTimeout(plugin_timeout);
+  std::vector<std::string> names;
+  const auto named = [](const std::string& option, const std::exception& e) {
+    return std::invalid_argument(option + ": " + e.what());
+  };
+  for (const std::string& v : plugins) {
+    const auto [name, path] = namedFile("--plugin", v);
+    try {
+      probePlugin(addPlugin(name, path), scene.model);
+    } catch (const std::exception& e) {
+      throw named("--plugin", e);
+    }
+    names.push_back(name);
+  }
+  for (const std::string& v : runs) {
+    const auto [name, path] = namedFile("--run", v);
+    try {
+      addRecordedRun(name, path, scene.model);
+    } catch (const std::exception& e) {
+      throw named("--run", e);
+    }
+    names.push_back(name);
+  }
+  return names;
+}
+
+std::vector<std::string> OutsideArgs::files() const {
+  std::vector<std::string> f;
+  for (const auto* list : {&plugins, &runs})
+    for (const std::string& v : *list)
+      if (const size_t eq = v.find('='); eq != std::string::npos) f.push_back(v.substr(eq + 1));
+  return f;
+}
+
+void addOutsideOptions(CLI::App* cmd, OutsideArgs& o, bool with_runs) {
+  cmd->add_option("--plugin", o.plugins,
+                  "A method from outside: NAME=path/libx.so, a library with eigenmass_plugin.h's calls, run under the "
+                  "in-house integrators as method NAME (repeatable; docs/plugins.md)");
+  cmd->add_option("--plugin-timeout", o.plugin_timeout,
+                  "Seconds a plugin's call may take before its run counts as hung (default " + gnum(kPluginTimeout) + ")")
+      ->check(positiveFinite());
+  if (with_runs)
+    cmd->add_option("--run", o.runs,
+                    "A run made elsewhere: NAME=FILE.csv, joint coordinates or body poses (docs/report-format.md, "
+                    "\"Outside runs\"), judged as method NAME (repeatable)");
 }
 
 }  // namespace em::cli

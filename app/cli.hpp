@@ -109,6 +109,21 @@ struct RunArgs {
 /// method option of the registry (methodParams()), --progress, --no-progress.
 void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help);
 
+/// What a user brings on the command line (docs/plugins.md): --plugin
+/// NAME=path/libx.so (repeatable), --plugin-timeout, and where a command
+/// compares runs, --run NAME=FILE.csv (repeatable).
+struct OutsideArgs {
+  std::vector<std::string> plugins, runs;  ///< "NAME=path" each
+  double plugin_timeout = 0;               ///< 0: kPluginTimeout
+  /// Load every one against the scene (a plugin probed at its initial state,
+  /// a run read and checked): one line naming the option and the file,
+  /// before any run. Returns the methods they add, in order.
+  std::vector<std::string> load(const Scene& scene) const;
+  /// Every file named (inputs: an output may never replace one).
+  std::vector<std::string> files() const;
+};
+void addOutsideOptions(CLI::App* cmd, OutsideArgs& o, bool with_runs);
+
 /// Validators fed from the registry: a method name; an integrator name (of one engine).
 CLI::Validator methodValidator();
 CLI::Validator integratorValidator();

@@ -28,6 +28,7 @@ struct CompareArgs {
   std::map<Engine, EngineArgs> engines;  ///< every other engine's options, one entry each
   std::vector<std::string> methods = methodNames();
   RunArgs run;
+  OutsideArgs outside;  ///< --plugin, --run: methods from outside, compared beside --methods
   CompareOptions opt;
 };
 
@@ -64,10 +65,11 @@ void refuseUnreadInHouseSettings(const CLI::App& cmd, const CompareOptions& o) {
 }
 
 // The options as given on the command line, resolved against the registry.
-CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd) {
+CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const std::vector<std::string>& outside) {
   CompareOptions o = a.opt;
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  for (const std::string& name : outside) o.methods.push_back(parseMethod(name));
   const double reference_tol = o.reference.tol;
   o.reference = referenceRun(parseMethod(a.reference));
   o.reference.tol = reference_tol;
@@ -144,10 +146,11 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
   const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
-  const std::vector<std::string> inputs = {a.scene.path, a.gate};
+  std::vector<std::string> inputs = {a.scene.path, a.gate};
+  for (const std::string& f : a.outside.files()) inputs.push_back(f);
   const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
   prepareOutput("--out", out, inputs);
-  const CompareOptions options = resolve(a, cmd);
+  const CompareOptions options = resolve(a, cmd, a.outside.load(scene));
   if (!a.csv_dir.empty()) {
     prepareFolder("--csv-dir", a.csv_dir);
     const std::vector<std::string> csvs = csvFiles(a.csv_dir, options.methods);
@@ -241,6 +244,7 @@ void addCompare(CLI::App& app) {
       ->delimiter(',')
       ->check(positiveFinite())
       ->capture_default_str();
+  addOutsideOptions(cmd, a->outside, true);
   cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
   cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");
   cmd->add_option("--gate", a->gate, "Tolerance file (data/tolerances.json): exit 1 and list the broken bounds if any");

@@ -17,12 +17,15 @@ struct CrossCheckArgs {
   int states = 20;
   unsigned seed = 1;
   double tol = 1e-7;
+  OutsideArgs outside;  ///< --plugin: its u' at the same states
 };
 
 int runCrossCheck(const CrossCheckArgs& a) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
-  const CrossCheck c = crossCheck(scene, a.scene.urdf, a.states, a.seed);
+  std::vector<Method> plugins;
+  for (const std::string& name : a.outside.load(scene)) plugins.push_back(parseMethod(name));
+  const CrossCheck c = crossCheck(scene, a.scene.urdf, a.states, a.seed, plugins);
   std::printf("%s (%s): %d speeds; differences relative to the in-house value's largest entry\n",
               scene.model.name.c_str(), scene.source.format.c_str(), scene.model.nu);
   for (const std::string& n : scene.source.notes) std::printf("import note: %s\n", n.c_str());
@@ -39,15 +42,22 @@ int runCrossCheck(const CrossCheckArgs& a) {
     rows.emplace_back(row.name);
     if (row.mass_note) rows.push_back(massRowName(row.name)), unjudged_udot.emplace_back(row.name);
   }
+  for (Method p : plugins) {  // a plugin's u' against the in-house one, then against each engine's
+    rows.emplace_back(methodName(p));
+    for (Engine e : otherEngines())
+      if (engineRow(e).model) rows.push_back(std::string(methodName(p)) + "/" + engineName(e));
+  }
   for (const std::string& engine : rows) {
     CrossCheckRow worst{0, engine};
     bool any = false;
     for (const CrossCheckRow& r : c.rows)
       if (r.engine == engine) {
         any = true;
+        worst.udot_only = r.udot_only;
         worst.A = std::max(worst.A, r.A), worst.B = std::max(worst.B, r.B), worst.udot = std::max(worst.udot, r.udot);
       }
-    if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
+    if (any && worst.udot_only) std::printf("%-12s %10s %10s %10.2e\n", engine.c_str(), "-", "-", worst.udot);
+    else if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
   }
   for (Engine e : otherEngines()) {
     if (const char* note = engineRow(e).mass_note) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
@@ -55,7 +65,9 @@ int runCrossCheck(const CrossCheckArgs& a) {
   }
   double worst = 0;
   for (const CrossCheckRow& r : c.rows) {
-    const bool raw_udot_aside = std::count(unjudged_udot.begin(), unjudged_udot.end(), r.engine) > 0;
+    // (a plugin's u' against such an engine's, "<plugin>/<engine>", carries the same rounding)
+    const std::string engine = r.engine.substr(r.engine.find('/') + 1);
+    const bool raw_udot_aside = std::count(unjudged_udot.begin(), unjudged_udot.end(), engine) > 0;
     worst = std::max(worst, raw_udot_aside ? std::max(r.A, r.B) : r.worst());
   }
   std::printf("largest judged difference over the initial state and %d random states (seed %u): %.2e, %s %.0e\n",
@@ -74,6 +86,7 @@ void addCrossCheck(CLI::App& app) {
   cmd->add_option("--tol", a->tol, "Largest relative difference accepted (exit status 1 beyond)")
       ->check(positiveFinite())
       ->capture_default_str();
+  addOutsideOptions(cmd, a->outside, false);
   cmd->callback([a] { guarded([&] { return runCrossCheck(*a); }); });
 }
 

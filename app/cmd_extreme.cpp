@@ -26,6 +26,7 @@ struct ExtremeArgs {
   std::string out_dir = "out/extreme", doc, expect;
   bool balance_inertia = false;
   RunArgs run;
+  OutsideArgs outside;  ///< --plugin: a method from outside in every case
 };
 
 // Files as given; a folder stands for its .json and .urdf files, sorted.
@@ -103,6 +104,7 @@ int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
   }
   std::vector<std::string> inputs = files;
   inputs.push_back(a.expect);
+  for (const std::string& f : a.outside.files()) inputs.push_back(f);
   const std::string summary = (fs::path(a.out_dir) / "extreme.json").string();
   const std::string doc = a.doc.empty() ? (fs::path(a.out_dir) / "extreme.md").string() : a.doc;
   prepareOutput("--out-dir", summary, inputs);
@@ -118,6 +120,9 @@ int runExtreme(const ExtremeArgs& a, const CLI::App& cmd) {
   refuseCollisions(outputs);
   ExtremeOptions opt;
   for (const std::string& m : a.methods) opt.methods.push_back(parseMethod(m));
+  std::vector<std::string> added;
+  for (const ExtremeCase& c : cases) added = a.outside.load(c.scene);  // probed at every case's initial state
+  for (const std::string& m : added) opt.methods.push_back(parseMethod(m));
   refuseUnreadRunOptions(cmd, opt.methods, true);  // the gallery's settings include adaptive ones
   opt.grid = a.run.asked(cmd);
   a.run.applyTo(opt.options);
@@ -157,6 +162,7 @@ void addExtreme(CLI::App& app) {
                   "A summary recorded earlier (extreme.json): exit 1 and list every outcome or failure kind that differs");
   cmd->add_flag("--balance-inertia", a->balance_inertia, "URDF: repair triangle-inequality violations (docs/urdf.md)");
   addRunOptions(cmd, a->run, "Common output grid (s)");
+  addOutsideOptions(cmd, a->outside, false);
   cmd->callback([cmd, a] { guarded([&] { return runExtreme(*a, *cmd); }); });
 }
 

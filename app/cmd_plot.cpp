@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <regex>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -161,10 +162,16 @@ struct ScratchFolder {
 };
 
 // Every method's colour and every integrator's marker, from the registry:
-// one per method in every figure, a method added at run time included.
-std::string figureStyle() {
+// one per method in every figure. A method from outside (a plugin, a
+// recorded run) is not in this process's registry: a report keeps its colour.
+std::string figureStyle(const std::string& input, const std::string& kind) {
   nlohmann::json colours = nlohmann::json::object(), markers = nlohmann::json::object();
   for (const MethodInfo& m : methodTable()) colours[m.name] = methodColour(m.id);
+  if (kind == "report")
+    for (const nlohmann::json& m : readJsonFile(input, "report").value("methods", nlohmann::json::array()))
+      if (m.contains("colour") && m["colour"].is_string() && std::regex_match(m["colour"].get<std::string>(), std::regex("#[0-9a-fA-F]{6}|[a-z:]{1,32}")) &&
+          m.contains("name") && m["name"].is_string())
+        colours[m["name"].get<std::string>()] = m["colour"];
   for (const IntegratorInfo& i : integratorTable()) markers[i.name] = i.marker ? i.marker : ".";
   return nlohmann::json{{"colours", colours}, {"markers", markers}}.dump();
 }
@@ -201,7 +208,7 @@ int runPlot(PlotArgs a) {
   checkPython();
   const ScratchFolder tmp;
   std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.path.string(), a.format,
-                                   "--style", figureStyle()};
+                                   "--style", figureStyle(a.input, kind)};
   if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
   const int status = runProgram(argv, false);
   if (status == 2 && fs::exists(tmp.path / "error.txt"))  // the input's shape is not its format's: its one line

@@ -16,6 +16,7 @@ struct PrecisionArgs {
   std::string out, integrator = integratorName(Integrator::RK4);
   std::vector<std::string> methods;
   RunArgs run;
+  OutsideArgs outside;  ///< --plugin: measured beside --methods
   PrecisionOptions opt;
 };
 
@@ -24,12 +25,16 @@ int runPrecisionCommand(const PrecisionArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
   const std::string path = a.out.empty() ? "out/" + scene.model.name + ".precision.json" : a.out;
-  prepareOutput("--out", path, {a.scene.path});
+  std::vector<std::string> inputs = a.outside.files();
+  inputs.push_back(a.scene.path);
+  prepareOutput("--out", path, inputs);
+  const std::vector<std::string> added = a.outside.load(scene);
   PrecisionOptions o = a.opt;
   a.run.applyTo(o.reference.options);
   a.run.applyTo(o.options);
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  for (const std::string& name : added) o.methods.push_back(parseMethod(name));
   o.integrator = parseIntegrator(a.integrator);
   refuseUnreadRunOptions(cmd, o.methods, !info(o.integrator).fixed_step);
   o.grid = a.run.asked(cmd);
@@ -67,6 +72,7 @@ void addPrecision(CLI::App& app) {
       ->check(positiveFinite())
       ->capture_default_str();
   addRunOptions(cmd, a->run, "Sampling interval (s), a multiple of every step");
+  addOutsideOptions(cmd, a->outside, false);
   cmd->add_option("--out", a->out, "JSON file to write; default out/<scene>.precision.json");
   cmd->callback([cmd, a] { guarded([&] { return runPrecisionCommand(*a, *cmd); }); });
 }

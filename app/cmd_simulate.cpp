@@ -17,6 +17,7 @@ struct SimulateArgs {
   std::string out, method = methodName(Method::Classical), integrator;
   RunSpec spec;  ///< dt and tol as given (or their defaults)
   RunArgs run;
+  OutsideArgs outside;  ///< --plugin: then the plugin is the method run
 };
 
 void printSummary(const Trajectory& tr, const std::string& path) {
@@ -35,11 +36,18 @@ void printSummary(const Trajectory& tr, const std::string& path) {
 int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
-  const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + a.method + ".csv" : a.out;
-  prepareOutput("--out", path, {a.scene.path}, {path + ".json"});  // writeTrajectory's sidecar
+  if (a.outside.plugins.size() > 1) throw std::invalid_argument("--plugin: simulate runs one method; one plugin at a time");
+  if (!a.outside.plugins.empty() && cmd.count("--method"))
+    throw std::invalid_argument("--method: with --plugin, the plugin is the method run");
+  const std::vector<std::string> added = a.outside.load(scene);
+  const std::string method = added.empty() ? a.method : added[0];
+  const std::string path = a.out.empty() ? "out/" + scene.model.name + "." + method + ".csv" : a.out;
+  std::vector<std::string> inputs = a.outside.files();
+  inputs.push_back(a.scene.path);
+  prepareOutput("--out", path, inputs, {path + ".json"});  // writeTrajectory's sidecar
   RunSpec s = a.spec;
   a.run.applyTo(s);
-  s.method = parseMethod(a.method);
+  s.method = parseMethod(method);
   // --tol alone selects an adaptive integrator for the in-house methods.
   s.integrator = a.integrator.empty() ? chosenIntegrator(s.engine(), cmd.count("--tol") > 0) : parseIntegrator(a.integrator);
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
@@ -86,6 +94,7 @@ void addSimulate(CLI::App& app) {
                   ->capture_default_str();
   dt->excludes(tol);
   addRunOptions(cmd, a->run, "Sampling interval (s)");
+  addOutsideOptions(cmd, a->outside, false);
   cmd->add_option("--out", a->out, "CSV file to write; default out/<scene>.<method>.csv");
   cmd->callback([cmd, a] { guarded([&] { return runSimulate(*a, *cmd); }); });
 }

@@ -29,10 +29,13 @@
 #include "compare/crosscheck.hpp"
 #include "reference/engine.hpp"
 #include "reference/mujoco_peer.hpp"
+#include "outside/plugin.hpp"
 
 using namespace em;
 
 namespace {
+
+std::vector<Method> g_plugins;  // --plugin: methods from outside, timed beside the engines' u'
 
 // Seconds per call over `batches` batches of about 50 ms each.
 struct Timing {
@@ -119,6 +122,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 999))
       ->capture_default_str();
   app.add_option("--out", out, "Also write the timings as JSON (machine, median/min/max per method and n)");
+  std::vector<std::string> plugins;
+  app.add_option("--plugin", plugins,
+                 "A method from outside, NAME=path/libx.so (docs/plugins.md), timed beside the engines' u' in this "
+                 "process (probed first in a child process at each chain's initial state; repeatable)");
   int threads = 1;
   app.add_option("--threads", threads, "Threads of Eigen's matrix products (a build with -DEM_OPENMP=ON)")
       ->check(CLI::Range(1, 256))
@@ -143,6 +150,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    for (const std::string& v : plugins) {
+      const size_t eq = v.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
+        throw std::invalid_argument("--plugin: '" + v + "': NAME=FILE expected");
+      try {
+        g_plugins.push_back(addPlugin(v.substr(0, eq), v.substr(eq + 1)));
+        for (int n : sizes) probePlugin(g_plugins.back(), chain(n));
+      } catch (const std::exception& e) {
+        throw std::invalid_argument(std::string("--plugin: ") + e.what());
+      }
+    }
     std::vector<Row> rows;
     for (int n : sizes) {
       rows.push_back(measure(n));
@@ -151,7 +169,7 @@ int main(int argc, char** argv) {
                      n, rows.back().mujoco_A_err, rows.back().mujoco_B_err);
         return 1;
       }
-      for (size_t k = 0; k < rows.back().engine_udot.size(); ++k)
+      for (size_t k = 0; k + g_plugins.size() < rows.back().engine_udot.size(); ++k)  // a plugin's own accuracy is its business: printed
         if (rows.back().engine_udot_err[k] > 1e-12 * rows.back().cond_A) {  // another formulation: ~eps cond(A) too
           std::fprintf(stderr, "eigenmass_bench: %s's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n",
                        rows.back().engine_udot[k].first.c_str(), n, rows.back().engine_udot_err[k], rows.back().cond_A);
@@ -228,11 +246,14 @@ Row measure(int n) {
   r.simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
   classical.rhs(0, yc.data(), dc.data());
   measureMujoco(m, classical.workspace(), r);
-  for (const EngineRow& row : engineRows()) {  // engines' u' under the in-house integrators
-    if (!row.udot_method.name) continue;
-    Dynamics other(m, parseMethod(row.udot_method.name));
+  std::vector<Method> others;  // engines' u' under the in-house integrators, then the plugins'
+  for (const EngineRow& row : engineRows())
+    if (row.udot_method.name) others.push_back(parseMethod(row.udot_method.name));
+  others.insert(others.end(), g_plugins.begin(), g_plugins.end());
+  for (Method method : others) {
+    Dynamics other(m, method);
     Eigen::VectorXd y = other.initialState(m.q0(), m.u0()), d(y.size());
-    r.engine_udot.emplace_back(row.udot_method.name, secondsPerCall([&] { other.rhs(0, y.data(), d.data()); }));
+    r.engine_udot.emplace_back(methodName(method), secondsPerCall([&] { other.rhs(0, y.data(), d.data()); }));
     r.engine_udot_err.push_back(relativeDifference(d.segment(m.nq, m.nu), dc.segment(m.nq, m.nu)));
   }
   const Eigen::MatrixXd X = Eigen::MatrixXd::Random(r.N, r.N), Y = Eigen::MatrixXd::Random(r.N, r.N);
@@ -266,7 +287,7 @@ void printTable(const std::vector<Row>& rows) {
                 r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm, 1e-9 * rate_gemm);
   }
   if (!rows.empty() && !rows.front().engine_udot.empty()) {
-    std::printf("\nEngines' u' under the in-house integrators, microseconds per evaluation (their u' against classical's):\n\n| n |");
+    std::printf("\nEngines' (and plugins') u' under the in-house integrators, microseconds per evaluation (their u' against classical's):\n\n| n |");
     for (const auto& [name, t] : rows.front().engine_udot) std::printf(" %s | / classical | u' diff |", name.c_str());
     std::printf("\n|---:|");
     for (size_t k = 0; k < rows.front().engine_udot.size(); ++k) std::printf("---:|---:|---:|");

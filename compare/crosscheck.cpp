@@ -5,6 +5,7 @@
 #include <random>
 
 #include "io/json_input.hpp"
+#include "outside/plugin.hpp"
 #include "reference/engine.hpp"
 #include "solver/formation.hpp"
 
@@ -101,19 +102,38 @@ double relativeDifference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
 
 std::string massRowName(const std::string& engine) { return engine + "-mass"; }
 
-CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed) {
+namespace {
+
+// A plugin's u' at every state (in a child process) against the in-house u' and each engine's.
+void comparePlugin(const Model& m, Method plugin, std::vector<Checked>& engines, const std::vector<Eigen::VectorXd>& qs,
+                   const std::vector<Eigen::VectorXd>& us, CrossCheck& c) {
+  const std::vector<Eigen::VectorXd> udot = pluginUdots(plugin, m, qs, us);
+  const std::string name = methodName(plugin);
+  for (size_t k = 0; k < qs.size(); ++k) {
+    c.rows.push_back({static_cast<int>(k), name, 0, 0, relativeDifference(udot[k], inhouseAt(m, qs[k], us[k]).udot), true});
+    for (Checked& e : engines)
+      c.rows.push_back({static_cast<int>(k), name + "/" + e.name, 0, 0, relativeDifference(udot[k], e.model->at(qs[k], us[k]).udot), true});
+  }
+}
+
+}  // namespace
+
+CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed, const std::vector<Method>& plugins) {
   const Model& m = scene.model;
   CrossCheck c;
   std::vector<Checked> engines = checkedEngines(scene, urdf, c);
   std::mt19937 rng(seed);
   Eigen::VectorXd q = m.q0(), u = m.u0();
+  std::vector<Eigen::VectorXd> qs, us;
   for (int k = 0; k <= states; ++k) {
     if (k > 0) randomState(m, rng, q, u);
+    qs.push_back(q), us.push_back(u);
     for (Checked& e : engines) {
       compare(m, *e.model, e.name, k, q, u, c);
       if (e.with_mass) compare(*e.with_mass, *e.model, massRowName(e.name), k, q, u, c);
     }
   }
+  for (Method p : plugins) comparePlugin(m, p, engines, qs, us, c);
   return c;
 }
 

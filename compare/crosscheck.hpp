@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/scene.hpp"
+#include "solver/registry.hpp"
 
 namespace em {
 
@@ -16,6 +17,7 @@ struct CrossCheckRow {
   int state = 0;  ///< 0: the initial state; k > 0: the k-th random one
   std::string engine;
   double A = 0, B = 0, udot = 0;
+  bool udot_only = false;  ///< a plugin's row: it gives u' alone (A and B are 0)
   double worst() const { return std::max(A, std::max(B, udot)); }
 };
 
@@ -34,7 +36,11 @@ struct CrossCheck {
 };
 
 /// `states` random states after the initial one (randomState, seeded `seed`).
-/// For a URDF scene, `urdf` must be the options it was loaded with.
-CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed);
+/// For a URDF scene, `urdf` must be the options it was loaded with. Each of
+/// `plugins` (methods from outside/plugin.hpp) gives its u' at the same
+/// states: a row against the in-house u' (named as the plugin) and one
+/// against each engine's ("<plugin>/<engine>").
+CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed,
+                      const std::vector<Method>& plugins = {});
 
 }  // namespace em

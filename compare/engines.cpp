@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "compare/progress.hpp"
+#include "outside/plugin.hpp"
+#include "outside/recorded.hpp"
 #include "reference/engine.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
@@ -37,6 +39,8 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
 Trajectory runMethod(const Model& m, const RunSpec& spec) {
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
+  if (recordedRun(spec.method)) return recordedTrajectory(m, spec);  // a run made elsewhere: nothing runs
+  if (info(spec.method).isolated) return simulateIsolated(m, spec, observe);  // code from outside: in a child process
   if (spec.engine() == Engine::InHouse) return simulate(m, spec, observe);
   return engineRow(spec.engine()).simulate(m, spec, observe);
 }

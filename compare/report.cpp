@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "compare/provenance.hpp"
+#include "outside/plugin.hpp"
+#include "outside/recorded.hpp"
 #include "io/atomic_file.hpp"
 
 namespace em {
@@ -44,6 +46,12 @@ json runSpec(const RunSpec& s) {
   return j;
 }
 
+// Where a method from outside came from (outside/): null for ours and the engines'.
+json outsideSource(Method method) {
+  json from = pluginSource(method);
+  return from.is_null() ? recordedSource(method) : from;
+}
+
 json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   json j = {{"name", m.name()},
             {"integrator", integratorName(m.run.integrator)},
@@ -67,6 +75,10 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
   if (m.run.fixedStep()) j["step"] = m.run.dt;
   else j["tolerance"] = m.run.tol;
+  if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
+    j["source"] = from;
+    j["colour"] = methodColour(m.run.method);  // plot's process does not know the method
+  }
   json meaningful = json::object();
   for (size_t i = 0; i < th.size(); ++i)
     meaningful[thresholdKey(th[i])] = m.divergence_time_s[i] ? json(bool(m.divergence_meaningful[i])) : json(nullptr);

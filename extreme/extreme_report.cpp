@@ -133,6 +133,8 @@ std::string reasonOf(const ExtremeEntry& e, const ExtremeCaseResult& c) {
     case Failure::StepUnderflow: return "the adaptive step collapsed (" + std::to_string(e.steps) + " steps)";
     case Failure::NonFinite: return "the state or its rate stopped being finite";
     case Failure::Engine: return "the engine gave up";
+    case Failure::Plugin: return "the plugin's u' failed, crashed or hung";
+    case Failure::EndedEarly: return "the recorded run ends there";
     case Failure::None: break;
   }
   return "";

@@ -86,6 +86,8 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::IntegratorStopped, "integrator-stopped", "the adaptive integrator gave up"},
       {Failure::StepUnderflow, "step-underflow", "the adaptive step collapsed"},
       {Failure::Engine, "engine", "another engine stopped (a Simbody exception, a MuJoCo warning)"},
+      {Failure::Plugin, "plugin", "a plugin's u' returned an error code, crashed or did not return (its run is in a child process)"},
+      {Failure::EndedEarly, "ended-early", "a recorded run's samples end before the comparison's grid does"},
   };
   return table;
 }
@@ -191,6 +193,14 @@ Method addMethod(MethodInfo row) {
   if (nameTaken(row.name)) throw std::invalid_argument(std::string("the method name '") + row.name + "' is taken");
   row.id = static_cast<Method>(methods().size());
   methods().push_back(row);
+  return row.id;
+}
+
+Integrator addIntegrator(IntegratorInfo row) {
+  Integrator taken;
+  if (findIntegrator(row.name, taken)) throw std::logic_error(std::string("registry: the scheme ") + row.name + " exists");
+  row.id = static_cast<Integrator>(integrators().size());
+  integrators().push_back(row);
   return row.id;
 }
 

@@ -82,6 +82,9 @@ struct MethodInfo {
   std::vector<MethodParam> params;  ///< its own options (values in MethodOptions::params)
   const char* summary;              ///< one line: --help and docs
   const char* colour = nullptr;     ///< its colour in every figure (matplotlib name); nullptr: methodColour's palette
+  /// Its runs go through a child process (code from outside that may crash
+  /// or hang: a plugin's; compare/engines.cpp's runMethod).
+  bool isolated = false;
 
   /// Whether the row has the option `name`.
   bool takes(const std::string& name) const;
@@ -119,6 +122,8 @@ enum class Failure {
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
   Engine,                 ///< another engine (Simbody, MuJoCo, ...) threw or warned
+  Plugin,                 ///< a plugin's u' returned an error, crashed or hung (outside/plugin.hpp)
+  EndedEarly,             ///< a recorded run's samples end before the grid does (outside/recorded.hpp)
 };
 
 struct FailureInfo {
@@ -152,6 +157,11 @@ Engine addEngine(const char* name, const char* summary, const std::vector<Engine
 /// integrators through `make`; its row's id is set here. Throws
 /// std::invalid_argument for a name already taken.
 Method addMethod(MethodInfo row);
+
+/// A scheme none of the engines runs (a recorded run's "recorded": samples
+/// read from a file); its row's id is set here. Throws std::logic_error for a
+/// name already taken.
+Integrator addIntegrator(IntegratorInfo row);
 
 const EngineInfo& info(Engine e);
 const MethodInfo& info(Method m);

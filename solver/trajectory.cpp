@@ -1,5 +1,7 @@
 #include "solver/trajectory.hpp"
 
+#include "solver/formation.hpp"
+
 namespace em {
 
 Trajectory makeTrajectory(const Model& m, const RunSpec& run) {
@@ -28,6 +30,15 @@ void appendSample(Trajectory& tr, const Model& m, double t, const double* q, con
   tr.kinetic.push_back(energy.kinetic);
   tr.dissipated.push_back(energy.dissipated);
   tr.poses.push_back(std::move(pf));
+}
+
+void appendStateSample(Trajectory& tr, const Model& m, Workspace& ws, double t, const double* q, const double* u,
+                       double dissipated) {
+  formKinematics(m, q, u, ws);
+  formEnergies(m, q, ws);
+  std::vector<Pose> poses(m.n());
+  for (int i = 0; i < m.n(); ++i) poses[i] = {ws.r[i], matrixToQuat(ws.R[i])};
+  appendSample(tr, m, t, q, u, poses, {ws.energy(), ws.kinetic, dissipated});
 }
 
 void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause) {

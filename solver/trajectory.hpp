@@ -83,6 +83,13 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run);
 void appendSample(Trajectory& tr, const Model& m, double t, const double* q, const double* u,
                   const std::vector<Pose>& poses, const EnergySample& energy);
 
+struct Workspace;
+/// Record the sample at t from (q, u) alone (internal order), its poses and
+/// energies by the in-house kinematics (formKinematics, formEnergies) in
+/// `ws`, W_diss as given: for runs made elsewhere (a recorded run's samples).
+void appendStateSample(Trajectory& tr, const Model& m, Workspace& ws, double t, const double* q, const double* u,
+                       double dissipated);
+
 /// Mark the run failed at t with its kind and cause (the first failure is kept).
 void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause);
 

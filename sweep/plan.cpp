@@ -1,5 +1,7 @@
 #include "sweep/plan.hpp"
 
+#include "outside/plugin.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -185,6 +187,23 @@ std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
   return out;
 }
 
+// "plugins": {"NAME": "path/libx.so", ...}: methods from outside (outside/plugin.hpp),
+// paths against the plan's folder, each probed at every scene's initial state.
+void pluginsAt(const json& v, const std::string& plan_file, const std::vector<PlanScene>& scenes) {
+  if (!v.is_object()) throw InputError("plugins", "expected an object {\"NAME\": \"path/libx.so\"}");
+  const fs::path base = fs::path(plan_file).parent_path();
+  for (const auto& [name, path] : v.items()) {
+    const std::string at = jsonPath("plugins", name);
+    const fs::path file = base / stringAt(path, at);
+    try {
+      const Method m = addPlugin(name, file.string());
+      for (const PlanScene& s : scenes) probePlugin(m, loadScene(s.file, s.urdf).model);
+    } catch (const std::exception& e) {
+      throw InputError(at, e.what());
+    }
+  }
+}
+
 std::vector<PlanTable> tablesAt(const json& v) {
   std::vector<PlanTable> out;
   if (!v.is_array()) throw InputError("tables", "expected a list");
@@ -257,7 +276,7 @@ Ensemble ensembleAt(const json& v) {
 
 void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
-                                   "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble"};
+                                   "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble", "plugins"};
   for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
   onlyKeys(doc, "", keys);
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
@@ -269,6 +288,7 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (std::any_of(p.description.begin(), p.description.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
     throw InputError("description", "a control character (newline, escape): it is printed in the tables as one line");
   p.scenes = scenesAt(doc.value("scenes", json()), p.file);
+  if (doc.contains("plugins")) pluginsAt(doc["plugins"], p.file, p.scenes);  // before the lines that name them
   p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
   if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"]);

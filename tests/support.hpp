@@ -62,8 +62,9 @@ inline RunSpec runSpec(Method method, Integrator integrator, double t_end, doubl
 /// A random tree of `n` bodies: random parents, axes, masses, inertias,
 /// levers, springs on every other body, initial state; a scene no method was
 /// tuned on. Joints: revolute, universal, gimbal, prismatic; with `all_kinds`
-/// also ball and free (then with turned, full inertia matrices too).
-inline Model randomTree(unsigned seed, int n, bool all_kinds = false) {
+/// also ball and free (then with turned, full inertia matrices too); with
+/// `revolute_only`, every joint revolute (the same draws otherwise).
+inline Model randomTree(unsigned seed, int n, bool all_kinds = false, bool revolute_only = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uni(-1, 1), pos(0.2, 1.0);
   auto unit = [&] { return Vec3(uni(rng), uni(rng), uni(rng)).normalized(); };
@@ -79,6 +80,7 @@ inline Model randomTree(unsigned seed, int n, bool all_kinds = false) {
     const Vec3 I(pos(rng), pos(rng), pos(rng));
     b.inertia = (0.1 * (I + Vec3::Constant(I.sum()))).asDiagonal();  // within the triangle inequality
     b.joint.type = kinds[std::uniform_int_distribution<int>(0, all_kinds ? 5 : 3)(rng)];
+    if (revolute_only) b.joint.type = JointType::Revolute;
     b.joint.axis[0] = unit();
     b.joint.axis[1] = b.joint.axis[0].unitOrthogonal();
     b.joint.in_parent = 0.4 * Vec3(uni(rng), uni(rng), uni(rng));

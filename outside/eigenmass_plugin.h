@@ -1,0 +1,93 @@
+/* eigenmass_plugin.h: the C ABI of a method from outside (docs/plugins.md).
+ *
+ * A plugin is a shared library that computes u' = A^-1 B for a model that
+ * eigenmass hands it; eigenmass integrates it with its own integrators and
+ * judges it like every built-in method (eigenmass compare --plugin
+ * NAME=path/libx.so). It exports four symbols with C linkage:
+ *
+ *   int   em_plugin_abi(void);                       returns EM_PLUGIN_ABI
+ *   void* em_plugin_create(const em_model*, char* err, size_t err_size);
+ *   int   em_plugin_udot(void*, double t, const double* q, const double* u,
+ *                        double* udot, char* err, size_t err_size);
+ *   void  em_plugin_destroy(void*);
+ *
+ * create returns the plugin's own state for one model, or NULL with a one-line
+ * message in err (at most err_size bytes, NUL-terminated). udot writes u' (nu
+ * numbers) at (t, q, u) and returns 0, or returns nonzero with a message in
+ * err: the run then fails at t with that cause. Everything eigenmass passes is
+ * valid only during the call; copy what you keep.
+ *
+ * Sizes and orders: bodies come parents first (parent < index), and q, u and
+ * u' are in that order, each body's joint coordinates at q[iq .. iq+nq) and
+ * speeds at u[iu .. iu+nu). Units are SI; vectors and matrices are in the
+ * frames named below. The joint kinds and their coordinates (docs/theory.md
+ * §1 and §12):
+ *
+ *   kind        nq nu  q                                   u
+ *   revolute     1  1  angle about axis[0]                  q'
+ *   universal    2  2  angles about axis[0], then axis[1]   q'
+ *   gimbal       3  3  x-y-z body-fixed Cardan angles       q'
+ *   ball         4  3  unit quaternion [w,x,y,z]            angular velocity, parent frame
+ *   prismatic    1  1  slide along axis[0]                  q'
+ *   free         7  6  [x, y, z, quaternion w,x,y,z]        [x', y', z', angular velocity, parent frame]
+ *
+ * The rotation of a body relative to its parent is Rot(axis0, q0) (revolute),
+ * Rot(a0,q0) Rot(a1,q1) (universal), Rx Ry Rz (gimbal), R(quaternion) (ball,
+ * free); a slide x moves the joint point by x along axis[0] (prismatic) or by
+ * (x, y, z) along the parent's axes (free), before the rotation.
+ *
+ * The ABI changes only with EM_PLUGIN_ABI; a library built against another
+ * version is refused in one line before any run.
+ */
+#ifndef EIGENMASS_PLUGIN_H
+#define EIGENMASS_PLUGIN_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define EM_PLUGIN_ABI 1
+
+/* Joint kinds (the values are eigenmass's JointType order). */
+enum em_joint_kind { EM_REVOLUTE = 0, EM_UNIVERSAL = 1, EM_GIMBAL = 2, EM_BALL = 3, EM_PRISMATIC = 4, EM_FREE = 5 };
+
+/* One body and its inboard joint. */
+typedef struct em_body {
+  const char* name;
+  int parent;            /* index of the parent in em_model.bodies, -1: the ground */
+  int joint;             /* enum em_joint_kind */
+  int iq, nq, iu, nu;    /* where its joint's coordinates and speeds sit in q and u */
+  double mass;           /* kg */
+  double inertia[9];     /* about the CM, body frame, row-major, kg m^2 */
+  double axis[2][3];     /* unit joint axes, parent frame (revolute, prismatic: [0]; universal: both) */
+  double in_parent[3];   /* a: parent CM to the joint point, parent frame (world for a root), m */
+  double in_body[3];     /* c: body CM to the joint point, body frame, m */
+  /* A linear spring-damper per joint speed, generalized force -k (q - rest) - c u;
+     NULL when the joint has none (nu numbers each). */
+  const double* spring_k;
+  const double* spring_c;
+  const double* spring_rest;
+} em_body;
+
+/* The model a plugin is created for. */
+typedef struct em_model {
+  int abi;                /* EM_PLUGIN_ABI of the harness */
+  const char* name;       /* the scene's name */
+  int n_bodies, nq, nu;
+  double gravity[3];      /* world frame, m/s^2 */
+  const em_body* bodies;  /* n_bodies, parents first */
+  const char* scene_json; /* the same model as an eigenmass-scene/1 file, bodies in this order (docs/scene-format.md) */
+} em_model;
+
+int em_plugin_abi(void);
+void* em_plugin_create(const em_model* model, char* err, size_t err_size);
+int em_plugin_udot(void* self, double t, const double* q, const double* u, double* udot, char* err, size_t err_size);
+void em_plugin_destroy(void* self);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* EIGENMASS_PLUGIN_H */

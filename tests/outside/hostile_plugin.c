@@ -1,0 +1,62 @@
+/* hostile_plugin.c: plugins that misbehave, one way each (HOSTILE_* picks it),
+ * for tests/outside/test_plugin.cpp and the CLI's hostile cases. Well-behaved
+ * until they misbehave: u' = -q (each coordinate a unit oscillator). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "eigenmass_plugin.h"
+
+typedef struct { int nq, nu; } self_t;
+
+int em_plugin_abi(void) {
+#ifdef HOSTILE_ABI
+  return EM_PLUGIN_ABI + 98;
+#else
+  return EM_PLUGIN_ABI;
+#endif
+}
+
+void* em_plugin_create(const em_model* m, char* err, size_t err_size) {
+#ifdef HOSTILE_NULL
+  snprintf(err, err_size, "this plugin refuses every model");
+  (void)m;
+  return NULL;
+#else
+  (void)err, (void)err_size;
+  self_t* s = malloc(sizeof *s);
+  s->nq = m->nq, s->nu = m->nu;
+  return s;
+#endif
+}
+
+#ifndef HOSTILE_NOSYM
+int em_plugin_udot(void* self, double t, const double* q, const double* u, double* udot, char* err, size_t err_size) {
+  const self_t* s = self;
+  (void)u, (void)err, (void)err_size;
+  const double when = 0.0
+#ifdef HOSTILE_LATE
+                      + 0.25
+#endif
+      ;
+  if (t >= when) {
+#if defined(HOSTILE_NAN)
+    udot[0] = NAN;
+    return 0;
+#elif defined(HOSTILE_SEGV)
+    volatile int* p = NULL;
+    *p = 1;
+#elif defined(HOSTILE_HANG)
+    for (volatile int spin = 1; spin;) {
+    }
+#elif defined(HOSTILE_ERROR)
+    snprintf(err, err_size, "the plugin gave up at t = %g", t);
+    return 7;
+#endif
+  }
+  for (int i = 0; i < s->nu; ++i) udot[i] = -q[i];
+  return 0;
+}
+#endif
+
+void em_plugin_destroy(void* self) { free(self); }

@@ -1,0 +1,135 @@
+// outside/plugin.cpp: a plugin's u' as a method. The oracle is the in-house
+// classical method (and so, through its own tests, Simbody and MuJoCo): the
+// example plugin (examples/plugin/rnea_plugin.c, its own Newton-Euler code)
+// must agree with it; the hostile plugins must each end in one line.
+#include <catch2/catch.hpp>
+
+#include "compare/engines.hpp"
+#include "outside/plugin.hpp"
+#include "solver/formation.hpp"
+#include "solver/integrate.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+std::string lib(const std::string& name) { return std::string(EM_BINARY_DIR) + "/lib/lib" + name + ".so"; }
+
+Method plugin(const std::string& name) { return addPlugin(name, lib(name)); }
+
+// The in-house u' at (q, u) (classical: A's Cholesky), internal order.
+Eigen::VectorXd classicalUdot(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u, Eigen::MatrixXd& A) {
+  Workspace ws(m);
+  formEquations(m, q.data(), u.data(), ws);
+  A = ws.A;
+  return ws.A.llt().solve(ws.B);
+}
+
+}  // namespace
+
+TEST_CASE("the example plugin's u' equals classical's within 4 eps cond(A) at random states", "[outside][plugin]") {
+  const Method rnea = plugin("rnea");
+  // Shipped revolute scenes, and random revolute trees (turned full inertias, springs and dampers) no one tuned on.
+  std::vector<Model> models = {test::loadData("pendulum5.json"), test::loadData("chain20.json"), test::loadData("chain50.json")};
+  for (unsigned seed : {11u, 12u, 13u}) models.push_back(test::randomTree(seed, 8, false, true));
+  for (const Model& m : models) {
+    std::mt19937 rng(7);
+    std::vector<Eigen::VectorXd> qs, us;
+    for (int k = 0; k < 20; ++k) {
+      Eigen::VectorXd q, u;
+      randomState(m, rng, q, u);
+      qs.push_back(q);
+      us.push_back(u);
+    }
+    const std::vector<Eigen::VectorXd> got = pluginUdots(rnea, m, qs, us);
+    REQUIRE(got.size() == qs.size());
+    for (size_t k = 0; k < qs.size(); ++k) {
+      Eigen::MatrixXd A;
+      const Eigen::VectorXd want = classicalUdot(m, qs[k], us[k], A);
+      INFO(m.name << " state " << k);
+      CHECK(test::relErr(got[k], want, 1.0) <= test::udotTolerance(A));
+    }
+  }
+}
+
+TEST_CASE("the example plugin's trajectory equals classical's under the same integrator", "[outside][plugin]") {
+  const Method rnea = plugin("rnea");
+  const Model m = test::loadData("pendulum5.json");
+  for (Integrator integ : {Integrator::RK4, Integrator::RKF45}) {
+    const RunSpec s = test::runSpec(rnea, integ, 1.0, integ == Integrator::RK4 ? 1e-3 : 1e-9);
+    RunSpec c = s;
+    c.method = Method::Classical;
+    const Trajectory a = runMethod(m, s), b = simulate(m, c);
+    REQUIRE_FALSE(a.failed());
+    REQUIRE(a.size() == b.size());
+    // u' agrees to ~1e-14; over 1 s of a chaotic pendulum (exponent ~1.7 /s) the
+    // difference grows by e^1.7 at most: 1e-11 is a thousand times that.
+    CHECK(test::stateDiff(a, b, 1.0) < 1e-11);
+    CHECK(a.rhs_evals == b.rhs_evals);  // the same steps, taken in a child process
+  }
+}
+
+TEST_CASE("a plugin's run in a child process is the run in-process, bit for bit", "[outside][plugin]") {
+  const Method ok = plugin("hostile_ok");
+  const Model m = test::loadData("pendulum5.json");
+  const RunSpec s = test::runSpec(ok, Integrator::RK4, 0.5, 1e-3);
+  const Trajectory isolated = runMethod(m, s), direct = simulate(m, s);
+  REQUIRE(isolated.size() == direct.size());
+  for (size_t k = 0; k < direct.size(); ++k) {
+    CHECK(isolated.q[k] == direct.q[k]);
+    CHECK(isolated.u[k] == direct.u[k]);
+    CHECK(isolated.energy[k] == direct.energy[k]);
+  }
+  CHECK(pluginSource(ok)["sha256"].get<std::string>().size() == 64);
+  CHECK(pluginSource(Method::Classical).is_null());
+}
+
+TEST_CASE("a bad library is refused in one line naming the file", "[outside][plugin]") {
+  CHECK_THROWS_WITH(plugin("hostile_abi"), Catch::Contains("libhostile_abi.so: built against plugin ABI 99, this eigenmass speaks 1"));
+  CHECK_THROWS_WITH(plugin("hostile_nosym"), Catch::Contains("libhostile_nosym.so: no symbol em_plugin_udot"));
+  CHECK_THROWS_WITH(addPlugin("text", test::sourcePath("README.md")), Catch::Contains("README.md: not a loadable library"));
+  CHECK_THROWS_WITH(addPlugin("gone", "/nonexistent/libx.so"), "/nonexistent/libx.so: cannot read the plugin");
+  CHECK_THROWS_WITH(addPlugin("classical", lib("rnea")), "plugin name 'classical': a method of that name exists");
+  CHECK_THROWS_WITH(addPlugin("a b", lib("rnea")), Catch::Contains("plugin name 'a b': letters, digits"));
+}
+
+TEST_CASE("a plugin that fails at the initial state is refused before any run, in one line", "[outside][plugin]") {
+  const Model m = test::loadData("pendulum5.json");
+  const double timeout = pluginTimeout();
+  setPluginTimeout(0.5);
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_nan"), m), Catch::Contains("libhostile_nan.so: u' at the initial state is not finite"));
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_segv"), m),
+                    Catch::Contains("libhostile_segv.so: crashed (SIGSEGV) in em_plugin_udot at t = 0, at the initial state of pendulum5"));
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_hang"), m),
+                    Catch::Contains("libhostile_hang.so: no return within 0.5 s (killed) in em_plugin_udot at t = 0") &&
+                        Catch::Contains("(--plugin-timeout)"));
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_null"), m),
+                    Catch::Contains("em_plugin_create returned NULL: this plugin refuses every model"));
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_error"), m),
+                    Catch::Contains("em_plugin_udot returned an error at the initial state: plugin 'hostile_error': the plugin gave up at t = 0"));
+  CHECK_THROWS_WITH(probePlugin(plugin("rnea"), test::loadData("pendulum5_ball.json")),
+                    Catch::Contains("revolute, universal and gimbal joints only (body"));
+  setPluginTimeout(timeout);
+}
+
+TEST_CASE("a plugin that fails during a run ends that run with its time and cause, its samples before kept", "[outside][plugin]") {
+  const Model m = test::loadData("pendulum5.json");
+  const double timeout = pluginTimeout();
+  setPluginTimeout(0.5);
+  struct Case {
+    const char* name;
+    const char* cause;
+  };
+  for (const Case& c : {Case{"hostile_late_segv", "crashed (SIGSEGV) in em_plugin_udot at t = 0.25"},
+                        Case{"hostile_late_hang", "no return within 0.5 s (killed) in em_plugin_udot at t = 0.25"},
+                        Case{"hostile_late_error", "the plugin gave up at t = 0.25"}}) {
+    const Trajectory tr = runMethod(m, test::runSpec(plugin(c.name), Integrator::RK4, 1.0, 1e-3));
+    INFO(c.name << ": " << tr.failure);
+    CHECK(tr.failure_kind == Failure::Plugin);
+    CHECK_THAT(tr.failure, Catch::Contains(c.cause));
+    CHECK(tr.failure_time == Approx(0.25).margin(1e-3));
+    CHECK(tr.t.back() == Approx(0.24).margin(1e-3));  // the samples before it: 25 of them
+  }
+  setPluginTimeout(timeout);
+}
