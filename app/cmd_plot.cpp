@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli.hpp"
+#include "io/shipped.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 
@@ -207,7 +208,7 @@ int runPlot(PlotArgs a) {
   prepareFolder("--out", a.out);
   checkPython();
   const ScratchFolder tmp;
-  std::vector<std::string> argv = {python(), EM_SOURCE_DIR "/tools/plot.py", kind, a.input, tmp.path.string(), a.format,
+  std::vector<std::string> argv = {python(), shippedFile("tools/plot.py", EM_SOURCE_DIR), kind, a.input, tmp.path.string(), a.format,
                                    "--style", figureStyle(a.input, kind)};
   if (!a.csv_dir.empty()) argv.insert(argv.end(), {"--csv-dir", a.csv_dir});
   const int status = runProgram(argv, false);

@@ -10,6 +10,7 @@
 #include "app/cli.hpp"
 #include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
+#include "io/shipped.hpp"
 #include "reference/engine.hpp"
 
 int main(int argc, char** argv) {
@@ -17,7 +18,10 @@ int main(int argc, char** argv) {
   em::installInterruptCleanup();
   em::useEngines();  // every engine's row in the registry before the options are built from it
   CLI::App app{"eigenmass: cross-validation harness for rigid multibody dynamics", "eigenmass"};
-  app.set_version_flag("--version", em::versionText());
+  // Where tools/plot.py and data/ are read from: an installed tree's own share/eigenmass, else the source tree.
+  std::string shipped = em::shippedFile(".", EM_SOURCE_DIR);
+  shipped.erase(shipped.size() - 2);  // the "/."
+  app.set_version_flag("--version", em::versionText() + "\nshipped files: " + shipped);
   app.require_subcommand(1);
   em::cli::addEquations(app);
   em::cli::addSimulate(app);

@@ -23,6 +23,7 @@
 #include "compare/report.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene.hpp"
+#include "io/shipped.hpp"
 #include "reference/simbody_reference.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor_ops.hpp"
@@ -67,9 +68,8 @@ Timing secondsPerCall(const std::function<void()>& f, int batches = 7) {
 Model chain(int n) {
   char name[32];
   std::snprintf(name, sizeof name, "chain%02d.json", n);
-  const std::string root = EM_SOURCE_DIR;
-  for (const char* dir : {"/data/scenes/", "/data/bench/"}) {
-    const std::string path = root + dir + name;
+  for (const char* dir : {"data/scenes/", "data/bench/"}) {
+    const std::string path = shippedFile(std::string(dir) + name, EM_SOURCE_DIR);
     if (std::FILE* f = std::fopen(path.c_str(), "r")) {
       std::fclose(f);
       return loadScene(path).model;

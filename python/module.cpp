@@ -1,0 +1,336 @@
+// The Python module `eigenmass` (docs/python.md): scenes, the equations at any
+// state from any engine that gives them, runs, comparisons (the same report
+// as `compare --out`) and a Python function as a method. Everything is the
+// library the CLI runs; errors are Python exceptions carrying the CLI's line.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <optional>
+
+#include "compare/comparison.hpp"
+#include "compare/engines.hpp"
+#include "compare/report.hpp"
+#include "outside/plugin.hpp"
+#include "outside/recorded.hpp"
+#include "reference/engine.hpp"
+#include "solver/formation.hpp"
+#include "solver/method.hpp"
+
+namespace py = pybind11;
+using namespace em;
+
+namespace {
+
+py::array_t<double> vec(const Eigen::VectorXd& v) {
+  py::array_t<double> a(v.size());
+  std::copy(v.data(), v.data() + v.size(), a.mutable_data());
+  return a;
+}
+
+py::array_t<double> mat(const Eigen::MatrixXd& A) {
+  py::array_t<double> a({A.rows(), A.cols()});
+  for (Eigen::Index i = 0; i < A.rows(); ++i)
+    for (Eigen::Index j = 0; j < A.cols(); ++j) a.mutable_at(i, j) = A(i, j);
+  return a;
+}
+
+// Rows of per-sample vectors as one (samples x n) array.
+py::array_t<double> rows(const std::vector<Eigen::VectorXd>& v, Eigen::Index n) {
+  py::array_t<double> a({static_cast<Eigen::Index>(v.size()), n});
+  for (size_t k = 0; k < v.size(); ++k)
+    for (Eigen::Index i = 0; i < n; ++i) a.mutable_at(k, i) = v[k][i];
+  return a;
+}
+
+// A numpy vector of `n` numbers in the scene's (file) order, as the model's internal order.
+Eigen::VectorXd internal(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, long n, const char* what,
+                         const std::vector<int>& perm) {
+  if (a.ndim() != 1 || a.shape(0) != n)
+    throw std::invalid_argument(std::string(what) + ": " + std::to_string(n) + " numbers expected, in the scene's order");
+  Eigen::VectorXd x(n);
+  for (long k = 0; k < n; ++k) x[perm[k]] = a.at(k);
+  if (!x.allFinite()) throw std::invalid_argument(std::string(what) + ": not finite");
+  return x;
+}
+
+Eigen::VectorXd fileOrder(const Eigen::VectorXd& x, const std::vector<int>& perm) {
+  Eigen::VectorXd f(x.size());
+  for (Eigen::Index k = 0; k < x.size(); ++k) f[k] = x[perm[k]];
+  return f;
+}
+
+py::object fromJson(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// ---- a Python function as a method -----------------------------------------
+
+std::map<Method, py::object*>& pythonFunctions() {
+  static auto* table = new std::map<Method, py::object*>;  // never destroyed: it outlives the interpreter's objects
+  return *table;
+}
+
+class PythonMethod final : public MethodImpl {
+ public:
+  PythonMethod(const Model& m, py::object f) : m_(m), f_(std::move(f)), pq_(m.qFilePermutation()), pu_(m.uFilePermutation()) {}
+  bool needsEquations() const override { return false; }
+  bool needsKinematics() const override { return false; }
+  bool needsA() const override { return false; }
+  Status rates(double t, const double* q, const double* u, const Workspace&, const double*, double* udot, double*,
+               EvalInfo&) override {
+    const Eigen::VectorXd qf = fileOrder(Eigen::Map<const Eigen::VectorXd>(q, m_.nq), pq_);
+    const Eigen::VectorXd uf = fileOrder(Eigen::Map<const Eigen::VectorXd>(u, m_.nu), pu_);
+    try {
+      const auto r = f_(t, vec(qf), vec(uf)).cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+      if (r.ndim() != 1 || r.shape(0) != m_.nu)
+        return Status::failure(t, Failure::Plugin, "the Python method returned " + std::to_string(r.size()) +
+                                                       " numbers, not nu = " + std::to_string(m_.nu));
+      for (int k = 0; k < m_.nu; ++k) udot[pu_[k]] = r.at(k);
+    } catch (const py::error_already_set& e) {
+      return Status::failure(t, Failure::Plugin, std::string("the Python method raised: ") + e.what());
+    } catch (const py::cast_error& e) {
+      return Status::failure(t, Failure::Plugin, std::string("the Python method returned no array of numbers: ") + e.what());
+    }
+    return {};
+  }
+
+ private:
+  const Model& m_;
+  py::object f_;
+  std::vector<int> pq_, pu_;
+};
+
+std::unique_ptr<MethodImpl> makePythonMethod(const Model& m, const MethodInfo& row, const MethodOptions&) {
+  return std::make_unique<PythonMethod>(m, *pythonFunctions().at(row.id));
+}
+
+// The method `name` running f: added once, its function replaced when named again.
+Method pythonMethod(const std::string& name, py::object f) {
+  Method id;
+  if (findMethod(name, id)) {
+    auto it = pythonFunctions().find(id);
+    if (it == pythonFunctions().end()) throw std::invalid_argument("method name '" + name + "': a method of that name exists");
+    *it->second = std::move(f);
+    return id;
+  }
+  static std::deque<std::string> names;  // the rows point at them
+  names.push_back(name);
+  MethodInfo row{Method::Classical, names.back().c_str(), Engine::InHouse, Correction::None, ExtraState::None, false,
+                 makePythonMethod, {}, "a Python function f(t, q, u) -> u' (eigenmass.compare)"};
+  id = addMethod(row);
+  pythonFunctions()[id] = new py::object(std::move(f));
+  return id;
+}
+
+// "classical", or ("name", f): a method of the registry or a Python function.
+Method methodOf(const py::handle& h) {
+  if (py::isinstance<py::str>(h)) return parseMethod(h.cast<std::string>());
+  const auto t = h.cast<py::tuple>();
+  if (t.size() != 2 || !py::isinstance<py::str>(t[0]) || !PyCallable_Check(t[1].ptr()))
+    throw std::invalid_argument("methods: each a name or a pair (name, f) with f(t, q, u) -> u'");
+  return pythonMethod(t[0].cast<std::string>(), py::reinterpret_borrow<py::object>(t[1]));
+}
+
+// ---- the functions ---------------------------------------------------------
+
+Scene load(const std::string& path, bool balance_inertia, const std::vector<std::string>& lock_joints, bool floating_base) {
+  UrdfOptions o;
+  o.balance_inertia = balance_inertia;
+  o.lock_joints = lock_joints;
+  o.floating_base = floating_base;
+  Scene s = loadScene(path, o);
+  checkInitialState(s);
+  return s;
+}
+
+py::dict equations(const Scene& s, const std::string& engine, std::optional<py::array_t<double>> q_in,
+                   std::optional<py::array_t<double>> u_in) {
+  const Model& m = s.model;
+  const Engine e = parseEngine(engine);
+  const Eigen::VectorXd q = q_in ? internal(*q_in, m.nq, "q", m.qFilePermutation()) : m.q0();
+  const Eigen::VectorXd u = u_in ? internal(*u_in, m.nu, "u", m.uFilePermutation()) : m.u0();
+  Eigen::MatrixXd A;
+  Eigen::VectorXd B, udot;
+  double T = 0, V = 0;
+  if (e == Engine::InHouse) {
+    Workspace ws(m);
+    formEquations(m, q.data(), u.data(), ws);
+    formEnergies(m, q.data(), ws);
+    const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
+    if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite at this state");
+    A = ws.A, B = ws.B, udot = llt.solve(ws.B), T = ws.kinetic, V = ws.potential;
+  } else {
+    const EngineRow& row = engineRow(e);
+    if (!row.model) throw std::invalid_argument(std::string(row.name) + " gives no equations at a state");
+    const EngineEquations x = row.model(m)->at(q, u);
+    A = x.A, B = x.B, udot = x.udot, T = x.kinetic, V = x.potential;
+  }
+  const std::vector<int> p = m.uFilePermutation();
+  Eigen::MatrixXd Af(m.nu, m.nu);
+  for (int i = 0; i < m.nu; ++i)
+    for (int j = 0; j < m.nu; ++j) Af(i, j) = A(p[i], p[j]);
+  py::dict d;
+  d["engine"] = engine;
+  d["A"] = mat(Af);
+  d["B"] = vec(fileOrder(B, p));
+  d["udot"] = vec(fileOrder(udot, p));
+  d["eigenvalues"] = vec(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Af, Eigen::EigenvaluesOnly).eigenvalues());
+  d["kinetic"] = T, d["potential"] = V, d["total"] = T + V;
+  return d;
+}
+
+py::dict trajectoryDict(const Trajectory& tr) {
+  py::dict d;
+  d["method"] = tr.method(), d["integrator"] = tr.integrator();
+  d["t"] = vec(Eigen::Map<const Eigen::VectorXd>(tr.t.data(), static_cast<Eigen::Index>(tr.t.size())));
+  d["q"] = rows(tr.q, static_cast<Eigen::Index>(tr.q_names.size()));
+  d["u"] = rows(tr.u, static_cast<Eigen::Index>(tr.u_names.size()));
+  for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"energy", &tr.energy},
+                               {"kinetic", &tr.kinetic}, {"dissipated", &tr.dissipated}})
+    d[key] = vec(Eigen::Map<const Eigen::VectorXd>(v->data(), static_cast<Eigen::Index>(v->size())));
+  d["q_names"] = tr.q_names, d["u_names"] = tr.u_names;
+  d["status"] = tr.status();
+  d["failure"] = tr.failed() ? py::object(py::dict(py::arg("t") = tr.failure_time, py::arg("kind") = failureName(tr.failure_kind),
+                                                   py::arg("cause") = tr.failure))
+                             : py::object(py::none());
+  d["steps"] = tr.steps, d["rhs_evals"] = tr.rhs_evals, d["run_time_s"] = tr.run_time_s;
+  return d;
+}
+
+// The run settings as the CLI resolves them: a tolerance alone selects the engine's adaptive scheme.
+RunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
+                std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+  if (dt && tol) throw std::invalid_argument("dt and tol: one or the other");
+  RunSpec spec;
+  spec.method = method;
+  spec.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(spec.engine(), tol.has_value());
+  if (dt) spec.dt = *dt;
+  if (tol) spec.tol = *tol;
+  if (dt && !spec.fixedStep()) throw std::invalid_argument("dt: " + *integrator + " takes a tolerance");
+  if (tol && spec.fixedStep()) throw std::invalid_argument("tol: " + std::string(integratorName(spec.integrator)) + " takes a fixed step");
+  requireCompatible(spec.method, spec.integrator);
+  spec = onGrid(spec, s, Grid{t_end, output_dt});
+  checkRunSpec(spec);
+  return spec;
+}
+
+py::dict simulatePy(const Scene& s, py::object method, std::optional<std::string> integrator, std::optional<double> dt,
+                    std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+  return trajectoryDict(runMethod(s.model, runSpec(s, methodOf(method), integrator, dt, tol, t_end, output_dt)));
+}
+
+py::object comparePy(const Scene& s, py::list methods, std::optional<std::string> integrator, std::optional<double> dt,
+                     std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt,
+                     std::map<std::string, std::string> plugins, std::map<std::string, std::string> runs) {
+  CompareOptions o;
+  o.methods.clear();
+  for (const py::handle& h : methods) o.methods.push_back(methodOf(h));
+  for (const auto& [name, path] : plugins) {
+    const Method p = addPlugin(name, path);
+    probePlugin(p, s.model);
+    o.methods.push_back(p);
+  }
+  for (const auto& [name, path] : runs) o.methods.push_back(addRecordedRun(name, path, s.model));
+  if (dt && tol) throw std::invalid_argument("dt and tol: one or the other");
+  o.inhouse.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(Engine::InHouse, tol.has_value());
+  if (dt) o.inhouse.dt = *dt;
+  if (tol) o.inhouse.tol = *tol;
+  o.enginesFollowInHouse();
+  o.grid = Grid{t_end, output_dt};
+  return fromJson(makeReport(runComparison(s, o)));
+}
+
+// ---- sweep and plot: the CLI's own commands ---------------------------------
+
+// The eigenmass binary beside this module: PREFIX/bin of an installed tree
+// (the module in PREFIX/lib/python3/dist-packages), else the build's bin/.
+std::string cliBinary() {
+  namespace fs = std::filesystem;
+  const fs::path here = fs::path(py::module_::import("eigenmass").attr("__file__").cast<std::string>()).parent_path();
+  for (const fs::path& p : {here.parent_path().parent_path().parent_path() / "bin" / "eigenmass", here.parent_path() / "bin" / "eigenmass"})
+    if (fs::exists(p)) return p.string();
+  throw std::runtime_error("the eigenmass command is not beside this module (" + here.string() + ")");
+}
+
+// Run `eigenmass ARGS`; its standard output, or a RuntimeError with its one-line error.
+std::string runCli(const std::vector<std::string>& args) {
+  py::module_ sp = py::module_::import("subprocess");
+  std::vector<std::string> argv = {cliBinary()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  py::object r = sp.attr("run")(argv, py::arg("capture_output") = true, py::arg("text") = true);
+  const int status = r.attr("returncode").cast<int>();
+  if (status == 2) {
+    std::string err = r.attr("stderr").cast<std::string>();
+    const std::string prefix = "eigenmass: error: ";
+    if (err.rfind(prefix, 0) == 0) err.erase(0, prefix.size());
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    throw std::runtime_error(err);
+  }
+  if (status != 0 && status != 1) throw std::runtime_error("eigenmass " + args[0] + " ended with status " + std::to_string(status));
+  return r.attr("stdout").cast<std::string>();
+}
+
+std::string plotPy(const std::string& input, std::optional<std::string> out, const std::string& format) {
+  std::vector<std::string> a = {"plot", input, "--format", format};
+  if (out) a.insert(a.end(), {"--out", *out});
+  return runCli(a);
+}
+
+std::string sweepPy(const std::string& plan, std::optional<std::string> results, std::optional<int> jobs) {
+  std::vector<std::string> a = {"sweep", plan};
+  if (results) a.insert(a.end(), {"--results", *results});
+  if (jobs) a.insert(a.end(), {"--jobs", std::to_string(*jobs)});
+  return runCli(a);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(eigenmass, mod) {
+  mod.doc() = "eigenmass: cross-validation harness for rigid multibody dynamics (docs/python.md)";
+  useEngines();
+  py::class_<Scene>(mod, "Scene", "A scene or URDF robot, loaded and checked (eigenmass.load)")
+      .def_property_readonly("name", [](const Scene& s) { return s.model.name; })
+      .def_property_readonly("nq", [](const Scene& s) { return s.model.nq; })
+      .def_property_readonly("nu", [](const Scene& s) { return s.model.nu; })
+      .def_property_readonly("bodies", [](const Scene& s) { return s.model.n(); })
+      .def_property_readonly("q_names", [](const Scene& s) { return s.model.qNames(); })
+      .def_property_readonly("u_names", [](const Scene& s) { return s.model.uNames(); })
+      .def_property_readonly("q0", [](const Scene& s) { return vec(fileOrder(s.model.q0(), s.model.qFilePermutation())); })
+      .def_property_readonly("u0", [](const Scene& s) { return vec(fileOrder(s.model.u0(), s.model.uFilePermutation())); })
+      .def_property_readonly("file", [](const Scene& s) { return s.source.file; })
+      .def_property_readonly("sha256", [](const Scene& s) { return s.source.sha256; })
+      .def("__repr__", [](const Scene& s) {
+        return "<eigenmass.Scene " + s.model.name + ": " + std::to_string(s.model.n()) + " bodies, nu " + std::to_string(s.model.nu) + ">";
+      });
+  mod.def("load", &load, "Load a scene (.json) or URDF robot, with the CLI's import options", py::arg("path"),
+          py::arg("balance_inertia") = false, py::arg("lock_joints") = std::vector<std::string>{}, py::arg("floating_base") = false);
+  mod.def("equations", &equations,
+          "A, B, u', eigenvalues of A and the energies at (q, u) (default: the initial state), the scene's order, from `engine`",
+          py::arg("scene"), py::arg("engine") = "inhouse", py::arg("q") = py::none(), py::arg("u") = py::none());
+  mod.def("simulate", &simulatePy,
+          "One run: arrays t, q, u, energy, kinetic, dissipated, and its status and failure; method a name or (name, f)",
+          py::arg("scene"), py::arg("method") = "classical", py::arg("integrator") = py::none(), py::arg("dt") = py::none(),
+          py::arg("tol") = py::none(), py::arg("t_end") = py::none(), py::arg("output_dt") = py::none());
+  mod.def("compare", &comparePy,
+          "Methods against the reference: the report `eigenmass compare --out` writes, as a dict. A method is a name "
+          "or (name, f) with f(t, q, u) -> u' (numpy arrays, the scene's order), run under the in-house integrators",
+          py::arg("scene"), py::arg("methods") = py::list(py::cast(std::vector<std::string>{"classical"})),
+          py::arg("integrator") = py::none(), py::arg("dt") = py::none(), py::arg("tol") = py::none(),
+          py::arg("t_end") = py::none(), py::arg("output_dt") = py::none(),
+          py::arg("plugins") = std::map<std::string, std::string>{}, py::arg("runs") = std::map<std::string, std::string>{});
+  mod.def("plot", &plotPy, "Draw a report, precision file, trajectory, sweep results folder or extreme summary: "
+          "`eigenmass plot` itself (its printed lines returned)", py::arg("input"), py::arg("out") = py::none(),
+          py::arg("format") = "png");
+  mod.def("sweep", &sweepPy, "Run a plan's cases and merge them: `eigenmass sweep` itself (its tables returned)",
+          py::arg("plan"), py::arg("results") = py::none(), py::arg("jobs") = py::none());
+  mod.def("methods", &methodNames, "Every method's name");
+  mod.def("integrators", []() { return integratorNames(); }, "Every integrator's name");
+  mod.def("engines", []() {
+    std::vector<std::string> e;
+    for (Engine x : enginesWithEquations()) e.emplace_back(engineName(x));
+    return e;
+  }, "The engines that give equations at a state");
+}

@@ -1,0 +1,157 @@
+"""The Python module against the CLI (ctest -L python): the same numbers to the
+last digit, the same report but for timings and provenance, a numpy method equal
+to classical, and the CLI's one-line messages as exceptions."""
+import csv
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import eigenmass as em
+
+SRC = os.environ["EM_SOURCE"]
+BIN = os.environ["EM_BIN"]
+
+
+def scene(name):
+    return os.path.join(SRC, "data", "scenes", name)
+
+
+def cli(*args):
+    r = subprocess.run([os.path.join(BIN, "eigenmass"), *args], capture_output=True, text=True)
+    return r.returncode, r.stdout, r.stderr
+
+
+@pytest.mark.parametrize("path, engine", [(scene("pendulum5.json"), "inhouse"), (scene("tree_mixed.json"), "simbody"),
+                                          (os.path.join(SRC, "data", "robots", "ur5.urdf"), "mujoco")])
+def test_equations_equal_the_cli_to_the_last_digit(path, engine):
+    status, out, _ = cli("equations", path, "--engine", engine)
+    assert status == 0
+    j = json.loads(out)
+    e = em.equations(em.load(path), engine=engine)
+    assert np.array_equal(e["A"], np.array(j["A"]))
+    assert np.array_equal(e["B"], np.array(j["B"]))
+    assert np.array_equal(e["udot"], np.array(j["udot"]))
+    assert e["total"] == j["energy"]["total"]
+    assert np.allclose(e["eigenvalues"], j["eigenvalues"], rtol=1e-13, atol=0)
+
+
+def test_equations_at_a_state_the_scene_order():
+    s = em.load(scene("tree_mixed.json"))
+    rng = np.random.default_rng(3)
+    q, u = s.q0 + 0.1 * rng.standard_normal(s.nq), rng.standard_normal(s.nu)
+    for k, name in enumerate(s.q_names):  # renormalize the quaternions (ball joints: their .q0..q3)
+        if name.endswith(".q0") and name[:-3] + ".q3" in s.q_names and name[:-3] + ".q4" not in s.q_names:
+            q[k:k + 4] /= np.linalg.norm(q[k:k + 4])
+    a, b = em.equations(s, q=q, u=u), em.equations(s, engine="simbody", q=q, u=u)
+    assert np.abs(a["udot"] - b["udot"]).max() <= 1e-12 * np.abs(a["udot"]).max() * np.linalg.cond(a["A"])
+
+
+def test_simulate_equals_the_cli_csv(tmp_path):
+    out = str(tmp_path / "run.csv")
+    status, _, _ = cli("simulate", scene("pendulum5.json"), "--method", "eigen-jacobi", "--t-end", "1", "--out", out, "--no-progress")
+    assert status == 0
+    with open(out) as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], np.array(rows[1:], dtype=float)
+    r = em.simulate(em.load(scene("pendulum5.json")), method="eigen-jacobi", t_end=1)
+    assert r["status"] == "ok" and r["failure"] is None
+    assert np.array_equal(r["t"], data[:, 0])
+    for k, name in enumerate(r["q_names"]):
+        assert np.array_equal(r["q"][:, k], data[:, header.index(name)])
+    for k, name in enumerate(r["u_names"]):
+        assert np.array_equal(r["u"][:, k], data[:, header.index(name)])
+    assert np.array_equal(r["energy"], data[:, header.index("energy")])
+
+
+def strip(report):
+    """The report without what differs between two runs of one comparison: CPU times and provenance."""
+    if isinstance(report, dict):
+        return {k: strip(v) for k, v in report.items()
+                if k not in ("provenance", "run_time_s", "sample_time_s") and not k.startswith("cpu")}
+    if isinstance(report, list):
+        return [strip(v) for v in report]
+    return report
+
+
+def test_compare_equals_the_cli_report(tmp_path):
+    out = str(tmp_path / "r.json")
+    status, _, _ = cli("compare", scene("pendulum5.json"), "--t-end", "1", "--methods", "classical,eigen,mujoco", "--out", out,
+                       "--no-progress")
+    assert status == 0
+    with open(out) as f:
+        want = json.load(f)
+    got = em.compare(em.load(scene("pendulum5.json")), methods=["classical", "eigen", "mujoco"], t_end=1)
+    assert strip(got) == strip(want)
+
+
+def test_a_numpy_method_equals_classical_under_the_same_integrator():
+    s = em.load(scene("pendulum5.json"))
+
+    def mine(t, q, u):
+        e = em.equations(s, q=q, u=u)
+        return np.linalg.solve(e["A"], e["B"])
+
+    a = em.simulate(s, method=("mine", mine), t_end=0.5)
+    b = em.simulate(s, method="classical", t_end=0.5)
+    assert a["status"] == "ok"
+    # Two backward-stable solves of one A u' = B differ by ~eps cond(A) (~1e-14 here), grown over 0.5 s.
+    assert np.abs(a["q"] - b["q"]).max() < 1e-11
+    rep = em.compare(s, methods=["classical", ("mine", mine)], t_end=0.5)
+    names = [m["name"] for m in rep["methods"]]
+    assert names == ["classical", "mine"]
+    assert abs(rep["methods"][1]["max_pose_error_rad"] - rep["methods"][0]["max_pose_error_rad"]) < 1e-11
+
+
+def test_a_python_method_that_raises_fails_its_run_not_the_interpreter():
+    s = em.load(scene("pendulum5.json"))
+
+    def broken(t, q, u):
+        if t > 0.1:
+            raise ZeroDivisionError("my bug")
+        return np.zeros(s.nu)
+
+    r = em.simulate(s, method=("broken", broken), t_end=0.5)
+    assert r["status"] == "failed"
+    assert r["failure"]["kind"] == "plugin"
+    assert "my bug" in r["failure"]["cause"]
+
+
+@pytest.mark.parametrize("args, call", [
+    (["equations", os.path.join(SRC, "tests", "scenes", "malformed", "zero_axis.json")],
+     lambda: em.load(os.path.join(SRC, "tests", "scenes", "malformed", "zero_axis.json"))),
+    (["equations", "/nonexistent.json"], lambda: em.load("/nonexistent.json")),
+    (["equations", os.path.join(SRC, "data", "scenes", "pendulum5.json"), "--balance-inertia"],
+     lambda: em.load(scene("pendulum5.json"), balance_inertia=True)),
+])
+def test_bad_inputs_raise_with_the_cli_message(args, call):
+    status, _, err = cli(*args)
+    assert status == 2
+    with pytest.raises(Exception) as e:
+        call()
+    assert "eigenmass: error: " + str(e.value) + "\n" == err
+
+
+def test_bad_arguments_raise_not_crash():
+    s = em.load(scene("pendulum5.json"))
+    with pytest.raises(ValueError, match="7 numbers expected"):
+        em.equations(s, q=np.zeros(3))
+    with pytest.raises(ValueError, match="unknown method 'nope'"):
+        em.simulate(s, method="nope")
+    with pytest.raises(ValueError, match="dt"):
+        em.simulate(s, dt=-1)
+    with pytest.raises(ValueError, match="unknown engine"):
+        em.equations(s, engine="gazebo")
+
+
+def test_plot_and_sweep_are_the_cli_commands(tmp_path):
+    s = em.load(scene("pendulum5.json"))
+    rep = str(tmp_path / "r.json")
+    with open(rep, "w") as f:
+        json.dump(em.compare(s, methods=["classical"], t_end=0.5), f)
+    out = em.plot(rep, out=str(tmp_path / "figures"))
+    assert os.path.exists(tmp_path / "figures" / "pendulum5-divergence.png"), out
+    with pytest.raises(RuntimeError, match="cannot open the report"):
+        em.plot(str(tmp_path / "missing.json"))
