@@ -10,6 +10,7 @@
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
+#include "solver/text.hpp"
 
 namespace em {
 
@@ -73,6 +74,15 @@ Equations toFileOrder(const Model& m, const Eigen::MatrixXd& A, const Eigen::Vec
 void checkInitialState(const Scene& scene) {
   const Model& m = scene.model;
   const Workspace ws = equationsAtStart(m);
+  if (ws.A.allFinite() && (!ws.B.allFinite() || !std::isfinite(ws.energy()))) {
+    // A is finite, so masses and levers are: the speeds make B or the kinetic energy overflow.
+    Eigen::VectorXd uf;
+    m.uToFile(m.u0(), uf);
+    Eigen::Index k = 0;
+    uf.cwiseAbs().maxCoeff(&k);
+    throw std::runtime_error(scene.source.file + ": B or the energy at t = 0 is not finite: an initial speed too large for "
+                             "double precision (" + m.uNames()[k] + " = " + gnum(uf[k]) + ")");
+  }
   if (!ws.A.allFinite() || !ws.B.allFinite() || !std::isfinite(ws.energy()))
     throw std::runtime_error(scene.source.file + ": the equations at t = 0 are not finite (A, B or the energy): a mass, "
                              "inertia or offset too large for double precision");

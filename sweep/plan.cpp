@@ -278,6 +278,8 @@ void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
                                    "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble", "plugins"};
   for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
+  if (doc.is_object() && doc.value("format", json()) == "eigenmass-scene/1")
+    throw InputError("format", "a scene, not a plan (eigenmass-plan/1, docs/sweep.md): compare, simulate or extreme take a scene");
   onlyKeys(doc, "", keys);
   if (stringAt(doc.value("format", json()), "format") != "eigenmass-plan/1")
     throw InputError("format", "expected \"eigenmass-plan/1\"");
@@ -319,6 +321,10 @@ void checkPlanRuns(const Plan& p) {
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
     try {
       checkRunSpec(c.spec, "the plan keys max_steps and max_samples raise the budgets");
+    } catch (const SettingError& e) {  // the grid is the plan's own keys, not the reference's or a line's
+      if (e.field == "t_end" || e.field == "output_dt") throw InputError(e.field, e.detail);
+      throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
+                       c.name + ": " + e.what());
     } catch (const std::invalid_argument& e) {
       throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
                        c.name + ": " + e.what());

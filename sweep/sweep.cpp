@@ -74,10 +74,20 @@ void checkKey(const std::string& path, const json& key) {
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": unreadable case result (" + e.what() + "); remove it to run the case again");
   }
-  if (!doc.is_object() || doc.value("key", json()) != key)
-    throw std::runtime_error(path + ": made by another plan, scene file or version (key differs: " +
-                             doc.value("key", json()).dump() + " vs " + key.dump() +
-                             "); use another --results folder or remove the file");
+  const json theirs = doc.is_object() ? doc.value("key", json()) : json();
+  if (theirs == key) return;
+  // Name the first field that differs, both values cut short: one line, not two whole keys.
+  std::string field = "key", was = printable(theirs.dump(), 60), now = printable(key.dump(), 60);
+  if (theirs.is_object())
+    for (const auto& [name, value] : key.items())
+      if (!theirs.contains(name) || theirs[name] != value) {
+        field = name;
+        was = theirs.contains(name) ? printable(theirs[name].dump(), 60) : "absent";
+        now = printable(value.dump(), 60);
+        break;
+      }
+  throw std::runtime_error(path + ": made by another plan, scene file or version (its " + field + " is " + was +
+                           ", this plan's " + now + "); use another --results folder or remove the file");
 }
 
 // The scene's (the member's) reference run: read from its case file, or run and written now.

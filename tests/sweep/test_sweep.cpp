@@ -113,6 +113,12 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   p = smallPlan();
   p["t_ned"] = 1;
   CHECK_THAT(planError(p), Catch::Contains("t_ned: unknown key"));
+  // Blamed on what is wrong (issue 42): the plan's own grid, not its reference; a scene given as a plan.
+  p = smallPlan();
+  p["output_dt"] = 0.3;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: t_end: ") && Catch::Contains("must be a whole multiple of output_dt 0.3"));
+  p = parseJsonStrict(readFile(test::sourcePath("data/scenes/pendulum5.json"), "scene"));
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: format: a scene, not a plan"));
   p = smallPlan();
   p["lines"][0]["dt"][0] = 3e-3;  // does not divide the 0.01 s output grid
   CHECK_THAT(planError(p), Catch::Contains("bad.json: lines: pendulum5.classical.rk4.0.003:"));
@@ -229,6 +235,9 @@ TEST_CASE("a sweep resumes without rerunning a case, and refuses a result made b
   std::string line;
   std::getline(in, line);
   CHECK_THAT(line, Catch::Contains("reference.json: made by another plan"));
+  // The field that differs and both values, in a short line (issue 42: it was two whole keys, 700 characters).
+  CHECK_THAT(line, Catch::Contains("(its t_end is 0.1, this plan's 0.2)"));
+  CHECK(line.size() < 300);
   CHECK(fs::last_write_time(one) == written);
 }
 
