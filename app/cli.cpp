@@ -136,6 +136,17 @@ CLI::Validator positiveFinite() {
       "> 0");
 }
 
+void refuseEmptyPaths(CLI::App& app) {
+  static const char* const kPathOptions[] = {"--out", "--csv-dir", "--out-dir", "--doc", "--results",
+                                             "--merge", "--gate", "--expect", "--run", "--plugin"};
+  const CLI::Validator nonEmpty(
+      [](std::string& v) { return v.empty() ? std::string("an empty path (leave the option out for its default)") : std::string(); },
+      "");
+  for (CLI::App* sub : app.get_subcommands({}))
+    for (const char* name : kPathOptions)
+      if (CLI::Option* o = sub->get_option_no_throw(name)) o->check(nonEmpty);
+}
+
 Grid RunArgs::asked(const CLI::App& cmd) const {
   Grid g;
   if (cmd.count("--t-end")) g.t_end = t_end;

@@ -90,6 +90,12 @@ void refuseDuplicates(const std::string& option, const std::vector<T>& values) {
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();
 
+/// One rule for an empty path (issue 42): every option that names a file or
+/// a folder to write or read (--out, --csv-dir, --out-dir, --doc, --results,
+/// --merge, --gate, --expect, --run, --plugin) refuses "" in one line, on every
+/// subcommand of `app`; leaving the option out is how its default is asked.
+void refuseEmptyPaths(CLI::App& app);
+
 /// What every running subcommand takes: the output grid, the step budget,
 /// the retry switch and the methods' own options (the registry rows' params).
 struct RunArgs {

@@ -82,12 +82,11 @@ void addSweep(CLI::App& app) {
                                           "and merge them: error against run time, cost against size (docs/sweep.md)");
   auto a = std::make_shared<SweepArgs>();
   cmd->add_option("plan", a->plan, "Plan file (eigenmass-plan/1; data/plans/)")->required()->check(CLI::ExistingFile);
-  const auto nonEmpty = CLI::Validator([](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); }, "DIR");
-  cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/")->check(nonEmpty);
+  cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/");
   cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core")->check(CLI::Range(1, 1024));
   cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop");
   cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop");
-  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop")->check(nonEmpty);
+  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop");
   cmd->callback([a] { guarded([&] { return runSweepCommand(*a); }); });
 }
 
