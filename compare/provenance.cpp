@@ -61,7 +61,7 @@ std::string eigenVersion() {
 
 // Every engine's library by its engine's name, then the in-house solver's.
 nlohmann::json libraries() {
-  nlohmann::json l = {{"eigen", eigenVersion()}, {"gsl", GSL_VERSION}};
+  nlohmann::json l = {{"eigen", eigenVersion()}, {"gsl", GSL_VERSION}, {"urdfdom", EM_URDFDOM_VERSION}};
   for (const EngineRow& r : engineRows()) l[r.name] = r.version();
   return l;
 }
@@ -89,7 +89,7 @@ std::string versionText() {
   std::string engines;
   for (const EngineRow& r : engineRows()) engines += std::string(engines.empty() ? "" : ", ") + r.name + " " + r.version();
   return std::string("eigenmass ") + EM_VERSION + " (commit " + EM_GIT_COMMIT + "); engines: " + engines + "; Eigen " +
-         eigenVersion() + ", GSL " + GSL_VERSION + "; " + __VERSION__;
+         eigenVersion() + ", GSL " + GSL_VERSION + ", liburdfdom " + EM_URDFDOM_VERSION + "; " + __VERSION__;
 }
 
 nlohmann::json sceneSourceJson(const SceneSource& s) {
