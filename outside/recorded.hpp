@@ -39,6 +39,10 @@ struct RecordedRun {
 /// row named `name` and returns its id.
 Method addRecordedRun(const std::string& name, const std::string& path, const Model& m);
 
+/// The scheme row of every recorded run, "recorded" (added once; in-house
+/// runs are refused it: no code of ours steps it).
+Integrator recordedScheme();
+
 /// The recorded run of method `method`, or nullptr for any other method.
 const RecordedRun* recordedRun(Method method);
 

@@ -243,6 +243,9 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
 
 Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
   checkRunSpec(spec);
+  const IntegratorInfo& scheme = info(spec.integrator);
+  if (scheme.fixed_step ? !scheme.step : !scheme.gsl)  // a row no code of ours steps (a recorded run's)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   const long per_output = spec.fixedStep() ? stepsPerOutput(spec.output_dt, spec.dt) : 1;
   Dynamics dyn(m, spec.method, spec.options);  // throws for another engine's method

@@ -1,6 +1,7 @@
 #include "sweep/plan.hpp"
 
 #include "outside/plugin.hpp"
+#include "outside/recorded.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -204,6 +205,27 @@ void pluginsAt(const json& v, const std::string& plan_file, const std::vector<Pl
   }
 }
 
+// "runs": {"NAME": "file.csv", ...}: runs made elsewhere (outside/recorded.hpp) of the
+// plan's one scene, paths against the plan's folder, each read and checked now.
+std::vector<Method> runsAt(const json& v, const Plan& p) {
+  if (!v.is_object()) throw InputError("runs", "expected an object {\"NAME\": \"file.csv\"}");
+  if (p.scenes.size() != 1)
+    throw InputError("runs", "a recorded run is of one scene; this plan has " + std::to_string(p.scenes.size()));
+  if (p.ensemble) throw InputError("runs", "a recorded run is one motion; an ensemble's members would each need their own");
+  const Scene scene = loadScene(p.scenes[0].file, p.scenes[0].urdf);
+  std::vector<Method> out;
+  for (const auto& [name, path] : v.items()) {
+    const std::string at = jsonPath("runs", name);
+    const fs::path file = fs::path(p.file).parent_path() / stringAt(path, at);
+    try {
+      out.push_back(addRecordedRun(name, file.string(), scene.model));
+    } catch (const std::exception& e) {
+      throw InputError(at, e.what());
+    }
+  }
+  return out;
+}
+
 std::vector<PlanTable> tablesAt(const json& v) {
   std::vector<PlanTable> out;
   if (!v.is_array()) throw InputError("tables", "expected a list");
@@ -276,7 +298,7 @@ Ensemble ensembleAt(const json& v) {
 
 void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
-                                   "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble", "plugins"};
+                                   "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble", "plugins", "runs"};
   for (const MethodParam& m : methodParams()) keys.emplace_back(m.name);
   if (doc.is_object() && doc.value("format", json()) == "eigenmass-scene/1")
     throw InputError("format", "a scene, not a plan (eigenmass-plan/1, docs/sweep.md): compare, simulate or extreme take a scene");
@@ -305,6 +327,7 @@ void readPlanKeys(const json& doc, Plan& p) {
   }
   const json lines = arrayAt(doc.value("lines", json()), "lines");
   for (size_t i = 0; i < lines.size(); ++i) p.lines.push_back(lineAt(lines[i], jsonPath("lines", i)));
+  if (doc.contains("runs")) p.runs = runsAt(doc["runs"], p);  // after the lines: no line may name the recorded scheme
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
   if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
   if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
@@ -406,6 +429,13 @@ std::vector<SweepCase> planCases(const Plan& p) {
             (spec.fixedStep() ? spec.dt : spec.tol) = setting;
             cases.push_back(makeCase(p, s, k, CaseRole::Run, spec));
           }
+  for (Method m : p.runs) {  // a recorded run's case, named with the plan's output step (its samples are put on that grid)
+    RunSpec spec;
+    spec.method = m;
+    spec.integrator = recordedScheme();
+    spec.dt = p.output_dt;
+    cases.push_back(makeCase(p, 0, 0, CaseRole::Run, spec));
+  }
   return cases;
 }
 

@@ -42,6 +42,7 @@ struct Plan {
   std::vector<PlanTable> tables;
   MethodOptions options;  ///< of every run (the plan's "max_steps" and the methods' options)
   std::optional<Ensemble> ensemble;  ///< members of every scene (absent: the scene alone)
+  std::vector<Method> runs;          ///< recorded runs of the plan's one scene ("runs"; outside/recorded.hpp), a case each
 
   bool hasTable(PlanTable t) const;
 };

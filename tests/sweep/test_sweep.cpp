@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -277,4 +278,40 @@ TEST_CASE("a plan sweeps robots with their import options: the Allegro hand with
   CHECK_THAT(planError(p), Catch::Contains("scenes[0].balance_inertia: expected true or false"));
   p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"lock_joint", {"nope"}}}};
   CHECK_THAT(planError(p), Catch::Contains("scenes[0]") && Catch::Contains("no joint named 'nope'"));
+}
+
+TEST_CASE("a plan names a plugin and a recorded run: their cases equal classical's", "[sweep][cli][outside]") {
+  // The oracle is classical itself: the example plugin computes the same u' by
+  // Newton-Euler (its trajectory under rk4 agrees to ~1e-12), and the recorded
+  // run is classical's own run written out by `simulate` and read back.
+  const std::string dir = kDir + "/outside";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = test::sourcePath("data/scenes/pendulum5.json");
+  REQUIRE(shell(eigenmass() + " simulate " + scene + " --t-end 0.5 --dt 1e-3 --out " + dir + "/mine.csv --no-progress >/dev/null") == 0);
+  json p = {{"format", "eigenmass-plan/1"},
+            {"name", "outside"},
+            {"scenes", {scene}},
+            {"t_end", 0.5},
+            {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
+            {"plugins", {{"rnea", std::string(EM_BINARY_DIR) + "/lib/librnea.so"}}},
+            {"runs", {{"mine", "mine.csv"}}},  // against the plan's folder
+            {"lines", {{{"methods", {"classical", "rnea"}}, {"integrator", "rk4"}, {"dt", {1e-3}}}}}};
+  std::ofstream(dir + "/plan.json") << p.dump(1);
+  REQUIRE(shell(eigenmass() + " sweep " + dir + "/plan.json --results " + dir + "/results -j 1 >/dev/null 2>&1") == 0);
+  const auto rows = withoutTimings(dir + "/results/outside.csv");
+  REQUIRE(rows.size() == 1 + 4);  // the reference, classical, rnea, mine
+  std::map<std::string, std::vector<std::string>> by;
+  for (const auto& r : rows) by[r[3]] = r;
+  REQUIRE(by.count("mine"));
+  CHECK(by["mine"][4] == "recorded");
+  CHECK(by["mine"][7] == "ok");
+  CHECK(by["mine"][10] == by["classical"][10]);  // the pose error, to the printed digit
+  CHECK(std::abs(std::stod(by["rnea"][10]) - std::stod(by["classical"][10])) < 1e-11);
+  // What a plan may not do with a run file: one line naming the key.
+  p["scenes"].push_back(test::sourcePath("data/scenes/chain02.json"));
+  CHECK_THAT(planError(p), Catch::Contains("runs: a recorded run is of one scene; this plan has 2"));
+  p["scenes"].erase(1);
+  p["runs"]["bad"] = "nowhere.csv";
+  CHECK_THAT(planError(p), Catch::Contains("runs.bad: ") && Catch::Contains("cannot read the recorded run"));
 }
