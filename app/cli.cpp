@@ -248,19 +248,6 @@ std::string helpWithNames(const std::string& text, const std::vector<std::string
   return text + ": " + joined(names);
 }
 
-namespace {
-
-// "NAME=path" as given to `option`: its two halves.
-std::pair<std::string, std::string> namedFile(const std::string& option, const std::string& v) {
-  const size_t eq = v.find('=');
-  if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
-    throw std::invalid_argument(option + ": '" + v + "': NAME=FILE expected (e.g. " + option + " mine=" +
-                                (option == "--run" ? "run.csv" : "./libmine.so") + ")");
-  return {v.substr(0, eq), v.substr(eq + 1)};
-}
-
-}  // namespace
-
 std::vector<std::string> OutsideArgs::load(const Scene& scene) const {
   if (plugin_timeout > 0) setPluginTimeout(plugin_timeout);
   std::vector<std::string> names;
@@ -268,7 +255,7 @@ std::vector<std::string> OutsideArgs::load(const Scene& scene) const {
     return std::invalid_argument(option + ": " + e.what());
   };
   for (const std::string& v : plugins) {
-    const auto [name, path] = namedFile("--plugin", v);
+    const auto [name, path] = splitNamedFile("--plugin", v);
     try {
       probePlugin(addPlugin(name, path), scene.model);
     } catch (const std::exception& e) {
@@ -277,7 +264,7 @@ std::vector<std::string> OutsideArgs::load(const Scene& scene) const {
     names.push_back(name);
   }
   for (const std::string& v : runs) {
-    const auto [name, path] = namedFile("--run", v);
+    const auto [name, path] = splitNamedFile("--run", v);
     try {
       addRecordedRun(name, path, scene.model);
     } catch (const std::exception& e) {

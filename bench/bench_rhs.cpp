@@ -151,11 +151,9 @@ int main(int argc, char** argv) {
   }
   try {
     for (const std::string& v : plugins) {
-      const size_t eq = v.find('=');
-      if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
-        throw std::invalid_argument("--plugin: '" + v + "': NAME=FILE expected");
+      const auto [name, path] = splitNamedFile("--plugin", v);
       try {
-        g_plugins.push_back(addPlugin(v.substr(0, eq), v.substr(eq + 1)));
+        g_plugins.push_back(addPlugin(name, path));
         for (int n : sizes) probePlugin(g_plugins.back(), chain(n));
       } catch (const std::exception& e) {
         throw std::invalid_argument(std::string("--plugin: ") + e.what());

@@ -156,6 +156,14 @@ F symbol(void* handle, const std::string& path, const char* name) {
 
 }  // namespace
 
+std::pair<std::string, std::string> splitNamedFile(const std::string& option, const std::string& v) {
+  const size_t eq = v.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
+    throw std::invalid_argument(option + ": '" + v + "': NAME=FILE expected (e.g. " + option + " mine=" +
+                                (option == "--run" ? "run.csv" : "./libmine.so") + ")");
+  return {v.substr(0, eq), v.substr(eq + 1)};
+}
+
 Method addPlugin(const std::string& name, const std::string& path) {
   for (const PluginLib& l : libs())
     if (l.name == name && l.path == path) return l.id;

@@ -6,6 +6,7 @@
 /// failure, never the harness.
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,10 @@
 #include "solver/trajectory.hpp"
 
 namespace em {
+
+/// "NAME=path" as given to `option` (--plugin, --run): its two halves;
+/// std::invalid_argument, one line naming the option, when either is missing.
+std::pair<std::string, std::string> splitNamedFile(const std::string& option, const std::string& value);
 
 /// Load `path` as method `name`: dlopen, the four symbols, the ABI version.
 /// Adds the method's row (isolated) and returns its id; the same name and

@@ -22,8 +22,7 @@ using namespace em;
 namespace {
 
 // The run a user makes of `engine`: its default scheme at dt 1e-3, or at accuracy 1e-6 when that scheme is adaptive.
-RunSpec userRun(const Model& m, const std::string& engine, double t_end, double output_dt) {
-  (void)m;
+RunSpec userRun(const std::string& engine, double t_end, double output_dt) {
   const Engine e = test::engine(engine.c_str());
   RunSpec s = test::runSpec(info(e).method, defaultIntegrator(e), t_end, 1e-3, output_dt);
   if (!s.fixedStep()) s.tol = 1e-6;
@@ -77,7 +76,7 @@ TEST_CASE("Erez et al. 1: a conservative chain's energy at the step users run, p
   std::map<std::string, double> bound = {
       {"inhouse", 1e-8}, {"simbody", 6e-6}, {"mujoco", 1e-8}, {"dart", 0.12}, {"bullet", 0.15}, {"ode", 7e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runMethod(m, userRun(m, e, 5.0, 0.01));
+    const Trajectory tr = runMethod(m, userRun(e, 5.0, 0.01));
     const double d = energyDrift(tr);
     std::printf("erez-energy %s/%s: %s, max |dE|/E_scale %.3g\n", e.c_str(), tr.integrator().c_str(), tr.status().c_str(), d);
     INFO(e << ": " << tr.failure);
@@ -98,7 +97,7 @@ TEST_CASE("Erez et al. 2: a free-floating robot's momenta in zero gravity, per e
   std::map<std::string, double> bound_H = {
       {"inhouse", 4e-11}, {"simbody", 1e-5}, {"mujoco", 6.2e-8}, {"dart", 1.9e-2}, {"bullet", 1.9e-2}, {"ode", 3.2e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runMethod(m, userRun(m, e, 5.0, 0.01));
+    const Trajectory tr = runMethod(m, userRun(e, 5.0, 0.01));
     const auto [dp, dH] = test::momentumDrift(m, tr);
     std::printf("erez-momentum %s/%s: %s, |dp|/|p| %.3g, |dH|/|H| %.3g\n", e.c_str(), tr.integrator().c_str(),
                 tr.status().c_str(), dp, dH);
@@ -120,7 +119,7 @@ TEST_CASE("Erez et al. 3: a Dzhanibekov flip at the reference's time, per engine
   std::map<std::string, double> bound = {
       {"inhouse", 1e-3}, {"simbody", 1e-3}, {"mujoco", 1e-3}, {"dart", 7e-3}, {"bullet", 7e-3}, {"ode", 1e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runMethod(m, userRun(m, e, 6.0, 1e-3));
+    const Trajectory tr = runMethod(m, userRun(e, 6.0, 1e-3));
     const double t = flipTime(tr);
     std::printf("erez-flip %s/%s: flip at %.4f s (%+.4f)\n", e.c_str(), tr.integrator().c_str(), t, t - t_ref);
     INFO(e << ": " << tr.failure);
