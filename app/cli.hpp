@@ -14,6 +14,10 @@
 #include "compare/engines.hpp"
 #include "solver/trajectory.hpp"
 
+namespace em {
+struct Plan;
+}
+
 namespace em::cli {
 
 void addEquations(CLI::App& app);
@@ -25,6 +29,11 @@ void addCrossCheck(CLI::App& app);
 void addExtreme(CLI::App& app);
 void addSweep(CLI::App& app);
 void addPlot(CLI::App& app);
+void addEngineStudy(CLI::App& app);
+/// Run every case of `plan` (read from `plan_path`) not done yet in `dir` on
+/// `jobs` workers (0: every core) and merge them, or, with `list`, print one
+/// command per case (sweep and engine-study share it). Returns the exit status.
+int sweepPlan(const Plan& plan, const std::string& plan_path, const std::string& dir, int jobs, bool list);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
 int exitCode();
 

@@ -62,20 +62,24 @@ int runSweepCommand(const SweepArgs& a) {
     if (!fs::is_directory(dir)) throw std::invalid_argument("--merge " + dir + ": no such folder");
     return mergeInto(plan, dir);
   }
-  if (a.list) {
-    for (const std::string& line : listCommands(plan, a.plan, dir)) std::printf("%s\n", line.c_str());
+  if (!a.list) prepareFolder("--results", dir);
+  if (!a.one_case.empty()) return runOneCase(plan, a.one_case, dir);
+  return sweepPlan(plan, a.plan, dir, a.jobs, a.list);
+}
+
+}  // namespace
+
+int sweepPlan(const Plan& plan, const std::string& plan_path, const std::string& dir, int jobs, bool list) {
+  if (list) {
+    for (const std::string& line : listCommands(plan, plan_path, dir)) std::printf("%s\n", line.c_str());
     return 0;
   }
-  prepareFolder("--results", dir);
-  if (!a.one_case.empty()) return runOneCase(plan, a.one_case, dir);
-  const int jobs = a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int errors = runSweep(plan, dir, jobs);
+  const int workers = jobs > 0 ? jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int errors = runSweep(plan, dir, workers);
   const int merged = mergeInto(plan, dir);
   if (errors) std::fprintf(stderr, "sweep: %d cases could not be run (their causes above)\n", errors);
   return errors || merged ? 1 : 0;
 }
-
-}  // namespace
 
 void addSweep(CLI::App& app) {
   auto* cmd = app.add_subcommand("sweep", "Run a plan's cases (scenes x methods x integrators x settings), resumably, "

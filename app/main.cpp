@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   em::cli::addCrossCheck(app);
   em::cli::addExtreme(app);
   em::cli::addSweep(app);
+  em::cli::addEngineStudy(app);
   em::cli::addPlot(app);
   em::cli::refuseEmptyPaths(app);
   if (argc < 2) {

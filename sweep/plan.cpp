@@ -30,7 +30,8 @@ struct TableRow {
 const TableRow kTables[] = {{PlanTable::WorkPrecision, "work-precision"},
                             {PlanTable::CostVsSize, "cost-vs-size"},
                             {PlanTable::Runs, "runs"},
-                            {PlanTable::Trajectories, "trajectories"}};
+                            {PlanTable::Trajectories, "trajectories"},
+                            {PlanTable::EngineStudy, "engine-study"}};
 
 double positiveNumber(const json& v, const std::string& path) {
   if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
@@ -329,7 +330,8 @@ void readPlanKeys(const json& doc, Plan& p) {
   for (size_t i = 0; i < lines.size(); ++i) p.lines.push_back(lineAt(lines[i], jsonPath("lines", i)));
   if (doc.contains("runs")) p.runs = runsAt(doc["runs"], p);  // after the lines: no line may name the recorded scheme
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
-  if (p.hasTable(PlanTable::WorkPrecision) && !p.reference) throw InputError("tables", "work-precision needs a reference");
+  for (PlanTable t : {PlanTable::WorkPrecision, PlanTable::EngineStudy})
+    if (p.hasTable(t) && !p.reference) throw InputError("tables", std::string(planTableName(t)) + " needs a reference");
   if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
   if (doc.contains("max_samples")) p.options.max_samples = positiveNumber(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);

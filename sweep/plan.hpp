@@ -21,7 +21,7 @@ struct PlanLine {
 };
 
 /// The tables a plan's merged results carry (docs/sweep.md).
-enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories };
+enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories, EngineStudy };
 const char* planTableName(PlanTable t);
 
 /// A scene of a plan: an entry of `scenes`, a path or {"file", and a URDF's import options}.

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "compare/lyapunov.hpp"
+#include "compare/momenta.hpp"
 #include "compare/progress.hpp"
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
@@ -116,7 +117,7 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
 
 // Status, errors (against `ref` when given) and cost of the first repeat;
 // the early error level up to t0.
-void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref, double t0) {
+void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const Trajectory* ref, double t0) {
   rec.status = run.status();
   rec.failure = run.failure;
   rec.failure_kind = failureName(run.failure_kind);
@@ -130,6 +131,8 @@ void measure(CaseRecord& rec, const Trajectory& run, const Trajectory* ref, doub
   rec.max_pose = m.pose.value;
   rec.max_coord = m.coords_shared ? m.coord.value : NAN;
   rec.max_energy = m.energy.value;
+  if (const std::optional<MomentumDrift> d = momentumDrift(model, run)) rec.momentum_p = d->p, rec.momentum_H = d->H;
+  if (std::isfinite(run.max_joint_separation)) rec.joint_separation = run.max_joint_separation;
   if (!ref) return;
   rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
   double early = 0;
@@ -191,7 +194,7 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
     rec.cpu_s.push_back(again.run_time_s);
     rec.repeats_identical = rec.repeats_identical && sameEnd(first, again);
   }
-  measure(rec, first, ref ? &*ref : nullptr, plan.t_end / 10);
+  measure(rec, scene.model, first, ref ? &*ref : nullptr, plan.t_end / 10);
   if (c.role == CaseRole::Reference) {  // the member's exponent, for the prediction of divergence times
     LyapunovOptions lo;
     lo.t_end = plan.t_end;

@@ -31,6 +31,9 @@ struct CaseRecord {
   /// Lyapunov prediction starts from). References: their motion's exponent.
   std::optional<double> t0, pose_by_t0;
   std::optional<double> lyapunov_per_s, lyapunov_uncertainty_per_s;
+  /// Free systems (compare/momenta.hpp): the largest relative drift of p - M g t and of H about the CM.
+  std::optional<double> momentum_p, momentum_H;
+  std::optional<double> joint_separation;    ///< m: a maximal-coordinate engine's constraint violation (ODE)
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
@@ -118,6 +121,17 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
 std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records);
 
 // Pieces of the tables, tested on their own.
+
+/// Who a route belongs to: an engine's name, "eigenmass" for the in-house
+/// methods, else the method's own name (a plugin, an engine's u' under our integrators).
+std::string routeOwner(const std::string& method);
+/// The engine study's tables of one scene (sweep/engine_study.cpp): each
+/// route's cheapest run within 1e-3 and 1e-6 rad, each owner's fastest route
+/// and whether eigenmass's is the cheapest, every run's errors, drifts and cost.
+/// `floor`: the reference's check's largest pose difference (an accuracy below ten times it is said unresolved).
+std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double floor);
+/// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest.
+std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
 
 /// CPU time at which a line (points in setting order, coarse to fine) first
 /// reaches `target` error, interpolated log-log between the two points that

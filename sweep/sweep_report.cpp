@@ -75,6 +75,9 @@ json caseRecordJson(const CaseRecord& r) {
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
           {"repeats_identical", r.repeats_identical},
+          {"momentum_drift_p", orNull(r.momentum_p)},
+          {"momentum_drift_H", orNull(r.momentum_H)},
+          {"max_joint_separation_m", orNull(r.joint_separation)},
           {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()},
           {"t0_s", orNull(r.t0)},
           {"pose_error_by_t0_rad", orNull(r.pose_by_t0)},
@@ -114,6 +117,9 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
     r.repeats_identical = j.at("repeats_identical").get<bool>();
+    r.momentum_p = optionalFrom(j.value("momentum_drift_p", json()));  // absent in files written before the engine study
+    r.momentum_H = optionalFrom(j.value("momentum_drift_H", json()));
+    r.joint_separation = optionalFrom(j.value("max_joint_separation_m", json()));
     r.t0 = optionalFrom(j.value("t0_s", json()));
     r.pose_by_t0 = optionalFrom(j.value("pose_error_by_t0_rad", json()));
     r.lyapunov_per_s = optionalFrom(j.value("lyapunov_per_s", json()));
@@ -144,7 +150,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   o.precision(17);
   o << (with_member ? "scene,member," : "scene,") << "nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
        "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
-       "min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
+       "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
   for (const CaseRecord& r : records) {
@@ -154,7 +160,8 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
       << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
       << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
-      << (r.repeats_identical ? "true" : "false") << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
+      << (r.repeats_identical ? "true" : "false") << ',' << opt(r.momentum_p) << ',' << opt(r.momentum_H) << ','
+      << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
       << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';
   }

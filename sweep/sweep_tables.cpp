@@ -215,7 +215,15 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
     o << costTable(records, plan.t_end, "µs per accepted step", perStep, 1e-6);
     o << costTable(records, plan.t_end, "CPU s per simulated second (the paper's Fig. 4 quantity)", perSecond, 1);
   }
-  if (!plan.hasTable(PlanTable::WorkPrecision))
+  if (plan.hasTable(PlanTable::EngineStudy)) {
+    for (const std::string& s : scenesOf(records)) {
+      double floor = 0;
+      o << "### " << s << "\n\n" << referenceLine(records, s, floor);
+      o << engineStudyScene(records, s, plan.t_end, floor);
+    }
+    o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end);
+  }
+  if (!plan.hasTable(PlanTable::WorkPrecision) && !plan.hasTable(PlanTable::EngineStudy))
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
       const std::string line = referenceLine(records, s, floor);

@@ -107,7 +107,7 @@ inline const std::vector<std::string>& dataScenes() {
   static const std::vector<std::string> s = {
       "cartpole.json", "chain01.json", "chain02.json", "chain03.json", "chain04.json", "chain05.json", "chain06.json",
       "chain07.json", "chain08.json", "chain09.json", "chain10.json", "chain20.json", "chain50.json", "floating_arm.json", "forest.json", "pendulum5.json",
-      "pendulum5_ball.json", "spring_damper.json", "tree_mixed.json"};
+      "pendulum5_ball.json", "solo12_tumbling.json", "spring_damper.json", "tree_mixed.json"};
   return s;
 }
 

@@ -1,0 +1,262 @@
+// The engine study's tables (docs/engines.md, docs/sweep.md "engine-study"):
+// for each scene, every route's (method x scheme) cheapest run within 1e-3
+// and 1e-6 rad of the reference over the horizon, each owner's fastest route
+// beside eigenmass's, and every run's errors, drifts and cost; then, across
+// the scenes, which engine was cheapest at which accuracy.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "sweep/sweep.hpp"
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+constexpr double kAccuracies[] = {1e-3, 1e-6};  // rad: the pose error a route must keep over the horizon
+
+std::string sci(double x) {
+  if (!std::isfinite(x)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2e", x);
+  return b;
+}
+
+std::string when(const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); }
+
+double perSimulatedSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
+
+bool within(const CaseRecord& r, double accuracy) {
+  return r.status == "ok" && r.has_error && std::isfinite(r.max_pose) && r.max_pose <= accuracy;
+}
+
+// A route: one method under one scheme on one scene, its runs coarse to fine.
+struct Route {
+  std::string owner, method, integrator;
+  std::vector<const CaseRecord*> runs;
+  /// The cheapest run within `accuracy` (CPU per simulated second), if any.
+  const CaseRecord* cheapest(double accuracy, double t_end) const {
+    const CaseRecord* best = nullptr;
+    for (const CaseRecord* r : runs)
+      if (within(*r, accuracy) && (!best || perSimulatedSecond(*r, t_end) < perSimulatedSecond(*best, t_end))) best = r;
+    return best;
+  }
+};
+
+std::vector<Route> routesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
+  std::vector<Route> out;
+  for (const CaseRecord& r : rs) {
+    if (r.scene != scene || r.role != "run" || r.member != 0) continue;
+    auto it = std::find_if(out.begin(), out.end(), [&](const Route& x) { return x.method == r.method && x.integrator == r.integrator; });
+    if (it == out.end()) it = out.insert(out.end(), Route{routeOwner(r.method), r.method, r.integrator, {}});
+    it->runs.push_back(&r);
+  }
+  for (Route& x : out)
+    std::stable_sort(x.runs.begin(), x.runs.end(), [](const CaseRecord* a, const CaseRecord* b) { return a->setting > b->setting; });
+  return out;
+}
+
+std::string settingText(const CaseRecord& r) { return (r.setting_kind == "dt" ? "dt " : "tol ") + gnum(r.setting); }
+
+// One owner's fastest route to each accuracy.
+struct Fastest {
+  const Route* route[2] = {nullptr, nullptr};
+  const CaseRecord* run[2] = {nullptr, nullptr};
+};
+
+std::vector<std::pair<std::string, Fastest>> fastestByOwner(const std::vector<Route>& routes, double t_end) {
+  std::vector<std::pair<std::string, Fastest>> out;
+  for (const Route& x : routes) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const auto& p) { return p.first == x.owner; });
+    if (it == out.end()) it = out.insert(out.end(), {x.owner, Fastest{}});
+    for (int a = 0; a < 2; ++a)
+      if (const CaseRecord* r = x.cheapest(kAccuracies[a], t_end);
+          r && (!it->second.run[a] || perSimulatedSecond(*r, t_end) < perSimulatedSecond(*it->second.run[a], t_end)))
+        it->second.route[a] = &x, it->second.run[a] = r;
+  }
+  return out;
+}
+
+std::string routeCell(const Fastest& f, int a, double t_end) {
+  if (!f.run[a]) return "not reached | -";
+  return f.route[a]->method + " " + f.route[a]->integrator + " " + settingText(*f.run[a]) + " | " +
+         sci(perSimulatedSecond(*f.run[a], t_end));
+}
+
+std::string routeTable(const std::vector<Route>& routes, double t_end) {
+  std::ostringstream o;
+  o << "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s | cheapest within 1e-6 rad | CPU s / s |\n"
+    << "|---|---|---|---|---|---|---|---|\n";
+  for (const Route& x : routes) {
+    int ok = 0;
+    for (const CaseRecord* r : x.runs) ok += r->status == "ok";
+    o << "| " << x.owner << " | " << x.method << " | " << x.integrator << " | " << ok << " / " << x.runs.size() << " |";
+    for (double a : kAccuracies) {
+      const CaseRecord* r = x.cheapest(a, t_end);
+      o << " " << (r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : std::string("not reached | -")) << " |";
+    }
+    o << "\n";
+  }
+  return o.str() + "\n";
+}
+
+// Whether eigenmass's fastest route is cheaper than every other owner's, per accuracy, said in one line each.
+std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end) {
+  std::ostringstream o;
+  const auto self = std::find_if(by_owner.begin(), by_owner.end(), [](const auto& p) { return p.first == "eigenmass"; });
+  if (self == by_owner.end()) return "";
+  for (int a = 0; a < 2; ++a) {
+    const CaseRecord* mine = self->second.run[a];
+    std::vector<std::string> cheaper;
+    for (const auto& [owner, f] : by_owner)
+      if (owner != "eigenmass" && f.run[a] && (!mine || perSimulatedSecond(*f.run[a], t_end) < perSimulatedSecond(*mine, t_end)))
+        cheaper.push_back(owner + (mine ? " (" + gnum(perSimulatedSecond(*mine, t_end) / perSimulatedSecond(*f.run[a], t_end), 3) + "x cheaper)" : ""));
+    o << "- To " << sci(kAccuracies[a]) << " rad: eigenmass's fastest route is "
+      << (!mine ? "none (not reached)" : cheaper.empty() ? "the cheapest of all: goal met" : "beaten by " + joined(cheaper) + ": goal missed")
+      << ".\n";
+  }
+  return o.str() + "\n";
+}
+
+bool anyOf(const std::vector<Route>& routes, std::optional<double> CaseRecord::*field) {
+  for (const Route& x : routes)
+    for (const CaseRecord* r : x.runs)
+      if (r->*field) return true;
+  return false;
+}
+
+std::string runTable(const std::vector<Route>& routes, double t_end) {
+  const bool p = anyOf(routes, &CaseRecord::momentum_p), H = anyOf(routes, &CaseRecord::momentum_H),
+             sep = anyOf(routes, &CaseRecord::joint_separation);
+  std::ostringstream o;
+  o << "| method | scheme | setting | status | max pose error (rad) | > 1e-3 rad at (s) | > 0.1 rad at (s) | max dE / E_scale |"
+    << (p ? " max dp / p0 |" : "") << (H ? " max dH_c / H_c0 |" : "") << (sep ? " max joint separation (m) |" : "")
+    << " CPU s / s |\n|---|---|---|---|---|---|---|---|" << (p ? "---|" : "") << (H ? "---|" : "") << (sep ? "---|" : "") << "---|\n";
+  for (const Route& x : routes)
+    for (const CaseRecord* r : x.runs) {
+      // A run that stopped at t = 0 has no sample to measure: dashes, not zeros.
+      const bool none = r->status != "ok" && r->failure_time.value_or(1) <= 0;
+      auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
+      o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
+        << (r->status == "ok" ? "ok" : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << cell(r->max_pose) << " | " << when(r->pose_1e3) << " | " << when(r->pose_1e1) << " | " << cell(r->max_energy) << " |";
+      if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
+      if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";
+      if (sep) o << " " << cell(r->joint_separation.value_or(NAN)) << " |";
+      o << " " << sci(perSimulatedSecond(*r, t_end)) << " |\n";
+    }
+  return o.str() + "\n";
+}
+
+// Per accuracy: each scene's cheapest route and how much dearer the next owner's is; owners that never got there.
+std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end) {
+  std::ostringstream o;
+  for (int a = 0; a < 2; ++a) {
+    o << "Within " << sci(kAccuracies[a]) << " rad over the horizon, the cheapest route:\n\n";
+    std::vector<std::string> owners, reached;
+    for (const std::string& s : scenes) {
+      const std::vector<Route> routes = routesOf(rs, s);
+      auto by_owner = fastestByOwner(routes, t_end);
+      for (const auto& [owner, f] : by_owner) {
+        if (std::find(owners.begin(), owners.end(), owner) == owners.end()) owners.push_back(owner);
+        if (f.run[a] && std::find(reached.begin(), reached.end(), owner) == reached.end()) reached.push_back(owner);
+      }
+      by_owner.erase(std::remove_if(by_owner.begin(), by_owner.end(), [&](const auto& p) { return !p.second.run[a]; }), by_owner.end());
+      std::stable_sort(by_owner.begin(), by_owner.end(), [&](const auto& x, const auto& y) {
+        return perSimulatedSecond(*x.second.run[a], t_end) < perSimulatedSecond(*y.second.run[a], t_end);
+      });
+      o << "- " << s << ": ";
+      if (by_owner.empty()) {
+        o << "none\n";
+        continue;
+      }
+      const Fastest& f = by_owner[0].second;
+      o << by_owner[0].first << " (" << f.route[a]->method << " " << f.route[a]->integrator << " " << settingText(*f.run[a])
+        << ", " << sci(perSimulatedSecond(*f.run[a], t_end)) << " CPU s / s)";
+      if (by_owner.size() > 1)
+        o << "; next " << by_owner[1].first << ", "
+          << gnum(perSimulatedSecond(*by_owner[1].second.run[a], t_end) / perSimulatedSecond(*f.run[a], t_end), 3) << "x dearer";
+      o << "\n";
+    }
+    std::vector<std::string> never;
+    for (const std::string& w : owners)
+      if (std::find(reached.begin(), reached.end(), w) == reached.end()) never.push_back(w);
+    o << "- no route within " << sci(kAccuracies[a]) << " rad on any scene: " << (never.empty() ? "none" : joined(never)) << "\n\n";
+  }
+  return o.str();
+}
+
+}  // namespace
+
+std::string routeOwner(const std::string& method) {
+  Method m;
+  if (!findMethod(method, m)) return method;
+  const MethodInfo& i = info(m);
+  if (i.engine != Engine::InHouse) return engineName(i.engine);
+  return static_cast<int>(m) <= static_cast<int>(Method::EigenBlockJacobi) ? "eigenmass" : method;
+}
+
+std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::string& scene, double t_end, double floor) {
+  const std::vector<Route> routes = routesOf(rs, scene);
+  const auto by_owner = fastestByOwner(routes, t_end);
+  std::ostringstream o;
+  for (double a : kAccuracies)
+    if (floor > a / 10)
+      o << "**The reference and its check differ by " << sci(floor) << " rad, more than a tenth of " << sci(a)
+        << " rad: on this scene the " << sci(a) << " columns are not resolved (an error below the floor is the "
+        << "reference's as much as the run's).**\n\n";
+  o << "#### Each route's cheapest run within 1e-3 and 1e-6 rad over the horizon\n\n" << routeTable(routes, t_end);
+  o << "#### Each owner's fastest route\n\n| owner | fastest within 1e-3 rad | CPU s / s | fastest within 1e-6 rad | CPU s / s |\n"
+    << "|---|---|---|---|---|\n";
+  for (const auto& [owner, f] : by_owner) o << "| " << owner << " | " << routeCell(f, 0, t_end) << " | " << routeCell(f, 1, t_end) << " |\n";
+  o << "\n" << goalLines(by_owner, t_end);
+  o << "#### Every run\n\n" << runTable(routes, t_end);
+  return o.str();
+}
+
+std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end) {
+  struct Tally {
+    int reached[2] = {0, 0}, fastest[2] = {0, 0};
+    std::vector<double> cost[2];
+  };
+  std::map<std::string, Tally> tally;
+  std::vector<std::string> owners;
+  for (const std::string& s : scenes) {
+    const std::vector<Route> routes = routesOf(rs, s);
+    const auto by_owner = fastestByOwner(routes, t_end);
+    for (int a = 0; a < 2; ++a) {
+      const std::string* best = nullptr;
+      double best_cost = INFINITY;
+      for (const auto& [owner, f] : by_owner) {
+        if (std::find(owners.begin(), owners.end(), owner) == owners.end()) owners.push_back(owner);
+        if (!f.run[a]) continue;
+        const double c = perSimulatedSecond(*f.run[a], t_end);
+        ++tally[owner].reached[a];
+        tally[owner].cost[a].push_back(c);
+        if (c < best_cost) best_cost = c, best = &owner;
+      }
+      if (best) ++tally[*best].fastest[a];
+    }
+  }
+  std::ostringstream o;
+  o << cheapestLines(rs, scenes, t_end);
+  o << "| owner | scenes reached within 1e-3 rad | fastest there | median CPU s / s of its fastest route | scenes reached within "
+       "1e-6 rad | fastest there | median CPU s / s |\n|---|---|---|---|---|---|---|\n";
+  const size_t n = scenes.size();
+  for (const std::string& w : owners) {
+    Tally& t = tally[w];
+    o << "| " << w;
+    for (int a = 0; a < 2; ++a) {
+      std::sort(t.cost[a].begin(), t.cost[a].end());
+      const size_t k = t.cost[a].size();
+      const double med = k == 0 ? NAN : k % 2 ? t.cost[a][k / 2] : 0.5 * (t.cost[a][k / 2 - 1] + t.cost[a][k / 2]);
+      o << " | " << t.reached[a] << " of " << n << " | " << t.fastest[a] << " | " << sci(med);
+    }
+    o << " |\n";
+  }
+  return o.str() + "\n";
+}
+
+}  // namespace em

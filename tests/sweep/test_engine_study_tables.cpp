@@ -1,0 +1,120 @@
+// The engine study (sweep/engine_study.cpp, app/cmd_engine_study.cpp): which
+// run of a route is the cheapest within an accuracy, whether eigenmass's
+// fastest route beats every engine's, and the command on a scene with every
+// engine, resumable and refusing a folder of another study.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "app/cli_support.hpp"
+#include "reference/engine.hpp"
+#include "sweep/sweep.hpp"
+
+using namespace em;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+CaseRecord run(const std::string& method, const std::string& integrator, double dt, double err, double cpu,
+               const std::string& status = "ok") {
+  CaseRecord r;
+  r.role = "run", r.scene = "s", r.method = method, r.integrator = integrator;
+  r.setting_kind = "dt", r.setting = dt, r.status = status;
+  if (status != "ok") r.failure_kind = "blow-up", r.failure_time = 1.0;
+  r.has_error = true, r.max_pose = err, r.cpu_s = {cpu, cpu, cpu};
+  return r;
+}
+
+// The line of `md` that starts with `prefix` ("" if none).
+std::string lineOf(const std::string& md, const std::string& prefix) {
+  std::istringstream in(md);
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind(prefix, 0) == 0) return l;
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("the engine study picks each route's cheapest run within an accuracy and says who is fastest", "[sweep][engine-study]") {
+  useEngines();
+  const double t_end = 2;
+  const std::vector<CaseRecord> rs = {
+      run("classical", "rk4", 1e-2, 1e-2, 0.01), run("classical", "rk4", 1e-3, 1e-4, 0.1), run("classical", "rk4", 1e-4, 1e-7, 1.0),
+      run("mujoco", "euler", 1e-3, 5e-4, 0.05), run("mujoco", "euler", 1e-4, 5e-5, 0.5),
+      // within both accuracies, but failed: never counted
+      run("dart", "dart-euler", 1e-3, 1e-9, 0.001, "failed")};
+  const std::string md = engineStudyScene(rs, "s", t_end, 1e-9);
+  // classical: dt 1e-3 is its cheapest within 1e-3 rad (0.1 CPU s over 2 s), dt 1e-4 within 1e-6.
+  CHECK(lineOf(md, "| eigenmass | classical | rk4 |") == "| eigenmass | classical | rk4 | 3 / 3 | dt 0.001 | 5.00e-02 | dt 0.0001 | 5.00e-01 |");
+  CHECK(lineOf(md, "| mujoco | mujoco | euler |") == "| mujoco | mujoco | euler | 2 / 2 | dt 0.001 | 2.50e-02 | not reached | - |");
+  CHECK(lineOf(md, "| dart | dart | dart-euler |") == "| dart | dart | dart-euler | 0 / 1 | not reached | - | not reached | - |");
+  CHECK(lineOf(md, "- To 1.00e-03 rad") == "- To 1.00e-03 rad: eigenmass's fastest route is beaten by mujoco (2x cheaper): goal missed.");
+  CHECK(lineOf(md, "- To 1.00e-06 rad") == "- To 1.00e-06 rad: eigenmass's fastest route is the cheapest of all: goal met.");
+  CHECK(md.find("not resolved") == std::string::npos);
+  // A floor above a tenth of 1e-6 rad: that column is said unresolved, the 1e-3 one is not.
+  const std::string coarse = engineStudyScene(rs, "s", t_end, 2e-7);
+  CHECK(coarse.find("the 1.00e-06 columns are not resolved") != std::string::npos);
+  CHECK(coarse.find("the 1.00e-03 columns are not resolved") == std::string::npos);
+  const std::string across = engineStudySummary(rs, {"s"}, t_end);
+  CHECK(lineOf(across, "- s: mujoco") == "- s: mujoco (mujoco euler dt 0.001, 2.50e-02 CPU s / s); next eigenmass, 2x dearer");
+  CHECK(lineOf(across, "- no route within 1.00e-06") == "- no route within 1.00e-06 rad on any scene: mujoco, dart");
+}
+
+TEST_CASE("a route's owner: an engine, eigenmass for the in-house methods, else the method itself", "[sweep][engine-study]") {
+  useEngines();
+  CHECK(routeOwner("eigen-block") == "eigenmass");
+  CHECK(routeOwner("simbody") == "simbody");
+  CHECK(routeOwner("dart-udot") == "dart-udot");
+  CHECK(routeOwner("someone's plugin") == "someone's plugin");
+}
+
+TEST_CASE("engine-study runs every engine on a scene as a sweep, with the momenta of a free robot", "[sweep][cli][engine-study]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/engine-study-tests";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string plan = dir + "/template.json";
+  std::ofstream(plan) << json{
+      {"format", "eigenmass-plan/1"}, {"name", "template"}, {"scenes", json::array()}, {"t_end", 1}, {"repeats", 3},
+      {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
+      {"reference_check", {{"method", "simbody"}, {"integrator", "rkmerson"}, {"tolerance", 1e-12}}},
+      {"lines", {{{"methods", {"classical", "articulated"}}, {"integrator", "rk4"}, {"dt", {1e-2, 1e-3}}},
+                 {{"methods", {"mujoco"}}, {"integrator", "rk4"}, {"dt", {1e-3}}},
+                 {{"methods", {"dart"}}, {"integrator", "dart-euler"}, {"dt", {1e-3}}},
+                 {{"methods", {"bullet"}}, {"integrator", "bullet-euler"}, {"dt", {1e-3}}},
+                 {{"methods", {"ode"}}, {"integrator", "ode-step"}, {"dt", {1e-3}}},
+                 {{"methods", {"simbody"}}, {"integrator", "rkmerson"}, {"tolerance", {1e-6}}}}},
+      {"tables", {"engine-study"}}}.dump(1);
+  const std::string results = dir + "/solo";
+  const std::string args = "engine-study " + scene("solo12_tumbling.json") + " --plan " + plan + " --t-end 0.1 --results " + results;
+  const Run r = eigenmass(args + " -j 2");
+  INFO(r.out);
+  REQUIRE(r.status == 0);
+  // Every owner has its row; the free robot's momenta and ODE's joint separation have their columns.
+  for (const char* owner : {"eigenmass", "mujoco", "dart", "bullet", "ode", "simbody"})
+    CHECK(r.out.find(std::string("| ") + owner + " | ") != std::string::npos);
+  CHECK(r.out.find("max dp / p0") != std::string::npos);
+  CHECK(r.out.find("max joint separation (m)") != std::string::npos);
+  const json classical = json::parse(std::ifstream(results + "/solo12_tumbling.classical.rk4.0.001.json")).at("result");
+  // rk4 at 1e-3 over 0.1 s keeps the momenta to rounding (Erez 2: ~1e-11 over 5 s).
+  CHECK(classical.at("momentum_drift_p").get<double>() < 1e-10);
+  CHECK(classical.at("momentum_drift_H").get<double>() < 1e-10);
+  CHECK(json::parse(std::ifstream(results + "/solo12_tumbling.ode.ode-step.0.001.json")).at("result").at("max_joint_separation_m").get<double>() > 0);
+  // Resumes: the same study again runs nothing; --list names the plan it wrote, one command per case.
+  const std::string one = results + "/solo12_tumbling.dart.dart-euler.0.001.json";
+  const auto written = fs::last_write_time(one);
+  CHECK(eigenmass(args).status == 0);
+  CHECK(fs::last_write_time(one) == written);
+  const Run list = eigenmass(args + " --list");
+  CHECK(std::count(list.out.begin(), list.out.end(), '\n') == 2 + 4 + 5);
+  CHECK(list.out.find(results + "/engine-study-solo12_tumbling.plan.json") != std::string::npos);
+  // Another horizon is another study: its plan never replaces this one's.
+  const Run other = eigenmass("engine-study " + scene("solo12_tumbling.json") + " --plan " + plan + " --t-end 0.2 --results " + results, true);
+  CHECK(other.status == 2);
+  CHECK(other.out.find("the plan of another study") != std::string::npos);
+  // A bad scene is named before any file is written.
+  const Run bad = eigenmass("engine-study " + dir + "/none.json --results " + dir + "/none", true);
+  CHECK(bad.status == 2);
+  CHECK_FALSE(fs::exists(dir + "/none"));
+}
