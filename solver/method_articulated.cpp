@@ -175,8 +175,15 @@ class Articulated final : public MethodImpl {
         return Status::failure(t, Failure::Singular, deltaName(k) + " numerically singular: cond(Delta) >= " +
                                                          gnum(pivots.maxCoeff() / pivots.minCoeff()) + " > 1/eps");
     }
-    if constexpr (NU <= 4) Dinv = Delta.inverse();  // Eigen's closed form (cofactors) for small fixed sizes
-    else Dinv = llt.solve(Eigen::Matrix<double, NU, NU>::Identity());
+    if constexpr (NU <= 4) {
+      Dinv = Delta.inverse();  // Eigen's closed form (cofactors) for small fixed sizes
+    } else {  // a free joint's 6 x 6: column by column (a matrix right-hand side takes Eigen's blocked, dynamic-size path)
+      Dinv.setIdentity();
+      for (int j = 0; j < NU; ++j) {
+        auto col = Dinv.col(j);
+        llt.solveInPlace(col);
+      }
+    }
     return {};
   }
 
