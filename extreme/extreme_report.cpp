@@ -126,6 +126,7 @@ std::string reasonOf(const ExtremeEntry& e, const ExtremeCaseResult& c) {
       return "an integrated eigenvalue went through zero: the step was too large for the eigenvalue rates";
     case Failure::JacobiNotConverged: return "C had drifted too far from orthogonal for the Jacobi correction";
     case Failure::RefinementDiverged: return "the eigenfactors had drifted too far from A for the residual correction to contract";
+    case Failure::RefinementNotConverged: return "the residual corrections contracted too slowly to reach classical's u'";
     case Failure::BlowUp: return "the speeds grew beyond the blow-up bound: the step was unstable";
     case Failure::NotPositiveDefinite:
     case Failure::Singular: return "A was singular to working precision there";

@@ -1,5 +1,7 @@
 #include "solver/eigenfactor_ops.hpp"
 
+#include "solver/text.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -95,6 +97,12 @@ RateStatus eigenRates(const Eigen::Ref<const RowMatrix>& C, const Eigen::Ref<con
 std::string refineDivergedCause(int steps) {
   return "residual correction diverged (r^T H r, r = B - A u', grew within " + std::to_string(steps) +
          " corrections): the eigenfactors H no longer approximate A's inverse";
+}
+
+std::string refineNotConvergedCause(int steps, double residual, double tol) {
+  return "residual correction not converged: relative residual sqrt(r^T H r / B^T H B) = " + gnum(residual, 3) +
+         " after " + std::to_string(steps) + " corrections, beyond refine_tol " + gnum(tol, 3) +
+         ": u' is not classical's; more corrections (--refine) or a Jacobi correction";
 }
 
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda) {

@@ -86,11 +86,15 @@ EigenDiagnostics eigenDiagnostics(const Eigen::MatrixXd& A, const Eigen::Ref<con
 /// single correction is judged too. Returns false when a correction did not
 /// shrink r^T H r (or it went negative: H not positive definite), beyond
 /// rounding (eps of (|A u'| + |B|) |u'|): H no longer contracts and u' is not
-/// to be trusted. r, du: (N) scratch.
+/// to be trusted. r, du: (N) scratch. `residual`, when given, gets the
+/// relative residual after the last correction in the same norm,
+/// sqrt(r^T H r / B^T H B) (udot = H B on entry; eq. (R') of docs/theory.md §8).
 template <class ApplyH>
 bool refineResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, int steps, ApplyH&& applyH,
-                    Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du) {
+                    Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du, double* residual = nullptr) {
   constexpr double kRounding = std::numeric_limits<double>::epsilon();
+  const double bHb = B.dot(udot);
+  if (residual) *residual = 0;
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= steps && steps > 0; ++k) {
     r.noalias() = A * udot;
@@ -102,11 +106,15 @@ bool refineResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, int step
     previous = rHr;
     if (k < steps) udot += du;  // after the last correction the residual is only measured
   }
+  if (residual && steps > 0)
+    *residual = previous <= 0 ? 0.0 : bHb > 0 ? std::sqrt(previous / bHb) : std::numeric_limits<double>::infinity();
   return true;
 }
 
 /// The failure's cause when refineResidual returns false.
 std::string refineDivergedCause(int steps);
+/// The failure's cause when the last correction left the relative residual above the tolerance.
+std::string refineNotConvergedCause(int steps, double residual, double tol);
 
 /// min over i<j of |lambda_i - lambda_j| (+inf for N < 2).
 double minEigenGap(const Eigen::Ref<const Eigen::VectorXd>& lambda);

@@ -78,13 +78,18 @@ void startFromEigensolver(const Eigen::MatrixXd& A, Eigen::Ref<RowMatrix> C, Eig
 
 /// u' = H B, then `refine` residual corrections u' += H (B - A u') (docs/theory.md
 /// §8, eq. (R)), H the eigenfactors' inverse applied as applyH(b, out);
-/// the refinement-diverged failure at t when a correction grows the residual.
+/// the refinement-diverged failure at t when a correction grows the residual,
+/// refinement-not-converged when the last one leaves the relative residual
+/// above `tol` (the row option refine_tol; eq. (R')).
 template <class ApplyH>
-Status solveByEigenfactors(double t, const Workspace& ws, int refine, ApplyH&& applyH, Eigen::Ref<Eigen::VectorXd> udot,
-                           Eigen::VectorXd& r, Eigen::VectorXd& du) {
+Status solveByEigenfactors(double t, const Workspace& ws, int refine, double tol, ApplyH&& applyH,
+                           Eigen::Ref<Eigen::VectorXd> udot, Eigen::VectorXd& r, Eigen::VectorXd& du) {
   applyH(ws.B, udot);
-  if (!refineResidual(ws.A, ws.B, refine, applyH, udot, r, du))
+  double residual = 0;
+  if (!refineResidual(ws.A, ws.B, refine, applyH, udot, r, du, &residual))
     return Status::failure(t, Failure::RefinementDiverged, refineDivergedCause(refine));
+  if (!(residual <= tol))
+    return Status::failure(t, Failure::RefinementNotConverged, refineNotConvergedCause(refine, residual, tol));
   return {};
 }
 

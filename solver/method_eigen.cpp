@@ -11,8 +11,8 @@ namespace {
 class EigenMethod final : public MethodImpl {
  public:
   EigenMethod(const Model& m, const MethodInfo& row, const MethodOptions& opt)
-      : N_(m.nu), correction_(row.correction), refine_(static_cast<int>(row.param("refine", opt))), opt_(opt),
-        corr_(m.nu) {
+      : N_(m.nu), correction_(row.correction), refine_(static_cast<int>(row.param("refine", opt))),
+        refine_tol_(row.param("refine_tol", opt)), opt_(opt), corr_(m.nu) {
     Omega_.setZero(N_, N_);
     AdotCt_.setZero(N_, N_);
     z_.setZero(N_);
@@ -52,7 +52,7 @@ class EigenMethod final : public MethodImpl {
       z_.array() /= lambda.array();
       out.noalias() = C.transpose() * z_;
     };
-    return solveByEigenfactors(t, ws, refine_, applyH, Eigen::Map<Eigen::VectorXd>(udot, N_), r_, du_);
+    return solveByEigenfactors(t, ws, refine_, refine_tol_, applyH, Eigen::Map<Eigen::VectorXd>(udot, N_), r_, du_);
   }
 
   Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info) override {
@@ -76,6 +76,7 @@ class EigenMethod final : public MethodImpl {
   int N_;
   Correction correction_;
   int refine_;  // residual corrections per evaluation (the row's option "refine")
+  double refine_tol_;  // relative residual the last correction must reach (the row's option "refine_tol")
   MethodOptions opt_;
   Eigen::MatrixXd Omega_, AdotCt_;  // (N x N) scratch: Omega (G formed in place) and A' C^T
   Eigen::VectorXd z_;               // (N) scratch: Lambda^-1 C b

@@ -40,7 +40,7 @@ class EigenBlock final : public MethodImpl {
  public:
   EigenBlock(const Model& m, const MethodInfo& row, const MethodOptions& opt)
       : N_(m.nu), correction_(row.correction), refine_(static_cast<int>(row.param("refine", opt))),
-        delta_rel_(row.param("block_gap", opt)), opt_(opt), corr_(m.nu) {
+        refine_tol_(row.param("refine_tol", opt)), delta_rel_(row.param("block_gap", opt)), opt_(opt), corr_(m.nu) {
     for (auto* X : {&Omega_, &AdotCt_, &M_, &T_}) X->setZero(N_, N_);
     for (auto* X : {&U_, &W_}) X->setZero(N_, N_);
     eta_.setZero(N_);
@@ -94,6 +94,7 @@ class EigenBlock final : public MethodImpl {
   int N_;
   Correction correction_;
   int refine_;        // residual corrections per evaluation (the row's option "refine")
+  double refine_tol_;  // relative residual the last correction must reach (the row's option "refine_tol")
   double delta_rel_;  // delta / max eta: eigenvalues closer share a block (the row's option "block_gap")
   MethodOptions opt_;
   CorrectionScratch corr_;
@@ -176,7 +177,7 @@ Status EigenBlock::rates(double t, const double*, const double*, const Workspace
   Cdot.noalias() = -Omega_ * C;
   // u' = H B with H = C^T D^-1 C, then refine_ residual corrections.
   const auto applyH = [&](const Eigen::VectorXd& b, Eigen::Ref<Eigen::VectorXd> out) { applyInverse(C, b, out); };
-  return solveByEigenfactors(t, ws, refine_, applyH, Eigen::Map<Eigen::VectorXd>(udot, N_), r_, du_);
+  return solveByEigenfactors(t, ws, refine_, refine_tol_, applyH, Eigen::Map<Eigen::VectorXd>(udot, N_), r_, du_);
 }
 
 Status EigenBlock::afterStep(double t, const Workspace& ws, double* x, StepInfo& info) {

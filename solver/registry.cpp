@@ -15,6 +15,10 @@ namespace {
 const MethodParam kRefine = {"refine", 0, 0, 10, true,
                              "Eigenfactor methods: residual corrections per evaluation, u' += C^T Lambda^-1 C (B - A u') "
                              "(docs/theory.md §8, eq. (R)); 0 = the paper's u'"};
+const MethodParam kRefineTol = {"refine_tol", 1e-6, 0, 1, false,
+                                "Eigenfactor methods with refine > 0: after the last correction the relative residual "
+                                "sqrt(r^T H r / B^T H B) must be within this, or the run fails as refinement-not-converged "
+                                "(docs/theory.md §8, eq. (R'))"};
 const MethodParam kBlockGap = {"block_gap", 3e-2, 0, 1, false,
                                "eigen-block: eigenvalues closer than this times the largest share a block (delta; "
                                "docs/theory.md §8)"};
@@ -37,17 +41,17 @@ std::deque<MethodInfo>& methods() {
        "Cholesky of A every evaluation (paper method a)", "tab:blue"},
       {Method::Articulated, "articulated", Engine::InHouse, Correction::None, ExtraState::None, false, makeArticulated, {},
        "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)", "tab:cyan"},
-      {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine},
+      {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine, kRefineTol},
        "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)", "tab:orange"},
       {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CLambda, true, makeEigen,
-       {kRefine}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)", "tab:green"},
+       {kRefine, kRefineTol}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)", "tab:green"},
       {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi,
-       ExtraState::CLambda, true, makeEigen, {kRefine}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)", "tab:olive"},
+       ExtraState::CLambda, true, makeEigen, {kRefine, kRefineTol}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)", "tab:olive"},
       {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, ExtraState::CD, true, makeEigenBlock,
-       {kRefine, kBlockGap},
+       {kRefine, kRefineTol, kBlockGap},
        "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)", "tab:purple"},
       {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CD, true,
-       makeEigenBlock, {kRefine, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step", "tab:brown"},
+       makeEigenBlock, {kRefine, kRefineTol, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step", "tab:brown"},
   };
   return table;
 }
@@ -85,6 +89,7 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::RefinementDiverged, "refinement-diverged", "a residual correction of u' grew the residual in the H-norm: the eigenfactors no longer approximate A's inverse"},
       {Failure::IntegratorStopped, "integrator-stopped", "the adaptive integrator gave up"},
       {Failure::StepUnderflow, "step-underflow", "the adaptive step collapsed"},
+      {Failure::RefinementNotConverged, "refinement-not-converged", "the residual corrections of u' shrank the residual, but not within refine_tol: u' is not the solve's"},
       {Failure::Engine, "engine", "another engine stopped (a Simbody exception, a MuJoCo warning)"},
       {Failure::Plugin, "plugin", "a plugin's u' returned an error code, crashed or did not return (its run is in a child process)"},
       {Failure::EndedEarly, "ended-early", "a recorded run's samples end before the comparison's grid does"},

@@ -119,6 +119,7 @@ enum class Failure {
   EigenGap,               ///< an eigenvalue gap (or a gap between blocks) below the floor
   JacobiNotConverged,     ///< the Jacobi correction did not converge
   RefinementDiverged,     ///< a residual correction of u' grew the residual (the refine option)
+  RefinementNotConverged, ///< the last correction left the relative residual above refine_tol
   IntegratorStopped,      ///< the adaptive integrator gave up
   StepUnderflow,          ///< the adaptive step collapsed below 1e-14 t
   Engine,                 ///< another engine (Simbody, MuJoCo, ...) threw or warned

@@ -122,7 +122,7 @@ TEST_CASE("a method's own options are columns of its row: set, defaulted, or ref
   CHECK_THROWS_AS(info(Method::Classical).param("refine", o), std::logic_error);
   std::vector<std::string> names;
   for (const MethodParam& p : methodParams()) names.emplace_back(p.name);
-  CHECK(names == std::vector<std::string>{"refine", "block_gap"});  // once each, in table order
+  CHECK(names == std::vector<std::string>{"refine", "refine_tol", "block_gap"});  // once each, in table order
 }
 
 TEST_CASE("run settings: whole multiples within round-off - bad values name their field", "[registry][integrate]") {
