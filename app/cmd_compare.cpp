@@ -33,7 +33,6 @@ struct CompareArgs {
 };
 
 // An engine runs at the in-house step, on the in-house scheme where it has it (MuJoCo).
-bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
 std::string engineOption(Engine e, const char* what) { return std::string("--") + engineName(e) + "-" + what; }
 
 // The adaptive integrators engine `e` runs (what a reference may use).
@@ -244,6 +243,10 @@ void addCompare(CLI::App& app) {
       ->delimiter(',')
       ->check(positiveFinite())
       ->capture_default_str();
+  cmd->add_option("--lyapunov-long", a->opt.lyapunov_long_s,
+                  "Also measure the reference motion's long-run Lyapunov exponent over this many seconds (e.g. 300), "
+                  "apart from the run's finite-time one; costs two classical rk4 runs of that length")
+      ->check(positiveFinite());
   addOutsideOptions(cmd, a->outside, true);
   cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
   cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");

@@ -35,9 +35,11 @@ std::vector<RunSpec*> CompareOptions::allSpecs() {
   return all;
 }
 
+bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
+
 void CompareOptions::enginesFollowInHouse() {
   for (auto& [e, s] : engines) {
-    if (!info(defaultIntegrator(e)).fixed_step) continue;
+    if (!followsInHouse(e)) continue;
     s.integrator = info(inhouse.integrator).runs(e) ? inhouse.integrator : defaultIntegrator(e);
     s.dt = inhouse.dt;
   }
@@ -135,10 +137,14 @@ ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (
   const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
   checkComparison(opt, specs);
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
-                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}};
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}};
   LyapunovOptions lo;
   lo.t_end = specs[0].t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
+  if (opt.lyapunov_long_s > 0) {
+    if (progress) progress("long-run Lyapunov exponent over " + gnum(opt.lyapunov_long_s) + " s");
+    out.lyapunov_long = lyapunovExponent(scene.model, longRunOptions(opt.lyapunov_long_s));
+  }
   if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
   return out;
 }
@@ -161,10 +167,19 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   r.nu = m.nu;
   r.bodies = m.n();
   r.lyapunov = reference.lyapunov;
+  r.lyapunov_long = reference.lyapunov_long;
   r.second_engine = reference.second_engine;
   r.second_engine_skipped = reference.second_engine_skipped;
   if (r.second_engine)
     r.second_engine_metrics = compareRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
+  std::vector<Engine> ran = {r.reference.run.engine()};
+  if (r.second_engine) ran.push_back(r.second_engine->run.engine());
+  for (const Trajectory& t : r.runs) ran.push_back(t.run.engine());
+  for (Engine e : ran) {
+    const std::string note = engineSceneNote(e, m), name = engineName(e);
+    const bool known = std::any_of(r.engine_notes.begin(), r.engine_notes.end(), [&](const auto& n) { return n.first == name; });
+    if (!note.empty() && !known) r.engine_notes.emplace_back(name, note);
+  }
   return r;
 }
 
@@ -225,6 +240,7 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
   } else if (!r.second_engine_skipped.empty()) {
     o << "second engine: not run (" << r.second_engine_skipped << ")\n";
   }
+  for (const auto& [engine, note] : r.engine_notes) o << "note (" << engine << "): " << note << "\n";
 }
 
 }  // namespace
@@ -239,10 +255,19 @@ std::string summaryTable(const ComparisonResult& r) {
         << " m (maximal coordinates: the constraint violation)\n";
   referenceLine(o, r);
   if (r.lyapunov && std::isfinite(r.lyapunov->per_s))
-    o << "reference motion: maximal Lyapunov exponent " << gnum(r.lyapunov->per_s, 3)
-      << (std::isfinite(r.lyapunov->uncertainty_per_s) ? " +- " + gnum(r.lyapunov->uncertainty_per_s, 2) : std::string(" (one window)"))
-      << " /s over " << gnum(r.lyapunov->t_stop)
-      << " s (an error grows e-fold every " << gnum(1 / r.lyapunov->per_s, 3) << " s when > 0)\n";
+    o << "reference motion: finite-time Lyapunov exponent " << gnum(r.lyapunov->per_s, 3) << " /s over the "
+      << gnum(r.lyapunov->t_stop) << " s of the run ("
+      << (std::isfinite(r.lyapunov->windows_std_per_s)
+              ? "its 1-s windows spread +- " + gnum(r.lyapunov->windows_std_per_s, 2) + " /s, standard error " +
+                    gnum(r.lyapunov->uncertainty_per_s, 2)
+              : std::string("one window"))
+      << "; an error grows e-fold every " << gnum(1 / r.lyapunov->per_s, 3) << " s when > 0)\n";
+  if (r.lyapunov_long && std::isfinite(r.lyapunov_long->per_s))
+    o << "reference motion: long-run Lyapunov exponent " << gnum(r.lyapunov_long->per_s, 3) << " +- "
+      << gnum(r.lyapunov_long->uncertainty_per_s, 2) << " /s over " << gnum(r.lyapunov_long->t_stop)
+      << " s (standard error of 10-s block means" << (r.lyapunov_long->ok ? "" : "; the twin stopped early") << ")\n";
+  else if (r.lyapunov)
+    o << "reference motion: long-run exponent not measured (--lyapunov-long T: over T s, e.g. 300)\n";
   for (const MethodMetrics& m : r.metrics) {
     const MethodInfo& row = info(m.run.method);
     if (row.takes("refine") && row.param("refine", m.run.options) > 0) {

@@ -15,6 +15,10 @@ namespace em {
 /// Tolerance of another engine as a compared method when none is asked (Simbody's accuracy).
 constexpr double kEngineTol = 1e-6;
 
+/// Whether engine `e` runs at the in-house step (and on the in-house scheme
+/// where it has it) when compared: its default integrator takes a fixed step.
+bool followsInHouse(Engine e);
+
 struct CompareOptions {
   std::vector<Method> methods;  ///< default: every method of the registry, in table order
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
@@ -30,6 +34,9 @@ struct CompareOptions {
   /// distance of the two independent engines, a second floor (compare; the
   /// gallery leaves it out).
   bool second_engine = true;
+  /// Horizon (s) of the reference motion's long-run Lyapunov exponent, measured
+  /// apart from the grid's finite-time one (compare --lyapunov-long); 0: not measured.
+  double lyapunov_long_s = 0;
 
   CompareOptions();
   /// The settings a compared method runs with: its engine's, or `inhouse`.
@@ -56,11 +63,16 @@ struct ComparisonResult {
   /// The reference motion's maximal Lyapunov exponent over the grid (compare/lyapunov.hpp);
   /// absent where no comparison command asked for it (the gallery).
   std::optional<Lyapunov> lyapunov;
+  /// Its long-run value over options.lyapunov_long_s, when asked (longRunOptions).
+  std::optional<Lyapunov> lyapunov_long;
   /// The second engine (MuJoCo rk4 at a small step) against the reference,
   /// when asked and MuJoCo takes the scene; else why not.
   std::optional<Trajectory> second_engine;
   std::optional<MethodMetrics> second_engine_metrics;
   std::string second_engine_skipped;
+  /// Per engine that ran (the reference's, the second engine, a method's): what it does to this scene
+  /// that bounds its agreement (engineSceneNote), where it says something.
+  std::vector<std::pair<std::string, std::string>> engine_notes;
 };
 
 /// The second engine, beside the reference: the distance of two independent engines.
@@ -79,6 +91,7 @@ void checkComparisonOptions(const Scene& scene, const CompareOptions& opt);
 struct ReferenceRuns {
   Trajectory reference, tight;
   Lyapunov lyapunov;
+  std::optional<Lyapunov> lyapunov_long;    ///< over CompareOptions::lyapunov_long_s, when asked
   std::optional<Trajectory> second_engine;  ///< MuJoCo rk4 at kSecondEngineDt (CompareOptions::second_engine)
   std::string second_engine_skipped;        ///< why it did not run, when asked
 };

@@ -46,6 +46,12 @@ Trajectory runMethod(const Model& m, const RunSpec& spec) {
   return engineRow(spec.engine()).simulate(m, spec, observe);
 }
 
+std::string engineSceneNote(Engine e, const Model& m) {
+  if (e == Engine::InHouse) return "";
+  const EngineRow& row = engineRow(e);
+  return row.scene_note ? row.scene_note(m) : "";
+}
+
 namespace {
 
 // Reorder internal-order results to the source's order and add eigenvalues.

@@ -41,6 +41,10 @@ void checkInitialState(const Scene& scene);
 /// Run `spec` on its engine. Throws for settings that cannot be run.
 Trajectory runMethod(const Model& m, const RunSpec& spec);
 
+/// What engine `e` does to this scene that bounds its agreement with the
+/// exact equations (its row's scene_note), or "" (the in-house engine: none).
+std::string engineSceneNote(Engine e, const Model& m);
+
 /// Equations at the initial state, in the source's order.
 struct Equations {
   int nq = 0, nu = 0;

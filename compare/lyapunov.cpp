@@ -66,11 +66,19 @@ Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o) {
     double mean = 0, var = 0;
     for (double x : out.windows) mean += x / w;
     for (double x : out.windows) var += (x - mean) * (x - mean) / (w - 1);
+    out.windows_std_per_s = std::sqrt(var);
     out.uncertainty_per_s = std::sqrt(var / w);
   } else {
-    out.uncertainty_per_s = NAN;
+    out.windows_std_per_s = out.uncertainty_per_s = NAN;
   }
   return out;
+}
+
+LyapunovOptions longRunOptions(double horizon_s) {
+  LyapunovOptions o;
+  o.t_end = horizon_s;
+  o.window_s = 10;
+  return o;
 }
 
 }  // namespace em

@@ -19,7 +19,8 @@ struct LyapunovOptions {
 
 struct Lyapunov {
   double per_s = 0;              ///< lambda over [0, t_end]: sum of ln(d / d0) / t_end
-  double uncertainty_per_s = 0;  ///< standard error of the window means (std / sqrt(windows))
+  double uncertainty_per_s = 0;  ///< standard error of the window means (std / sqrt(windows)): NaN for one window
+  double windows_std_per_s = 0;  ///< spread (std) of the windows' finite-time exponents: NaN for one window
   std::vector<double> windows;   ///< lambda of each window (per s)
   bool ok = true;                ///< false when a run of the pair failed (the exponent then covers [0, t_stop])
   double t_stop = 0;             ///< where the pair stopped (t_end when ok)
@@ -30,5 +31,11 @@ struct Lyapunov {
 /// the speeds; every renorm_s the twin's separation d is measured over (q, u)
 /// and scaled back to d0 (quaternions re-normalized). Deterministic.
 Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o = {});
+
+/// The long-run exponent (docs/theory.md §11): the same twin over `horizon_s`
+/// (well beyond a run's grid), its uncertainty the standard error of 10-s
+/// block means, a window long enough that neighbouring blocks are nearly
+/// independent. Its options, for the report.
+LyapunovOptions longRunOptions(double horizon_s);
 
 }  // namespace em

@@ -22,15 +22,24 @@ using json = nlohmann::json;
 
 json peak(const Peak& p) { return {{"value", finiteOrNull(p.value)}, {"t", p.t}}; }
 
-// How the exponent was measured, with its windows (docs/report-format.md).
-json lyapunovJson(const std::optional<Lyapunov>& l) {
+// How an exponent was measured, with its windows (docs/report-format.md).
+json lyapunovJson(const std::optional<Lyapunov>& l, const LyapunovOptions& o, const char* kind) {
   if (!l) return nullptr;
-  const LyapunovOptions o;
   json windows = json::array();
   for (double w : l->windows) windows.push_back(finiteOrNull(w));
-  return {{"method", "Benettin twin: classical rk4, separation d0 in (q, u) renormalized every renorm_s"},
+  return {{"kind", kind},
+          {"method", "Benettin twin: classical rk4, separation d0 in (q, u) renormalized every renorm_s"},
           {"dt", o.dt}, {"d0", o.d0}, {"renorm_s", o.renorm_s}, {"window_s", o.window_s},
-          {"t_s", l->t_stop}, {"completed", l->ok}, {"windows_per_s", windows}};
+          {"t_s", l->t_stop}, {"completed", l->ok}, {"per_s", finiteOrNull(l->per_s)},
+          {"uncertainty_per_s", finiteOrNull(l->uncertainty_per_s)},
+          {"windows_std_per_s", finiteOrNull(l->windows_std_per_s)}, {"windows_per_s", windows}};
+}
+
+// The long-run exponent, or how to ask for it.
+json lyapunovLongJson(const ComparisonResult& r) {
+  if (!r.lyapunov_long) return {{"not_measured", "compare --lyapunov-long T measures it over T s"}};
+  return lyapunovJson(r.lyapunov_long, longRunOptions(r.options.lyapunov_long_s),
+                      "long-run: over a horizon well beyond the run; uncertainty the standard error of its block means");
 }
 
 json perThreshold(const std::vector<double>& th, const std::vector<std::optional<double>>& v) {
@@ -183,6 +192,13 @@ std::string thresholdKey(double th) {
   return key + "e" + std::to_string(exponent);
 }
 
+// What each engine that ran does to this scene (engineSceneNote), by engine name.
+json engineNotesJson(const ComparisonResult& r) {
+  json j = json::object();
+  for (const auto& [engine, note] : r.engine_notes) j[engine] = note;
+  return j;
+}
+
 // MuJoCo at a small step against the reference: the two independent engines' distance.
 json secondEngineJson(const ComparisonResult& r) {
   if (!r.second_engine_metrics) return r.second_engine_skipped.empty() ? json(nullptr) : json({{"skipped", r.second_engine_skipped}});
@@ -234,8 +250,12 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)},
             {"lyapunov_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->per_s) : json(nullptr)},
             {"lyapunov_uncertainty_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->uncertainty_per_s) : json(nullptr)},
-            {"lyapunov", lyapunovJson(r.lyapunov)},
+            {"lyapunov", lyapunovJson(r.lyapunov, LyapunovOptions(),
+                                      "finite-time: over the run's grid; uncertainty the standard error of its 1-s windows, "
+                                      "windows_std_per_s their spread")},
+            {"lyapunov_long", lyapunovLongJson(r)},
             {"second_engine", secondEngineJson(r)}}},
+          {"engine_notes", engineNotesJson(r)},
           {"methods", methods},
           {"series", series},
           {"gate", gate},

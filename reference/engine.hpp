@@ -90,6 +90,10 @@ struct EngineRow {
   /// (Bullet: from its forward dynamics), else nullptr. Such A and B err by
   /// ~eps cond(A), as every u' does.
   const char* equations_note = nullptr;
+  /// One line on what the engine does to this scene that bounds how closely it
+  /// can agree with the exact equations (MuJoCo: full inertia tensors rounded),
+  /// or "" (also when nullptr): compare reports print and record it.
+  std::string (*scene_note)(const Model& m) = nullptr;
 };
 
 /// Every engine, in the order every listing uses.
