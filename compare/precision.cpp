@@ -16,7 +16,7 @@ RunSpec PrecisionOptions::specFor(Method method, double setting) const {
   // Another engine runs the same scheme where it has it (mujoco: rk4), else its default.
   const Engine e = info(method).engine;
   s.integrator = info(integrator).runs(e) ? integrator : defaultIntegrator(e);
-  (s.fixedStep() ? s.dt : s.tol) = setting;
+  s.setSetting(setting);
   s.diagnostics = false;  // only errors and cost are wanted here
   s.options = options;
   return s;

@@ -26,6 +26,8 @@ struct RunSpec {
   bool fixedStep() const { return info(integrator).fixed_step; }
   /// dt or tol, whichever the integrator uses.
   double setting() const { return fixedStep() ? dt : tol; }
+  /// Set dt or tol, whichever the integrator uses (the one writer of "a setting").
+  void setSetting(double x) { (fixedStep() ? dt : tol) = x; }
 };
 
 /// A run setting that cannot be used; `field` names it (t_end, output_dt, dt, tol).

@@ -92,7 +92,7 @@ RunSpec runAt(const json& v, const std::string& path) {
   const char* other = s.fixedStep() ? "tolerance" : "dt";
   if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(s.integrator)) + " takes " + key + ", not " + other);
   if (!v.contains(key)) throw InputError(jsonPath(path, key), std::string("missing (") + integratorName(s.integrator) + " takes a " + key + ")");
-  (s.fixedStep() ? s.dt : s.tol) = positiveNumber(v[key], jsonPath(path, key));
+  s.setSetting(positiveNumber(v[key], jsonPath(path, key)));
   return s;
 }
 
@@ -428,7 +428,7 @@ std::vector<SweepCase> planCases(const Plan& p) {
             RunSpec spec;
             spec.method = m;
             spec.integrator = line.integrator;
-            (spec.fixedStep() ? spec.dt : spec.tol) = setting;
+            spec.setSetting(setting);
             cases.push_back(makeCase(p, s, k, CaseRole::Run, spec));
           }
   for (Method m : p.runs) {  // a recorded run's case, named with the plan's output step (its samples are put on that grid)

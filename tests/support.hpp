@@ -49,11 +49,31 @@ inline Model lockedGimbal(double q1) {
 
 /// A run of `method` with `integrator` at dt (fixed step) or tol (adaptive)
 /// `setting`, sampled every output_dt up to t_end.
+/// One body on a ball joint at the ground (quaternion q0, body-frame angular velocity u0),
+/// its joint point at `in_body` from its CM: the spinning tops and spheres of the tests.
+inline Model bodyOnBall(const std::string& name, double mass, const Mat3& inertia, const Vec3& in_body,
+                        const Eigen::Vector4d& q0, const Vec3& u0, const Vec3& gravity) {
+  SceneSpec s;
+  s.name = name;
+  s.gravity = gravity;
+  BodySpec b;
+  b.name = name;
+  b.parent = "ground";
+  b.mass = mass;
+  b.inertia = inertia;
+  b.joint.type = JointType::Ball;
+  b.joint.in_body = in_body;
+  b.joint.q0 = q0;
+  b.joint.u0 = u0;
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
 inline RunSpec runSpec(Method method, Integrator integrator, double t_end, double setting, double output_dt = 0.01) {
   RunSpec s;
   s.method = method;
   s.integrator = integrator;
-  (s.fixedStep() ? s.dt : s.tol) = setting;
+  s.setSetting(setting);
   s.t_end = t_end;
   s.output_dt = output_dt;
   return s;

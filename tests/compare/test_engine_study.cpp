@@ -52,19 +52,8 @@ double flipTime(const Trajectory& tr) {
 // A body spinning about its intermediate principal axis (I = 1, 2, 3 kg m^2),
 // on a ball joint at its CM in zero gravity, 1 % of its spin about the others.
 Model dzhanibekov() {
-  SceneSpec s;
-  s.name = "dzhanibekov";
-  s.gravity = Vec3::Zero();
-  BodySpec b;
-  b.name = "wing_nut";
-  b.parent = "ground";
-  b.mass = 1.0;
-  b.inertia = Vec3(1.0, 2.0, 3.0).asDiagonal();
-  b.joint.type = JointType::Ball;
-  b.joint.q0 = Eigen::Vector4d(1, 0, 0, 0);
-  b.joint.u0 = Eigen::Vector3d(0.05, 5.0, 0.05);
-  s.bodies.push_back(b);
-  return buildModel(s);
+  return test::bodyOnBall("wing_nut", 1.0, Vec3(1.0, 2.0, 3.0).asDiagonal(), Vec3::Zero(), Eigen::Vector4d(1, 0, 0, 0),
+                          Vec3(0.05, 5.0, 0.05), Vec3::Zero());
 }
 
 }  // namespace

@@ -35,17 +35,8 @@ double maxAngleDiff(const Trajectory& a, const Trajectory& b) {
 
 // A sphere on a ball joint at its centre: A = I E, all eigenvalues equal.
 Model sphereOnBall() {
-  SceneSpec s;
-  s.name = "sphere";
-  BodySpec b;
-  b.name = "sphere";
-  b.parent = "ground";
-  b.inertia = 0.4 * Mat3::Identity();
-  b.joint.type = JointType::Ball;
-  b.joint.q0 = Vec4(1, 0, 0, 0);
-  b.joint.u0 = Vec3(0.1, 0.2, 0.3);
-  s.bodies.push_back(b);
-  return buildModel(s);
+  return test::bodyOnBall("sphere", 1.0, 0.4 * Mat3::Identity(), Vec3::Zero(), Vec4(1, 0, 0, 0), Vec3(0.1, 0.2, 0.3),
+                          Vec3(0, 0, -9.81));
 }
 
 }  // namespace

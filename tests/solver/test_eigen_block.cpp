@@ -297,19 +297,8 @@ namespace {
 // The fast top of issue 41: a disk (1 kg, I = diag(0.0102, 0.01, 0.02) kg m^2) spinning at 200 rad/s
 // about its axis on a ball joint 0.3 m below its CM, tilted by 17 degrees, in gravity.
 Model fastTop() {
-  SceneSpec s;
-  s.name = "fast_top";
-  BodySpec b;
-  b.name = "disk";
-  b.parent = "ground";
-  b.mass = 1.0;
-  b.inertia = Vec3(0.0102, 0.01, 0.02).asDiagonal();
-  b.joint.type = JointType::Ball;
-  b.joint.in_body = Vec3(0, 0, -0.3);
-  b.joint.q0 = Eigen::Vector4d(0.98877, 0.14944, 0, 0);
-  b.joint.u0 = Eigen::Vector3d(0, 0, 200);
-  s.bodies.push_back(b);
-  return buildModel(s);
+  return test::bodyOnBall("disk", 1.0, Vec3(0.0102, 0.01, 0.02).asDiagonal(), Vec3(0, 0, -0.3),
+                          Eigen::Vector4d(0.98877, 0.14944, 0, 0), Vec3(0, 0, 200), Vec3(0, 0, -9.81));
 }
 
 // Largest rotation (rad) between the two runs' body orientations over their common samples.

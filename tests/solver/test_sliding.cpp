@@ -119,6 +119,45 @@ TEST_CASE("a bead sliding on a turning rod: Coriolis and centripetal terms in cl
   CHECK(coriolis > 0.1);  // not vacuous: the Coriolis term is there
 }
 
+TEST_CASE("a telescoping rod on a turntable: the slide's joint force tau in closed form", "[closedform][sliding]") {
+  // Issue 41: the bead's tau is 0 (its parent turns about a fixed axis). Here a
+  // yoke turns about z by psi, a rod on it tilts about the yoke's x by theta, and
+  // a slider (m, isotropic j) moves along the rod's z by r: spherical coordinates,
+  // so the rod's own turning makes phi, and the slide's tau, non-zero. With rod
+  // inertia I E and yoke c about z (both CMs on the joint points):
+  //   A = diag(c + I + j + m r^2 s^2, I + j + m r^2, m),  s = sin theta, co = cos theta,
+  //   B = (-(2 m r r' s^2 + 2 m r^2 s co theta') psi', -2 m r r' theta' + m r^2 psi'^2 s co + m g r s,
+  //        m r (theta'^2 + psi'^2 s^2) - m g co)   (Lagrange, V = m g r co).
+  const double c = 0.2, I = 0.05, m_s = 0.7, j = 0.004, g = 9.81;
+  SceneSpec sc;
+  sc.name = "telescope";
+  BodySpec yoke = body("yoke", "ground", 1.0, Vec3(0.3, 0.3, c).asDiagonal(), JointType::Revolute);
+  yoke.joint.axis[0] = Vec3::UnitZ();
+  BodySpec rod = body("rod", "yoke", 0.5, I * Mat3::Identity(), JointType::Revolute);
+  rod.joint.axis[0] = Vec3::UnitX();
+  BodySpec slider = body("slider", "rod", m_s, j * Mat3::Identity(), JointType::Prismatic);
+  slider.joint.axis[0] = Vec3::UnitZ();
+  sc.bodies = {yoke, rod, slider};
+  const Model m = buildModel(sc);
+  std::mt19937 rng(41);
+  Eigen::VectorXd q, u;
+  double tau = 0;
+  for (int k = 0; k < 20; ++k) {
+    randomState(m, rng, q, u);
+    const double th = q[1], r = q[2], ps_d = u[0], th_d = u[1], r_d = u[2], sn = std::sin(th), co = std::cos(th);
+    const Eigen::Vector3d A(c + I + j + m_s * r * r * sn * sn, I + j + m_s * r * r, m_s);
+    const Eigen::Vector3d B(-(2 * m_s * r * r_d * sn * sn + 2 * m_s * r * r * sn * co * th_d) * ps_d,
+                            -2 * m_s * r * r_d * th_d + m_s * r * r * ps_d * ps_d * sn * co + m_s * g * r * sn,
+                            m_s * r * (th_d * th_d + ps_d * ps_d * sn * sn) - m_s * g * co);
+    const Workspace ws = formAt(m, q, u);
+    INFO("state " << k);
+    CHECK(test::relErr(ws.A, Eigen::Matrix3d(A.asDiagonal())) <= kClosedForm);
+    CHECK(test::relErr(ws.B, B) <= kClosedForm);
+    tau = std::max(tau, ws.tau[m.file_to_internal[2]].norm());
+  }
+  CHECK(tau > 0.1);  // not vacuous: the slide's joint point has a velocity-product acceleration
+}
+
 TEST_CASE("a prismatic joint along a tilted axis under gravity falls in closed form, every method", "[closedform][sliding]") {
   // x(t) = x0 + v0 t + (g . e) t^2 / 2 along the unit axis e: rk4 integrates a
   // quadratic exactly, so what remains is round-off.
