@@ -40,6 +40,12 @@ is the energy balance's largest error relative to the reference's largest kineti
 *dH_c / H_c0* (free systems only) the drift of the linear momentum less M g t and of the angular momentum about
 the CM; *joint separation* (ODE, maximal coordinates) how far a joint's two points drifted apart.
 
+What a CPU time covers differs slightly by owner, in the engines' favour: an in-house run's is
+the steps with their per-step checks (blow-up, non-finite state, the eigenfactor methods'
+corrections), a fixed-step engine's only its own step call (\`mj_step\`, \`World::step\`,
+\`stepSimulation\`, \`dWorldStep\`), and Simbody's its integrator's. Each owner's set-up (building
+its model) is excluded.
+
 Chaotic numbers carry their conditions: pendulum5 is the paper's five-link pendulum (q0, u0 of
 data/scenes/pendulum5.json), chaotic; over 2 s its reference and check agree to the floor stated below, so
 every error here is the run's, not chaos's. Timings are of one machine, shared: compare ratios within the
