@@ -17,16 +17,11 @@ namespace {
 
 constexpr double kAccuracies[] = {1e-3, 1e-6};  // rad: the pose error a route must keep over the horizon
 
-std::string sci(double x) {
-  if (!std::isfinite(x)) return "-";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2e", x);
-  return b;
-}
+std::string sci(double x) { return sciCell(x); }
 
 std::string when(const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); }
 
-double perSimulatedSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
+double perSimulatedSecond(const CaseRecord& r, double t_end) { return cpuPerSimulatedSecond(r, t_end); }
 
 bool within(const CaseRecord& r, double accuracy) {
   return r.status == "ok" && r.has_error && std::isfinite(r.max_pose) && r.max_pose <= accuracy;

@@ -122,6 +122,11 @@ std::string writeMerged(const Plan& plan, const std::string& dir, const std::vec
 
 // Pieces of the tables, tested on their own.
 
+/// A table cell in scientific notation ("1.23e-04"; "-" when not finite).
+std::string sciCell(double x, int digits = 2);
+/// A run's CPU per simulated second (up to its failure when it failed).
+double cpuPerSimulatedSecond(const CaseRecord& r, double t_end);
+
 /// Who a route belongs to: an engine's name, "eigenmass" for the in-house
 /// methods, else the method's own name (a plugin, an engine's u' under our integrators).
 std::string routeOwner(const std::string& method);

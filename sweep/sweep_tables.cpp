@@ -47,12 +47,7 @@ std::vector<Line> linesOf(const std::vector<CaseRecord>& rs, const std::string& 
   return out;
 }
 
-std::string sci(double x, int digits = 2) {
-  if (!std::isfinite(x)) return "-";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*e", digits, x);
-  return b;
-}
+std::string sci(double x, int digits = 2) { return sciCell(x, digits); }
 
 std::string referenceLine(const std::vector<CaseRecord>& rs, const std::string& scene, double& floor) {
   std::ostringstream o;
@@ -176,7 +171,7 @@ std::string costTable(const std::vector<CaseRecord>& rs, double t_end, const cha
 
 double perRhs(const CaseRecord& r, double) { return r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN; }
 double perStep(const CaseRecord& r, double) { return r.steps ? r.cpuMedian() / r.steps : NAN; }
-double perSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
+double perSecond(const CaseRecord& r, double t_end) { return cpuPerSimulatedSecond(r, t_end); }
 
 // Every run: outcome, divergence times, energy, cost and the eigenfactor
 // diagnostics (plans with the runs or trajectories table).
@@ -201,6 +196,15 @@ std::string runsTable(const std::vector<CaseRecord>& rs) {
 }
 
 }  // namespace
+
+std::string sciCell(double x, int digits) {
+  if (!std::isfinite(x)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.*e", digits, x);
+  return b;
+}
+
+double cpuPerSimulatedSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
 
 std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records) {
   std::ostringstream o;
