@@ -166,18 +166,19 @@ Spring spring(const json& v, const std::string& path, int nu) {
   return s;
 }
 
-// The axes of a revolute, prismatic or universal joint (keys of another kind are errors).
-void jointAxes(const json& v, const std::string& path, Joint& j) {
+// The axes of a joint whose row names one (`axis`) or two (`axes`); keys its kind
+// does not take are errors, and so is a spring on a quaternion's coordinates.
+void readJointAxes(const json& v, const std::string& path, Joint& j) {
   const std::string kind = jointTypeName(j.type);
   auto forbid = [&](const char* key, bool allowed) {
     if (!allowed && v.contains(key)) throw Err(at(path, key), "not allowed on a " + kind + " joint");
   };
-  const bool one_axis = j.type == JointType::Revolute || j.type == JointType::Prismatic;
-  forbid("axis", one_axis);
-  forbid("axes", j.type == JointType::Universal);
-  forbid("spring", j.type != JointType::Ball && j.type != JointType::Free);
-  if (one_axis) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
-  if (j.type == JointType::Universal) {
+  const int naxes = jointAxes(j.type);
+  forbid("axis", naxes == 1);
+  forbid("axes", naxes == 2);
+  forbid("spring", jointQuat(j.type) < 0);
+  if (naxes == 1) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
+  if (naxes == 2) {
     const std::string p = at(path, "axes");
     const json& a = require(v, path, "axes");
     if (!a.is_array() || a.size() != 2) throw Err(p, "expected two axes");
@@ -193,7 +194,7 @@ Joint joint(const json& v, const std::string& path) {
   j.type = jointType(require(v, path, "type"), at(path, "type"));
   checkKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
   if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
-  jointAxes(v, path, j);
+  readJointAxes(v, path, j);
   j.in_parent = vec3(require(v, path, "in_parent"), at(path, "in_parent"));
   j.in_body = vec3(require(v, path, "in_body"), at(path, "in_body"));
   const int nq = jointNq(j.type), nu = jointNu(j.type), nt = jointNt(j.type), quat = jointQuat(j.type);
@@ -306,8 +307,8 @@ json vecJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 json jointJson(const Joint& j) {
   json o = {{"type", jointTypeName(j.type)}};
   if (!j.name.empty()) o["name"] = j.name;
-  if (j.type == JointType::Revolute || j.type == JointType::Prismatic) o["axis"] = vecJson(j.axis[0]);
-  if (j.type == JointType::Universal) o["axes"] = {vecJson(j.axis[0]), vecJson(j.axis[1])};
+  if (jointAxes(j.type) == 1) o["axis"] = vecJson(j.axis[0]);
+  if (jointAxes(j.type) == 2) o["axes"] = {vecJson(j.axis[0]), vecJson(j.axis[1])};
   o["in_parent"] = vecJson(j.in_parent);
   o["in_body"] = vecJson(j.in_body);
   if (j.q0.size()) o["q0"] = numbersJson(j.q0);

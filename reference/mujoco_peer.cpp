@@ -242,6 +242,18 @@ const char* mjTypeName(int t) {
     default: return "hinge";
   }
 }
+// The MuJoCo joint type a URDF-read body's kind becomes (a URDF has these three kinds).
+const char* mjTypeOfUrdf(JointType t) {
+  switch (t) {
+    case JointType::Free: return "free";
+    case JointType::Prismatic: return "slide";
+    case JointType::Revolute: return "hinge";
+    case JointType::Universal:
+    case JointType::Gimbal:
+    case JointType::Ball: break;
+  }
+  throw std::logic_error(std::string("MuJoCo peer: a URDF has no ") + jointTypeName(t) + " joint");
+}
 }  // namespace
 
 MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>()) {
@@ -273,7 +285,7 @@ MujocoPeer::MujocoPeer(const Model& m, const std::string& urdf_text, const std::
   for (const Body& b : m.bodies) {
     const std::string& name = joints.at(b.file_index);
     const int id = mj_name2id(I.mm, mjOBJ_JOINT, name.c_str());
-    const char* want = b.joint.type == JointType::Free ? "free" : b.joint.type == JointType::Prismatic ? "slide" : "hinge";
+    const char* want = mjTypeOfUrdf(b.joint.type);
     if (id < 0 || std::string(mjTypeName(I.mm->jnt_type[id])) != want)
       throw std::runtime_error("MuJoCo peer: no " + std::string(want) + " joint named '" + name + "' in MuJoCo's model");
     I.body.push_back(I.mm->jnt_bodyid[id]);

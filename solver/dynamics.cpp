@@ -48,7 +48,7 @@ constexpr double kLockCos = 1e-3;
 std::string gimbalLockHint(const Model& m, const double* q) {
   std::string hint;
   for (const Body& b : m.bodies)
-    if (b.joint.type == JointType::Gimbal && std::abs(std::cos(q[b.iq + 1])) < kLockCos)
+    if (jointRow(b.joint.type).middle_locks && std::abs(std::cos(q[b.iq + 1])) < kLockCos)
       hint += std::string(hint.empty() ? " (gimbal lock:" : ",") + " body '" + b.name + "' q1 = " + gnum(q[b.iq + 1]) + " rad";
   return hint.empty() ? hint : hint + ")";
 }

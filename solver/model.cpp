@@ -200,7 +200,7 @@ void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::V
       q.segment<4>(b.iq + quat) = v.normalized();
     } else {
       for (int k = b.nt(); k < b.nq(); ++k) q[b.iq + k] = ang(rng);
-      if (b.joint.type == JointType::Gimbal) q[b.iq + 1] *= 1.2 / M_PI;  // middle angle within +-72 deg
+      if (jointRow(b.joint.type).middle_locks) q[b.iq + 1] *= 1.2 / M_PI;  // middle angle within +-72 deg
     }
     for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = spd(rng);
   }

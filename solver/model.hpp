@@ -14,25 +14,30 @@ namespace em {
 
 enum class JointType { Revolute, Universal, Gimbal, Ball, Prismatic, Free };
 
-/// One row per joint kind: its name, how many coordinates and speeds it has,
-/// how many of them slide, and where its quaternion sits (docs/theory.md §1).
+/// One row per joint kind: its name (the scene's `type`), how many coordinates
+/// and speeds it has, how many of them slide, where its quaternion sits, how many
+/// axes a scene gives it, and whether a middle angle can lock (docs/theory.md §1).
 /// The sliding coordinates and speeds come first: q = [x (nt), rotation],
-/// u = [v (nt), angular (nu - nt)].
+/// u = [v (nt), angular (nu - nt)]. A new kind is a row here, its kinematics in
+/// solver/joint.cpp and its mapping in each engine's file: every switch over
+/// JointType names each kind (no default:), so -Wswitch points at each place.
 struct JointTypeInfo {
   JointType type;
   const char* name;
   int nq, nu;  ///< ball: nq 4 (a quaternion), nu 3; free: nq 7, nu 6
   int nt;      ///< translational speeds (prismatic 1, free 3), the first nt of u and of q
   int quat;    ///< offset of the unit quaternion [w,x,y,z] in q, -1 without one
+  int naxes;   ///< axes in the scene: 1 (key `axis`), 2 (key `axes`, perpendicular) or 0 (the parent's axes)
+  bool middle_locks;  ///< a sequence of three angles whose middle one at +-90 deg makes A singular (gimbal)
 };
 /// The rows in JointType order: inline, so that the per-evaluation loops read
 /// a joint's sizes without a call.
-inline constexpr JointTypeInfo kJointTypes[] = {{JointType::Revolute, "revolute", 1, 1, 0, -1},
-                                                {JointType::Universal, "universal", 2, 2, 0, -1},
-                                                {JointType::Gimbal, "gimbal", 3, 3, 0, -1},
-                                                {JointType::Ball, "ball", 4, 3, 0, 0},
-                                                {JointType::Prismatic, "prismatic", 1, 1, 1, -1},
-                                                {JointType::Free, "free", 7, 6, 3, 3}};
+inline constexpr JointTypeInfo kJointTypes[] = {{JointType::Revolute, "revolute", 1, 1, 0, -1, 1, false},
+                                                {JointType::Universal, "universal", 2, 2, 0, -1, 2, false},
+                                                {JointType::Gimbal, "gimbal", 3, 3, 0, -1, 0, true},
+                                                {JointType::Ball, "ball", 4, 3, 0, 0, 0, false},
+                                                {JointType::Prismatic, "prismatic", 1, 1, 1, -1, 1, false},
+                                                {JointType::Free, "free", 7, 6, 3, 3, 0, false}};
 inline const JointTypeInfo& jointRow(JointType t) { return kJointTypes[static_cast<int>(t)]; }
 const std::vector<JointTypeInfo>& jointTypeTable();
 inline const char* jointTypeName(JointType t) { return jointRow(t).name; }
@@ -40,6 +45,7 @@ inline int jointNq(JointType t) { return jointRow(t).nq; }
 inline int jointNu(JointType t) { return jointRow(t).nu; }
 inline int jointNt(JointType t) { return jointRow(t).nt; }
 inline int jointQuat(JointType t) { return jointRow(t).quat; }
+inline int jointAxes(JointType t) { return jointRow(t).naxes; }
 
 /// Per-coordinate linear spring-damper, generalized force -k (q - q_rest) - c u.
 struct Spring {
