@@ -70,7 +70,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const std::vec
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
   for (const std::string& name : outside) o.methods.push_back(parseMethod(name));
   const double reference_tol = o.reference.tol;
-  o.reference = referenceRun(parseMethod(a.reference));
+  o.reference = defaultReferenceSpec(parseMethod(a.reference));
   o.reference.tol = reference_tol;
   if (!a.reference_integrator.empty()) o.reference.integrator = parseIntegrator(a.reference_integrator);
   // --tol alone selects an adaptive integrator for the in-house methods.

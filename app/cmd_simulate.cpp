@@ -59,7 +59,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   } catch (const SettingError& e) {
     throw e.as(e.option());
   }
-  const Trajectory tr = runMethod(scene.model, spec);
+  const Trajectory tr = runTrajectory(scene.model, spec);
   writeTrajectory(tr, path);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;

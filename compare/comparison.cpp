@@ -8,7 +8,7 @@
 
 namespace em {
 
-CompareOptions::CompareOptions() : reference(referenceRun()) {
+CompareOptions::CompareOptions() : reference(defaultReferenceSpec()) {
   for (const MethodInfo& m : methodTable()) methods.push_back(m.id);
   inhouse.method = Method::Classical;
   inhouse.integrator = defaultIntegrator(Engine::InHouse);
@@ -45,7 +45,7 @@ void CompareOptions::enginesFollowInHouse() {
   }
 }
 
-ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
+ComparisonResult compareTrajectories(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
                              const CompareOptions& opt) {
   ComparisonResult r;
   r.options = opt;
@@ -55,9 +55,9 @@ ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tigh
   r.tight = tight;
   r.horizon = referenceHorizon(reference, tight, opt.thresholds);
   r.energy_scale = energyScale(reference);
-  r.reference_metrics = compareRun(reference, reference, opt.thresholds, r.horizon, r.energy_scale);
+  r.reference_metrics = measureRun(reference, reference, opt.thresholds, r.horizon, r.energy_scale);
   r.runs = std::move(runs);
-  for (const Trajectory& t : r.runs) r.metrics.push_back(compareRun(t, reference, opt.thresholds, r.horizon, r.energy_scale));
+  for (const Trajectory& t : r.runs) r.metrics.push_back(measureRun(t, reference, opt.thresholds, r.horizon, r.energy_scale));
   const std::optional<double> wrong_horizon = referenceHorizon(reference, tight, {kWrongRad})[0];
   for (MethodMetrics& m : r.metrics) m.outcome = outcomeOf(m, wrong_horizon);
   r.reference_metrics.outcome = reference.failed() ? "failed" : "ok";
@@ -109,7 +109,7 @@ std::vector<RunSpec> comparisonSpecs(const Scene& scene, const CompareOptions& o
 Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& label,
                        void (*progress)(const std::string&)) {
   if (progress) progress(label);
-  return runMethod(scene.model, s);
+  return runTrajectory(scene.model, s);
 }
 
 // The second engine's rk4 at kSecondEngineDt (or the output step, if finer) on the reference's grid.
@@ -159,7 +159,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   checkComparison(opt, specs);
   std::vector<Trajectory> runs;
   for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i].method), progress));
-  ComparisonResult r = compareRuns(reference.reference, reference.tight, std::move(runs), opt);
+  ComparisonResult r = compareTrajectories(reference.reference, reference.tight, std::move(runs), opt);
   const Model& m = scene.model;
   r.scene_name = m.name;
   r.scene_source = scene.source;
@@ -171,7 +171,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
   r.second_engine = reference.second_engine;
   r.second_engine_skipped = reference.second_engine_skipped;
   if (r.second_engine)
-    r.second_engine_metrics = compareRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
+    r.second_engine_metrics = measureRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
   std::vector<Engine> ran = {r.reference.run.engine()};
   if (r.second_engine) ran.push_back(r.second_engine->run.engine());
   for (const Trajectory& t : r.runs) ran.push_back(t.run.engine());

@@ -26,7 +26,7 @@ struct CompareOptions {
   /// integrator, dt 1e-3, tolerance kEngineTol (Simbody: rkmerson at 1e-6;
   /// MuJoCo: its rk4 at 1e-3, the in-house default's scheme and step).
   std::map<Engine, RunSpec> engines;
-  RunSpec reference;         ///< the reference run (referenceRun(): Simbody rkmerson, accuracy 1e-10)
+  RunSpec reference;         ///< the reference run (defaultReferenceSpec(): Simbody rkmerson, accuracy 1e-10)
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
   Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
   std::vector<double> thresholds = {1e-3, 1e-1};
@@ -109,7 +109,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
                                void (*progress)(const std::string&) = nullptr);
 
 /// Compare already computed runs (used by runComparison and by tests).
-ComparisonResult compareRuns(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
+ComparisonResult compareTrajectories(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
                              const CompareOptions& opt);
 
 /// The compact human table: method, status, divergence times, max energy error, run time.

@@ -25,7 +25,7 @@ Method referenceMethod() {
   return info(parseEngine(kReferenceEngine)).method;
 }
 
-RunSpec referenceRun(Method method) {
+RunSpec defaultReferenceSpec(Method method) {
   RunSpec s;
   s.method = method;
   s.integrator = adaptiveIntegrator(info(method).engine);
@@ -37,7 +37,7 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
   return tolerance_given ? adaptiveIntegrator(engine) : defaultIntegrator(engine);
 }
 
-Trajectory runMethod(const Model& m, const RunSpec& spec) {
+Trajectory runTrajectory(const Model& m, const RunSpec& spec) {
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
   if (recordedRun(spec.method)) return recordedTrajectory(m, spec);  // a run made elsewhere: nothing runs

@@ -27,7 +27,7 @@ Method referenceMethod();
 
 /// The reference run of `method` when nothing else is asked: its engine's
 /// adaptive integrator (Simbody RK-Merson, in-house rk8pd) at kReferenceTol.
-RunSpec referenceRun(Method method = referenceMethod());
+RunSpec defaultReferenceSpec(Method method = referenceMethod());
 
 /// The integrator an engine runs when the user names none; a tolerance given
 /// alone selects its adaptive one (the registry's engine table).
@@ -39,7 +39,7 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given);
 void checkInitialState(const Scene& scene);
 
 /// Run `spec` on its engine. Throws for settings that cannot be run.
-Trajectory runMethod(const Model& m, const RunSpec& spec);
+Trajectory runTrajectory(const Model& m, const RunSpec& spec);
 
 /// What engine `e` does to this scene that bounds its agreement with the
 /// exact equations (its row's scene_note), or "" (the in-house engine: none).

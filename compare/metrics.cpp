@@ -75,7 +75,7 @@ std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const
   return h;
 }
 
-MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
+MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale) {
   MethodMetrics m;
   m.run = run.run;

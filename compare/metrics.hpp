@@ -72,7 +72,7 @@ std::optional<double> firstExceedance(const std::vector<double>& t, const std::v
 
 /// Full metrics of one run. A run that failed before a threshold was crossed
 /// counts as diverged at its failure time.
-MethodMetrics compareRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
+MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale);
 
 /// What a run amounts to: `failed` (stopped: status failed), `wrong`

@@ -66,11 +66,11 @@ PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, vo
   r.options = opt;
   r.t_end = ref_spec.t_end;
   if (progress) progress(std::string("reference ") + methodName(ref_spec.method));
-  r.reference = runMethod(scene.model, ref_spec);
+  r.reference = runTrajectory(scene.model, ref_spec);
   const double scale = energyScale(r.reference);
   for (const RunSpec& s : specs) {
     if (progress) progress(std::string(methodName(s.method)) + " " + integratorName(s.integrator) + " " + gnum(s.setting()));
-    r.points.push_back({compareRun(runMethod(scene.model, s), r.reference, {}, {}, scale)});
+    r.points.push_back({measureRun(runTrajectory(scene.model, s), r.reference, {}, {}, scale)});
   }
   return r;
 }

@@ -16,7 +16,7 @@ struct PrecisionOptions {
   /// dt for rk4 (halvings that divide the 0.01 s output grid), tolerances otherwise;
   /// another engine's method runs its default integrator at the same tolerances (adaptive integrators only).
   std::vector<double> settings = {1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4};
-  RunSpec reference = referenceRun();  ///< Simbody rkmerson at 1e-10 by default
+  RunSpec reference = defaultReferenceSpec();  ///< Simbody rkmerson at 1e-10 by default
   Grid grid;                           ///< t_end and output_dt asked for (absent: the scene's)
   MethodOptions options;               ///< of every point (step budget, eigen-block's delta)
 

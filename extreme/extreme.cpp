@@ -41,7 +41,7 @@ ExtremeSetting parseSetting(const std::string& text) {
 
 std::vector<ExtremeSetting> defaultSettings() {
   // The in-house engine's default fixed step and its reference run (the registry's engine table).
-  const RunSpec reference = referenceRun(Method::Classical);
+  const RunSpec reference = defaultReferenceSpec(Method::Classical);
   return {{defaultIntegrator(Engine::InHouse), RunSpec().dt}, {reference.integrator, reference.tol}};
 }
 
@@ -124,7 +124,7 @@ ExtremeEntry entryOf(const MethodMetrics& m, const Trajectory& tr, const std::ve
   e.failure = m.failure;
   e.failure_cond_A = m.failure_cond_A;
   for (size_t i = 0; i < thresholds.size(); ++i) {
-    if (thresholds[i] == 1e-3) e.diverged_1e3 = m.divergence_time_s[i];
+    if (thresholds[i] == kDivergedRad) e.diverged_at = m.divergence_time_s[i];
     if (thresholds[i] == kWrongRad) e.wrong_at = m.divergence_time_s[i];
   }
   e.max_pose = m.pose.value;
@@ -165,7 +165,7 @@ CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const E
   if (c.reference_tol) o.reference.tol = *c.reference_tol;
   for (RunSpec* spec : o.allSpecs()) spec->options = opt.options;
   o.grid = opt.grid;
-  o.thresholds = {1e-3, kWrongRad};
+  o.thresholds = {kDivergedRad, kWrongRad};
   return o;
 }
 

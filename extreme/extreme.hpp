@@ -38,6 +38,10 @@ struct ExtremeCase {
 /// Load a case; a URDF has no x- keys. Throws one line naming the file and key.
 ExtremeCase loadExtremeCase(const std::string& path, const UrdfOptions& urdf = {});
 
+/// A run's first departure the gallery records (pose, rad): its `diverged_1e-3_s`
+/// and the "pose>1e-3" column (kWrongRad, compare/metrics.hpp, judges the outcome).
+constexpr double kDivergedRad = 1e-3;
+
 /// What one method did in one case under one setting.
 struct ExtremeEntry {
   std::string method, outcome;
@@ -45,7 +49,7 @@ struct ExtremeEntry {
   std::optional<double> failure_time;
   std::string failure;
   double failure_cond_A = std::numeric_limits<double>::quiet_NaN();  ///< cond(A) where an in-house run stopped
-  std::optional<double> diverged_1e3;  ///< first time beyond 1e-3 rad (pose)
+  std::optional<double> diverged_at;   ///< first time beyond kDivergedRad (pose)
   std::optional<double> wrong_at;      ///< first time beyond kWrongRad (pose)
   double max_pose = 0, max_energy = 0, run_time_s = 0;
   long steps = 0, rhs_evals = 0, step_retries = 0;

@@ -32,7 +32,7 @@ json eigenJson(const ExtremeEntry& e) {
 
 json entryJson(const ExtremeEntry& e) {
   return {{"name", e.method},           {"outcome", e.outcome},
-          {"failure", e.outcome == "failed" ? failureJson(e.failure_time, e.failure_kind, e.failure, e.failure_cond_A) : json(nullptr)},         {"diverged_1e-3_s", orNull(e.diverged_1e3)},
+          {"failure", e.outcome == "failed" ? failureJson(e.failure_time, e.failure_kind, e.failure, e.failure_cond_A) : json(nullptr)},         {"diverged_" + thresholdKey(kDivergedRad) + "_s", orNull(e.diverged_at)},
           {"wrong_at_s", orNull(e.wrong_at)}, {"max_pose_error_rad", finiteOrNull(e.max_pose)},
           {"energy_error_max", finiteOrNull(e.max_energy)}, {"run_time_s", e.run_time_s},
           {"steps", e.steps},           {"rhs_evals", e.rhs_evals},
@@ -168,7 +168,7 @@ std::string cell(const std::optional<double>& t) { return t ? secs(*t) : "-"; }
 void tableRow(std::ostream& o, const ExtremeCaseResult& c, const ExtremeRun& r, const ExtremeEntry& e) {
   const std::string stop = e.failure_kind == Failure::None ? "-" : std::string(failureName(e.failure_kind)) + " " + cell(e.failure_time);
   o << "| " << c.name << " | " << r.setting.label() << " | " << e.method << " | " << e.outcome << " | " << stop << " | "
-    << cell(e.diverged_1e3) << " | " << sci(e.max_pose) << " | " << sci(e.max_energy) << " | " << sci(e.run_time_s)
+    << cell(e.diverged_at) << " | " << sci(e.max_pose) << " | " << sci(e.max_energy) << " | " << sci(e.run_time_s)
     << " | " << e.steps << " | " << (e.eigenfactor ? sci(e.eigen.min_gap) : "") << " | "
     << (e.eigenfactor ? sci(e.eigen.max_abs_Omega) : "") << " | " << (e.eigenfactor ? std::to_string(e.eigen.jacobi_sweeps) : "")
     << " | " << (std::isfinite(e.failure_cond_A) ? sci(e.failure_cond_A) : "") << " |\n";

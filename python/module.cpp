@@ -219,7 +219,7 @@ RunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>&
 
 py::dict simulatePy(const Scene& s, py::object method, std::optional<std::string> integrator, std::optional<double> dt,
                     std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
-  return trajectoryDict(runMethod(s.model, runSpec(s, methodOf(method), integrator, dt, tol, t_end, output_dt)));
+  return trajectoryDict(runTrajectory(s.model, runSpec(s, methodOf(method), integrator, dt, tol, t_end, output_dt)));
 }
 
 py::object comparePy(const Scene& s, py::list methods, std::optional<std::string> integrator, std::optional<double> dt,

@@ -35,37 +35,37 @@ void formKinematics(const Model& m, const double* q, const double* u, Workspace&
   // Outward recursion over the regular numbering (parents first); docs/theory.md §3, §12.
   Axes Pj, Pdj;
   for (int i = 0; i < m.n(); ++i) {
-    const Body& B = m.bodies[i];
-    const int p = B.parent, nt = B.nt(), nr = B.nu() - nt;
+    const Body& body = m.bodies[i];
+    const int p = body.parent, nt = body.nt(), nr = body.nu() - nt;
     const Mat3 R_p = p < 0 ? Mat3::Identity() : ws.R[p];
     const Vec3 w_p = p < 0 ? Vec3::Zero() : ws.omega[p];
-    const double* qi = q + B.iq;
-    const double* ui = u + B.iu;
-    ws.R[i] = R_p * relativeRotation(B.joint, qi);
-    worldAxes(B.joint, R_p, qi, Pj);
+    const double* qi = q + body.iq;
+    const double* ui = u + body.iu;
+    ws.R[i] = R_p * relativeRotation(body.joint, qi);
+    worldAxes(body.joint, R_p, qi, Pj);
     // Column loops, not products of dynamic size: nu <= 6, and this runs per body per evaluation.
     Vec3 w = w_p, v_rel = Vec3::Zero();
     for (int k = 0; k < nt; ++k) v_rel += Pj.col(k) * ui[k];
     for (int k = nt; k < nt + nr; ++k) w += Pj.col(k) * ui[k];
     ws.omega[i] = w;
-    axisRates(B.joint, Pj, w_p, w, ui, Pdj);
+    axisRates(body.joint, Pj, w_p, w, ui, Pdj);
     for (int k = 0; k < nt + nr; ++k) {
-      ws.P.col(B.iu + k) = Pj.col(k);
-      ws.Pdot.col(B.iu + k) = Pdj.col(k);
+      ws.P.col(body.iu + k) = Pj.col(k);
+      ws.Pdot.col(body.iu + k) = Pdj.col(k);
     }
-    ws.J_w[i] = ws.R[i] * B.J * ws.R[i].transpose();
-    ws.b[i] = -(ws.R[i] * B.joint.in_body);
+    ws.J_w[i] = ws.R[i] * body.J * ws.R[i].transpose();
+    ws.b[i] = -(ws.R[i] * body.joint.in_body);
     // Joint point i, and its velocity, from the parent's joint point; a
     // sliding joint moves it by x along the parent's axes at v_rel (eq. (T1)).
-    const Vec3 x = nt == 0 ? Vec3::Zero() : slideOffset(B.joint, qi);
+    const Vec3 x = nt == 0 ? Vec3::Zero() : slideOffset(body.joint, qi);
     ws.v_rel[i] = v_rel;
     Vec3 v_o = v_rel;
     if (p < 0) {
       ws.d[i].setZero();
-      ws.o[i] = nt == 0 ? B.joint.in_parent : Vec3(B.joint.in_parent + x);
+      ws.o[i] = nt == 0 ? body.joint.in_parent : Vec3(body.joint.in_parent + x);
     } else {
-      ws.d[i] = nt == 0 ? Vec3(R_p * (B.joint.in_parent - m.bodies[p].joint.in_body))
-                        : Vec3(R_p * (B.joint.in_parent - m.bodies[p].joint.in_body + x));
+      ws.d[i] = nt == 0 ? Vec3(R_p * (body.joint.in_parent - m.bodies[p].joint.in_body))
+                        : Vec3(R_p * (body.joint.in_parent - m.bodies[p].joint.in_body + x));
       ws.o[i] = ws.o[p] + ws.d[i];
       v_o += ws.v[p] - w_p.cross(ws.b[p]) + w_p.cross(ws.d[i]);  // v of joint point p, then to i
     }
@@ -85,12 +85,12 @@ void formEnergies(const Model& m, const double* q, Workspace& ws) {
 double potentialEnergy(const Model& m, const double* q, const Workspace& ws) {
   double V = 0;
   for (int i = 0; i < m.n(); ++i) {
-    const Body& B = m.bodies[i];
-    V -= B.mass * m.gravity.dot(ws.r[i]);
-    if (!B.joint.has_spring) continue;
-    const Spring& sp = B.joint.spring;
-    for (int k = 0; k < B.nu(); ++k) {
-      const double e = q[B.iq + k] - sp.q_rest[k];
+    const Body& body = m.bodies[i];
+    V -= body.mass * m.gravity.dot(ws.r[i]);
+    if (!body.joint.has_spring) continue;
+    const Spring& sp = body.joint.spring;
+    for (int k = 0; k < body.nu(); ++k) {
+      const double e = q[body.iq + k] - sp.q_rest[k];
       V += 0.5 * sp.k[k] * e * e;
     }
   }
@@ -100,14 +100,14 @@ double potentialEnergy(const Model& m, const double* q, const Workspace& ws) {
 void formSubtrees(const Model& m, Workspace& ws) {
   // Bottom-up (regular numbering: children after parents), docs/theory.md §4.
   for (int k = m.n() - 1; k >= 0; --k) {
-    const Body& B = m.bodies[k];
-    ws.mu[k] = B.mass;
-    ws.s[k] = B.mass * ws.b[k];
+    const Body& body = m.bodies[k];
+    ws.mu[k] = body.mass;
+    ws.s[k] = body.mass * ws.b[k];
     // K_kk: the augmented body k's inertia about joint k.
-    ws.Kd[k] = ws.J_w[k] + B.mass * kernel(ws.b[k], ws.b[k]);
+    ws.Kd[k] = ws.J_w[k] + body.mass * kernel(ws.b[k], ws.b[k]);
     ws.S[k] = ws.s[k];
     ws.IC[k] = ws.Kd[k];
-    for (int c : B.children) {
+    for (int c : body.children) {
       const Vec3& d = ws.d[c];
       ws.mu[k] += ws.mu[c];
       ws.s[k] += ws.mu[c] * d;
@@ -206,12 +206,12 @@ void formSlideForces(const Model& m, Workspace& ws) {
 // a slide adds Coriolis 2 w_p x v_rel to e, eq. (T4)).
 void formVelocityProducts(const Model& m, const double* u, Workspace& ws) {
   for (int i = 0; i < m.n(); ++i) {
-    const Body& Bi = m.bodies[i];
-    const int p = Bi.parent, nt = Bi.nt(), nr = Bi.nu() - nt;
+    const Body& body = m.bodies[i];
+    const int p = body.parent, nt = body.nt(), nr = body.nu() - nt;
     const Vec3& w = ws.omega[i];
     // phi_i = (T^T f)_i: velocity-product angular acceleration of body i, summed down the tree.
     Vec3 phi_i = Vec3::Zero();
-    for (int k = Bi.iu + nt; k < Bi.iu + nt + nr; ++k) phi_i += ws.Pdot.col(k) * u[k];
+    for (int k = body.iu + nt; k < body.iu + nt + nr; ++k) phi_i += ws.Pdot.col(k) * u[k];
     // e_i: velocity-product acceleration of joint point i, from the parent's joint point.
     Vec3 e_i = Vec3::Zero();
     if (p >= 0) {
@@ -250,28 +250,28 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
   for (int i = n - 1; i >= 0; --i)
     if (int p = m.bodies[i].parent; p >= 0) ws.psi.segment<3>(3 * p) += ws.psi.segment<3>(3 * i);
   for (int i = 0; i < n; ++i) {
-    const Body& Bi = m.bodies[i];
-    const int nt = Bi.nt(), nr = Bi.nu() - nt;
-    if (nt > 0) ws.B.segment(Bi.iu, nt).noalias() = -(ws.P.middleCols(Bi.iu, nt).transpose() * ws.F_slide[i]);
-    ws.B.segment(Bi.iu + nt, nr).noalias() = -(ws.P.middleCols(Bi.iu + nt, nr).transpose() * ws.psi.segment<3>(3 * i));
+    const Body& body = m.bodies[i];
+    const int nt = body.nt(), nr = body.nu() - nt;
+    if (nt > 0) ws.B.segment(body.iu, nt).noalias() = -(ws.P.middleCols(body.iu, nt).transpose() * ws.F_slide[i]);
+    ws.B.segment(body.iu + nt, nr).noalias() = -(ws.P.middleCols(body.iu + nt, nr).transpose() * ws.psi.segment<3>(3 * i));
   }
   if (m.has_springs) addSpringForces(m, q, u, ws.B);
 }
 
 void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q) {
-  for (const Body& Bi : m.bodies) {
-    if (!Bi.joint.has_spring) continue;
-    const Spring& sp = Bi.joint.spring;
-    for (int k = 0; k < Bi.nu(); ++k)
-      Q[Bi.iu + k] += -sp.k[k] * (q[Bi.iq + k] - sp.q_rest[k]) - sp.c[k] * u[Bi.iu + k];
+  for (const Body& body : m.bodies) {
+    if (!body.joint.has_spring) continue;
+    const Spring& sp = body.joint.spring;
+    for (int k = 0; k < body.nu(); ++k)
+      Q[body.iu + k] += -sp.k[k] * (q[body.iq + k] - sp.q_rest[k]) - sp.c[k] * u[body.iu + k];
   }
 }
 
 double dissipationRate(const Model& m, const double* u) {
   double P = 0;
-  for (const Body& Bi : m.bodies) {
-    if (!Bi.joint.has_spring) continue;
-    for (int k = 0; k < Bi.nu(); ++k) P += Bi.joint.spring.c[k] * u[Bi.iu + k] * u[Bi.iu + k];
+  for (const Body& body : m.bodies) {
+    if (!body.joint.has_spring) continue;
+    for (int k = 0; k < body.nu(); ++k) P += body.joint.spring.c[k] * u[body.iu + k] * u[body.iu + k];
   }
   return P;
 }
@@ -279,13 +279,13 @@ double dissipationRate(const Model& m, const double* u) {
 void formSubtreeRates(const Model& m, Workspace& ws) {
   // Bottom-up like formSubtrees; docs/theory.md §6.
   for (int k = m.n() - 1; k >= 0; --k) {
-    const Body& B = m.bodies[k];
-    const Vec3 mv = B.mass * ws.v[k];
+    const Body& body = m.bodies[k];
+    const Vec3 mv = body.mass * ws.v[k];
     const Mat3 W = skew(ws.omega[k]);
     ws.L[k] = mv;
     ws.JW[k] = W * ws.J_w[k] - ws.J_w[k] * W;  // J_k'
     ws.Gamma[k] = kernel(mv, ws.b[k]) + kernel(ws.b[k], mv);
-    for (int c : B.children) {
+    for (int c : body.children) {
       const Vec3& d = ws.d[c];
       ws.L[k] += ws.L[c];
       ws.JW[k] += ws.JW[c];
@@ -363,7 +363,7 @@ Workspace equationsAtStart(const Model& m) {
 }
 
 void formQdot(const Model& m, const double* q, const double* u, double* qdot) {
-  for (const Body& Bi : m.bodies) jointQdot(Bi.joint, q + Bi.iq, u + Bi.iu, qdot + Bi.iq);
+  for (const Body& body : m.bodies) jointQdot(body.joint, q + body.iq, u + body.iu, qdot + body.iq);
 }
 
 double conditionNumber(const Eigen::MatrixXd& A) {

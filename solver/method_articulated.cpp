@@ -24,9 +24,9 @@ struct Inertia6 {
 
 // [l]x X: l x each column of X.
 inline Mat3 crossCols(const Vec3& l, const Mat3& X) {
-  Mat3 Y;
-  for (int c = 0; c < 3; ++c) Y.col(c) = l.cross(X.col(c));
-  return Y;
+  Mat3 out;
+  for (int c = 0; c < 3; ++c) out.col(c) = l.cross(X.col(c));
+  return out;
 }
 
 // Phi(l) Y Phi(l)^T added to `to`: a child's inertia shifted to its parent's
@@ -87,17 +87,17 @@ class Articulated final : public MethodImpl {
   // acceleration zeta_k of joint k (eq. (AB3)).
   void bodiesAndBiases(const double* u, const Workspace& ws) {
     for (int k = 0; k < m_.n(); ++k) {
-      const Body& B = m_.bodies[k];
-      const int p = B.parent, nt = B.nt();
+      const Body& body = m_.bodies[k];
+      const int p = body.parent, nt = body.nt();
       zeta_w_[k].setZero();
-      for (int j = B.iu + nt; j < B.iu + B.nu(); ++j) zeta_w_[k] += ws.Pdot.col(j) * u[j];
+      for (int j = body.iu + nt; j < body.iu + body.nu(); ++j) zeta_w_[k] += ws.Pdot.col(j) * u[j];
       if (p < 0) zeta_v_[k].setZero();
       else {
         const Vec3& w_p = ws.omega[p];
         zeta_v_[k] = w_p.cross(w_p.cross(ws.d[k]));
         if (nt > 0) zeta_v_[k] += 2.0 * w_p.cross(ws.v_rel[k]);
       }
-      const double mk = B.mass;
+      const double mk = body.mass;
       const Vec3& b = ws.b[k];
       const Vec3& w = ws.omega[k];
       const Vec3 mb = mk * b, wwb = w.cross(w.cross(b));

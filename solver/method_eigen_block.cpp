@@ -41,7 +41,7 @@ class EigenBlock final : public MethodImpl {
   EigenBlock(const Model& m, const MethodInfo& row, const MethodOptions& opt)
       : N_(m.nu), correction_(row.correction), refine_(static_cast<int>(row.param("refine", opt))),
         refine_tol_(row.param("refine_tol", opt)), delta_rel_(row.param("block_gap", opt)), opt_(opt), corr_(m.nu) {
-    for (auto* X : {&Omega_, &AdotCt_, &M_, &T_}) X->setZero(N_, N_);
+    for (auto* X : {&Omega_, &AdotCt_, &Dblk_, &work_}) X->setZero(N_, N_);
     for (auto* X : {&U_, &W_}) X->setZero(N_, N_);
     eta_.setZero(N_);
     z_.setZero(N_);
@@ -75,11 +75,11 @@ class EigenBlock final : public MethodImpl {
   EigenDiagnostics diagnostics(const Workspace& ws, const double* x, double max_Omega) const override;
 
  private:
-  // M_ = D's blocks diagonalized (U_ holds the rotations), eta_ = diag M_.
+  // Dblk_ = D's blocks diagonalized (U_ holds the rotations), eta_ = diag Dblk_.
   void eigenOfBlocks(const double* x) {
-    M_ = Eigen::Map<const Eigen::MatrixXd>(x + N_ * N_, N_, N_);
-    diagonalizeBlocks(M_, U_, start_);
-    eta_ = M_.diagonal();
+    Dblk_ = Eigen::Map<const Eigen::MatrixXd>(x + N_ * N_, N_, N_);
+    diagonalizeBlocks(Dblk_, U_, start_);
+    eta_ = Dblk_.diagonal();
   }
   // X <- U X U^T (U^T X U when `back`), block by block; 1x1 blocks are left alone.
   void applyU(Eigen::MatrixXd& X, bool back);
@@ -98,7 +98,7 @@ class EigenBlock final : public MethodImpl {
   double delta_rel_;  // delta / max eta: eigenvalues closer share a block (the row's option "block_gap")
   MethodOptions opt_;
   CorrectionScratch corr_;
-  Eigen::MatrixXd Omega_, AdotCt_, M_, T_;  // (N x N) scratch: G then Omega, A'C^T, D's eigenblocks, products
+  Eigen::MatrixXd Omega_, AdotCt_, Dblk_, work_;  // (N x N) scratch: G then Omega, A'C^T, D's eigenblocks, products
   RowMatrix U_, W_;                     // (N x N) within-block rotations; row scratch
   Eigen::VectorXd eta_, z_;              // (N) eigenvalues of D; D^-1 C b
   Eigen::VectorXd r_, du_;              // (N) residual B - A u' and its correction
@@ -113,12 +113,12 @@ void EigenBlock::applyU(Eigen::MatrixXd& X, bool back) {
     const int s0 = start_[b], s = start_[b + 1] - s0;
     if (s == 1) continue;
     const auto Ub = U_.block(s0, s0, s, s);
-    if (back) T_.topRows(s).noalias() = Ub.transpose() * X.middleRows(s0, s);
-    else T_.topRows(s).noalias() = Ub * X.middleRows(s0, s);
-    X.middleRows(s0, s) = T_.topRows(s);
-    if (back) T_.leftCols(s).noalias() = X.middleCols(s0, s) * Ub;
-    else T_.leftCols(s).noalias() = X.middleCols(s0, s) * Ub.transpose();
-    X.middleCols(s0, s) = T_.leftCols(s);
+    if (back) work_.topRows(s).noalias() = Ub.transpose() * X.middleRows(s0, s);
+    else work_.topRows(s).noalias() = Ub * X.middleRows(s0, s);
+    X.middleRows(s0, s) = work_.topRows(s);
+    if (back) work_.leftCols(s).noalias() = X.middleCols(s0, s) * Ub;
+    else work_.leftCols(s).noalias() = X.middleCols(s0, s) * Ub.transpose();
+    X.middleCols(s0, s) = work_.leftCols(s);
   }
 }
 
@@ -129,9 +129,9 @@ void EigenBlock::applyInverse(const Eigen::Ref<const RowMatrix>& C, const Eigen:
     const int s0 = start_[k], s = start_[k + 1] - s0;
     if (s == 1) { z_[s0] /= eta_[s0]; continue; }
     const auto Ub = U_.block(s0, s0, s, s);
-    T_.col(0).head(s).noalias() = Ub * z_.segment(s0, s);
-    T_.col(0).head(s).array() /= eta_.segment(s0, s).array();
-    z_.segment(s0, s).noalias() = Ub.transpose() * T_.col(0).head(s);
+    work_.col(0).head(s).noalias() = Ub * z_.segment(s0, s);
+    work_.col(0).head(s).array() /= eta_.segment(s0, s).array();
+    z_.segment(s0, s).noalias() = Ub.transpose() * work_.col(0).head(s);
   }
   out.noalias() = C.transpose() * z_;
 }

@@ -83,7 +83,7 @@ struct MethodInfo {
   const char* summary;              ///< one line: --help and docs
   const char* colour = nullptr;     ///< its colour in every figure (matplotlib name); nullptr: methodColour's palette
   /// Its runs go through a child process (code from outside that may crash
-  /// or hang: a plugin's; compare/engines.cpp's runMethod).
+  /// or hang: a plugin's; compare/engines.cpp's runTrajectory).
   bool isolated = false;
 
   /// Whether the row has the option `name`.

@@ -15,6 +15,9 @@ namespace em {
 
 namespace {
 
+// The headings name the case thresholds as "1e-3 rad" and "0.1 rad" (pose_beyond[0], [1]).
+static_assert(kCaseThresholds[0] == 1e-3 && kCaseThresholds[1] == 1e-1, "the tables' headings name these thresholds");
+
 constexpr double kAccuracies[] = {1e-3, 1e-6};  // rad: the pose error a route must keep over the horizon
 
 std::string sci(double x) { return sciCell(x); }
@@ -136,7 +139,7 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
       auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
       o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
         << (r->status == "ok" ? "ok" : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
-        << cell(r->max_pose) << " | " << when(r->pose_1e3) << " | " << when(r->pose_1e1) << " | " << cell(r->max_energy) << " |";
+        << cell(r->max_pose) << " | " << when(r->pose_beyond[0]) << " | " << when(r->pose_beyond[1]) << " | " << cell(r->max_energy) << " |";
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
       if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";
       if (sep) o << " " << cell(r->joint_separation.value_or(NAN)) << " |";

@@ -19,14 +19,15 @@ using GroupKey = std::tuple<std::string, std::string, std::string, std::string, 
 
 struct Metric {
   const char* name;
-  double threshold;
-  std::optional<double> CaseRecord::*time;
+  size_t threshold;          ///< index into kCaseThresholds
+  FirstTimes CaseRecord::*times;
   bool joint;  ///< joint coordinates: only where the engines share them
 };
-const Metric kMetrics[] = {{"pose", 1e-3, &CaseRecord::pose_1e3, false},
-                           {"pose", 1e-1, &CaseRecord::pose_1e1, false},
-                           {"joint", 1e-3, &CaseRecord::coord_1e3, true},
-                           {"joint", 1e-1, &CaseRecord::coord_1e1, true}};
+const Metric kMetrics[] = {{"pose", 0, &CaseRecord::pose_beyond, false},
+                           {"pose", 1, &CaseRecord::pose_beyond, false},
+                           {"joint", 0, &CaseRecord::coord_beyond, true},
+                           {"joint", 1, &CaseRecord::coord_beyond, true}};
+static_assert(kCaseThresholds.size() == 2, "kMetrics: one pose and one joint row per threshold");
 
 Distribution distributionOf(const std::vector<const CaseRecord*>& members, const Metric& metric) {
   Distribution d;
@@ -34,7 +35,7 @@ Distribution distributionOf(const std::vector<const CaseRecord*>& members, const
   for (const CaseRecord* r : members) {
     ++d.members;
     if (r->status != "ok") ++d.failed;
-    if (const std::optional<double>& t = r->*metric.time) times.push_back(*t);
+    if (const std::optional<double>& t = (r->*metric.times)[metric.threshold]) times.push_back(*t);
   }
   d.diverged = static_cast<int>(times.size());
   d.min = quantile(times, 0), d.q1 = quantile(times, 0.25), d.median = quantile(times, 0.5);
@@ -63,7 +64,7 @@ std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records) {
       EnsembleRow row;
       std::tie(row.scene, row.method, row.integrator, row.setting_kind, row.setting) = key;
       row.metric = metric.name;
-      row.threshold = metric.threshold;
+      row.threshold = kCaseThresholds[metric.threshold];
       row.d = distributionOf(members, metric);
       rows.push_back(row);
     }
@@ -121,13 +122,14 @@ std::vector<Prediction> predictions(const std::vector<CaseRecord>& records) {
     if (r.role != "run" || !r.has_error || !r.t0 || !r.pose_by_t0) continue;
     const auto l = chi.find({r.scene, r.member});
     if (l == chi.end()) continue;
-    for (const auto& [threshold, measured] : {std::pair{1e-3, r.pose_1e3}, std::pair{1e-1, r.pose_1e1}}) {
+    for (size_t i = 0; i < kCaseThresholds.size(); ++i) {
+      const double threshold = kCaseThresholds[i];
       Prediction p;
       p.record = &r;
       p.threshold = threshold;
       p.chi = l->second;
       p.e0 = *r.pose_by_t0;
-      p.measured = measured;
+      p.measured = r.pose_beyond[i];
       if (p.chi > 0 && p.e0 > 0 && p.e0 < threshold) p.predicted = *r.t0 + std::log(threshold / p.e0) / p.chi;
       out.push_back(p);
     }

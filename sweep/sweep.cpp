@@ -126,7 +126,8 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
   rec.rhs_evals = run.rhs_evals;
   if (info(run.run.method).eigenfactor) rec.eigen = run.eigen;
   const Trajectory& against = ref ? *ref : run;
-  const MethodMetrics m = compareRun(run, against, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, energyScale(against));
+  const MethodMetrics m = measureRun(run, against, {kCaseThresholds.begin(), kCaseThresholds.end()},
+                                     std::vector<std::optional<double>>(kCaseThresholds.size()), energyScale(against));
   rec.has_error = ref != nullptr;
   rec.max_pose = m.pose.value;
   rec.max_coord = m.coords_shared ? m.coord.value : NAN;
@@ -134,11 +135,12 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
   if (const std::optional<MomentumDrift> d = momentumDrift(model, run)) rec.momentum_p = d->p, rec.momentum_H = d->H;
   if (std::isfinite(run.max_joint_separation)) rec.joint_separation = run.max_joint_separation;
   if (!ref) return;
-  rec.pose_1e3 = m.divergence_time_s[0], rec.pose_1e1 = m.divergence_time_s[1];
+  for (size_t i = 0; i < kCaseThresholds.size(); ++i) rec.pose_beyond[i] = m.divergence_time_s[i];
   double early = 0;
   for (size_t i = 0; i < m.series.t.size() && m.series.t[i] <= t0 * (1 + 1e-12); ++i) early = std::max(early, m.series.pose_rad[i]);
   rec.t0 = t0, rec.pose_by_t0 = early;
-  if (m.coords_shared) rec.coord_1e3 = m.coord_divergence_time_s[0], rec.coord_1e1 = m.coord_divergence_time_s[1];
+  if (m.coords_shared)
+    for (size_t i = 0; i < kCaseThresholds.size(); ++i) rec.coord_beyond[i] = m.coord_divergence_time_s[i];
 }
 
 // A member's initial state as its case files record it: q0 and u0 in the scene's order, by name.
@@ -187,10 +189,10 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;
   std::optional<Trajectory> ref;
   if (plan.reference && c.role != CaseRole::Reference) ref = loadReference(plan, c, scene, dir);
-  Trajectory first = runMethod(model, c.spec);
+  Trajectory first = runTrajectory(model, c.spec);
   rec.cpu_s.push_back(first.run_time_s);
   for (int k = 1; k < repeats; ++k) {
-    const Trajectory again = runMethod(model, c.spec);
+    const Trajectory again = runTrajectory(model, c.spec);
     rec.cpu_s.push_back(again.run_time_s);
     rec.repeats_identical = rec.repeats_identical && sameEnd(first, again);
   }

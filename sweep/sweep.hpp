@@ -4,6 +4,7 @@
 /// GNU parallel or a Slurm array as well as over local worker processes),
 /// then merged into one CSV and the tables of error against run time and of
 /// cost against size.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,11 @@
 #include "sweep/plan.hpp"
 
 namespace em {
+
+/// The thresholds (rad) a case records its first times beyond, in this order;
+/// its files name each after compare's thresholdKey ("pose_beyond_1e-3_s").
+inline constexpr std::array<double, 2> kCaseThresholds = {1e-3, 1e-1};
+using FirstTimes = std::array<std::optional<double>, kCaseThresholds.size()>;  ///< one per kCaseThresholds
 
 /// What one case's result file says (`eigenmass-sweep-case/1`).
 struct CaseRecord {
@@ -25,8 +31,8 @@ struct CaseRecord {
   std::optional<double> failure_time;
   bool has_error = false;  ///< errors against the plan's reference
   double max_pose = 0, max_coord = 0, max_energy = 0;
-  std::optional<double> pose_1e3, pose_1e1;    ///< first time beyond 1e-3 and 0.1 rad (pose)
-  std::optional<double> coord_1e3, coord_1e1;  ///< the same for the joint coordinates
+  FirstTimes pose_beyond;   ///< first time beyond each of kCaseThresholds (pose)
+  FirstTimes coord_beyond;  ///< the same for the joint coordinates
   /// Runs: the largest pose error up to t0 = t_end / 10 (the early level the
   /// Lyapunov prediction starts from). References: their motion's exponent.
   std::optional<double> t0, pose_by_t0;

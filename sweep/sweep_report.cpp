@@ -19,6 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// "pose_beyond_1e-3_s": the file key of the first time beyond kCaseThresholds[i].
+std::string beyondKey(const char* what, size_t i) {
+  return std::string(what) + "_beyond_" + thresholdKey(kCaseThresholds[i]) + "_s";
+}
+
 
 json eigenStatsJson(const EigenStats& e) {
   return {{"min_gap", finiteOrNull(e.min_gap)}, {"max_abs_Omega", e.max_abs_Omega}, {"jacobi_sweeps", e.jacobi_sweeps},
@@ -58,7 +63,7 @@ double CaseRecord::cpuMin() const { return cpu_s.empty() ? NAN : *std::min_eleme
 double CaseRecord::cpuMax() const { return cpu_s.empty() ? NAN : *std::max_element(cpu_s.begin(), cpu_s.end()); }
 
 json caseRecordJson(const CaseRecord& r) {
-  return {{"name", r.name},         {"role", r.role},         {"member", r.member},
+  json j = {{"name", r.name},         {"role", r.role},         {"member", r.member},
           {"scene", r.scene},       {"nu", r.nu},
           {"method", r.method},     {"integrator", r.integrator},
           {r.setting_kind, r.setting},
@@ -68,10 +73,6 @@ json caseRecordJson(const CaseRecord& r) {
           {"max_pose_error_rad", finiteOrNull(r.max_pose)},
           {"max_coord_error_rad", finiteOrNull(r.max_coord)},
           {"energy_error_max", finiteOrNull(r.max_energy)},
-          {"pose_beyond_1e-3_s", orNull(r.pose_1e3)},
-          {"pose_beyond_1e-1_s", orNull(r.pose_1e1)},
-          {"coord_beyond_1e-3_s", orNull(r.coord_1e3)},
-          {"coord_beyond_1e-1_s", orNull(r.coord_1e1)},
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
           {"repeats_identical", r.repeats_identical},
@@ -83,6 +84,11 @@ json caseRecordJson(const CaseRecord& r) {
           {"pose_error_by_t0_rad", orNull(r.pose_by_t0)},
           {"lyapunov_per_s", orNull(r.lyapunov_per_s)},
           {"lyapunov_uncertainty_per_s", orNull(r.lyapunov_uncertainty_per_s)}};
+  for (size_t i = 0; i < kCaseThresholds.size(); ++i) {
+    j[beyondKey("pose", i)] = orNull(r.pose_beyond[i]);
+    j[beyondKey("coord", i)] = orNull(r.coord_beyond[i]);
+  }
+  return j;
 }
 
 CaseRecord readCaseRecord(const json& j, const std::string& source) {
@@ -109,10 +115,10 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.max_pose = numberFrom(j.at("max_pose_error_rad"));
     r.max_coord = numberFrom(j.at("max_coord_error_rad"));
     r.max_energy = numberFrom(j.at("energy_error_max"));
-    r.pose_1e3 = optionalFrom(j.at("pose_beyond_1e-3_s"));
-    r.pose_1e1 = optionalFrom(j.at("pose_beyond_1e-1_s"));
-    r.coord_1e3 = optionalFrom(j.at("coord_beyond_1e-3_s"));
-    r.coord_1e1 = optionalFrom(j.at("coord_beyond_1e-1_s"));
+    for (size_t i = 0; i < kCaseThresholds.size(); ++i) {
+      r.pose_beyond[i] = optionalFrom(j.at(beyondKey("pose", i)));
+      r.coord_beyond[i] = optionalFrom(j.at(beyondKey("coord", i)));
+    }
     r.cpu_s = j.at("cpu_s").get<std::vector<double>>();
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
@@ -149,7 +155,10 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   std::ostringstream o;
   o.precision(17);
   o << (with_member ? "scene,member," : "scene,") << "nu,role,method,integrator,setting_kind,setting,status,failure_kind,failure_time_s,max_pose_error_rad,"
-       "max_coord_error_rad,energy_error_max,pose_beyond_1e-3_s,pose_beyond_1e-1_s,coord_beyond_1e-3_s,coord_beyond_1e-1_s,steps,rhs_evals,repeats_identical,"
+       "max_coord_error_rad,energy_error_max,";
+  for (const char* what : {"pose", "coord"})
+    for (size_t i = 0; i < kCaseThresholds.size(); ++i) o << beyondKey(what, i) << ',';
+  o << "steps,rhs_evals,repeats_identical,"
        "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
@@ -159,7 +168,10 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
     o << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
       << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
-      << ',' << opt(r.pose_1e3) << ',' << opt(r.pose_1e1) << ',' << opt(r.coord_1e3) << ',' << opt(r.coord_1e1) << ',' << r.steps << ',' << r.rhs_evals << ','
+      << ',';
+    for (const FirstTimes* times : {&r.pose_beyond, &r.coord_beyond})
+      for (const std::optional<double>& t : *times) o << opt(t) << ',';
+    o << r.steps << ',' << r.rhs_evals << ','
       << (r.repeats_identical ? "true" : "false") << ',' << opt(r.momentum_p) << ',' << opt(r.momentum_H) << ','
       << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','

@@ -14,6 +14,9 @@ namespace em {
 
 namespace {
 
+// The headings name the case thresholds as "1e-3 rad" and "0.1 rad" (pose_beyond[0], [1]).
+static_assert(kCaseThresholds[0] == 1e-3 && kCaseThresholds[1] == 1e-1, "the tables' headings name these thresholds");
+
 const CaseRecord* findRole(const std::vector<CaseRecord>& rs, const std::string& scene, const std::string& role) {
   for (const CaseRecord& r : rs)
     if (r.scene == scene && r.role == role) return &r;
@@ -61,9 +64,10 @@ std::string referenceLine(const std::vector<CaseRecord>& rs, const std::string& 
     o << " Its check, " << chk->method << " " << chk->integrator << " " << chk->setting_kind << " " << gnum(chk->setting)
       << ": max pose difference " << sci(chk->max_pose) << " rad, max coordinate difference " << sci(chk->max_coord)
       << " rad: the floor of every error below.";
-    if (chk->pose_1e3 || chk->pose_1e1)
-      o << " They part by 1e-3 rad at " << (chk->pose_1e3 ? gnum(*chk->pose_1e3, 4) + " s" : "no time")
-        << " and by 0.1 rad at " << (chk->pose_1e1 ? gnum(*chk->pose_1e1, 4) + " s" : "no time")
+    const FirstTimes& part = chk->pose_beyond;
+    if (part[0] || part[1])
+      o << " They part by 1e-3 rad at " << (part[0] ? gnum(*part[0], 4) + " s" : "no time")
+        << " and by 0.1 rad at " << (part[1] ? gnum(*part[1], 4) + " s" : "no time")
         << ": the reference horizon (chaos); a divergence after it says nothing about a method.";
   }
   return o.str() + "\n\n";
@@ -185,7 +189,7 @@ std::string runsTable(const std::vector<CaseRecord>& rs) {
     if (r.role != "run") continue;
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
       << (r.status == "ok" ? "ok" : r.failure_kind + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
-      << when(r.pose_1e3) << " | " << when(r.pose_1e1) << " | " << when(r.coord_1e1) << " | " << sci(r.max_pose) << " | "
+      << when(r.pose_beyond[0]) << " | " << when(r.pose_beyond[1]) << " | " << when(r.coord_beyond[1]) << " | " << sci(r.max_pose) << " | "
       << sci(r.max_energy) << " | " << gnum(r.steps ? r.cpuMedian() / r.steps * 1e6 : NAN, 3) << " | "
       << (r.eigen ? sci(r.eigen->min_gap) + " | " + sci(r.eigen->max_abs_Omega) + " | " +
                         std::to_string(r.eigen->block_merges) + " / " + std::to_string(r.eigen->block_splits)

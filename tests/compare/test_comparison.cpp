@@ -53,11 +53,11 @@ TEST_CASE("an unknown method or a bad threshold is refused before any run", "[co
 
 TEST_CASE("a failed reference is said in the table", "[comparison]") {
   Trajectory ref;
-  ref.run = referenceRun();
+  ref.run = defaultReferenceSpec();
   markFailed(ref, 0.25, Failure::Engine, "Simbody: step size underflow");
   CompareOptions o;
   o.methods = {};
-  const ComparisonResult r = compareRuns(ref, ref, {}, o);
+  const ComparisonResult r = compareTrajectories(ref, ref, {}, o);
   CHECK_THAT(summaryTable(r), Catch::Contains("FAILED at t = 0.25 s: Simbody: step size underflow"));
 }
 
@@ -65,7 +65,7 @@ TEST_CASE("the in-house classical method can be the reference", "[comparison]") 
   CompareOptions o;
   o.grid.t_end = 0.2;
   o.methods = {Method::Classical, em::test::method("simbody")};
-  o.reference = referenceRun(Method::Classical);
+  o.reference = defaultReferenceSpec(Method::Classical);
   o.reference.tol = 1e-11;
   const ComparisonResult r = runComparison(test::sceneData("chain02.json"), o);
   CHECK(r.reference.method() == "classical");

@@ -26,22 +26,22 @@ TEST_CASE("pendulum5 equations: the expected eigenvalues and energy", "[closedfo
   CHECK(e.kinetic + e.potential == Approx(-96.927410600287).epsilon(1e-13));
 }
 
-TEST_CASE("runMethod dispatches to both engines and rejects unknown names", "[runner]") {
+TEST_CASE("runTrajectory dispatches to both engines and rejects unknown names", "[runner]") {
   const Model m = test::loadData("chain02.json");
   RunSpec s;
   s.t_end = 0.1;
   s.output_dt = 0.05;
-  CHECK(runMethod(m, s).method() == "classical");
+  CHECK(runTrajectory(m, s).method() == "classical");
   s.method = em::test::method("simbody");
   s.integrator = chosenIntegrator(em::test::engine("simbody"), false);
-  const Trajectory t = runMethod(m, s);
+  const Trajectory t = runTrajectory(m, s);
   CHECK(t.method() == "simbody");
   CHECK(t.integrator() == "rkmerson");
   CHECK(t.size() == 3);
   CHECK_THROWS_WITH(parseMethod("lagrange"), Catch::Contains("unknown method 'lagrange'"));
   CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'"));
   s.method = Method::Classical;  // an integrator of the other engine
-  CHECK_THROWS_WITH(runMethod(m, s), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
+  CHECK_THROWS_WITH(runTrajectory(m, s), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
 }
 
 TEST_CASE("scene defaults apply where nothing was asked - the reference defaults are one place", "[runner]") {
@@ -52,7 +52,7 @@ TEST_CASE("scene defaults apply where nothing was asked - the reference defaults
   const RunSpec s = onGrid(RunSpec(), scene, grid);
   CHECK(s.output_dt == 0.05);
   CHECK(s.t_end == scene.t_end);
-  CHECK(referenceRun().integrator == em::test::scheme("rkmerson"));
-  CHECK(referenceRun(Method::Classical).integrator == Integrator::RK8PD);
+  CHECK(defaultReferenceSpec().integrator == em::test::scheme("rkmerson"));
+  CHECK(defaultReferenceSpec(Method::Classical).integrator == Integrator::RK8PD);
   CHECK(chosenIntegrator(Engine::InHouse, true) == Integrator::RK8PD);
 }

@@ -33,7 +33,7 @@ json tolerances(double pose_bound, const std::string& integrator = "rk4") {
 
 ComparisonResult synthetic(Trajectory run) {
   CompareOptions o;
-  ComparisonResult r = compareRuns(test::turning(em::test::method("simbody"), 0, 0), test::turning(em::test::method("simbody"), 0, 0), {run}, o);
+  ComparisonResult r = compareTrajectories(test::turning(em::test::method("simbody"), 0, 0), test::turning(em::test::method("simbody"), 0, 0), {run}, o);
   r.scene_name = "synthetic";
   return r;
 }

@@ -18,7 +18,7 @@ constexpr double kUlps = 1e-12;
 TEST_CASE("divergence times and peak errors of a run with a linearly growing error", "[comparator]") {
   const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0), run = test::turning(Method::Eigen, kSlope, 0.5);
   const std::vector<std::optional<double>> no_horizon = {std::nullopt, std::nullopt};
-  const MethodMetrics m = compareRun(run, ref, {1e-3, 1e-1}, no_horizon, energyScale(ref));
+  const MethodMetrics m = measureRun(run, ref, {1e-3, 1e-1}, no_horizon, energyScale(ref));
   REQUIRE(m.divergence_time_s[0]);
   CHECK(*m.divergence_time_s[0] == Approx(0.05));
   CHECK(*m.divergence_time_s[1] == Approx(4.77));
@@ -37,7 +37,7 @@ TEST_CASE("divergence times and peak errors of a run with a linearly growing err
 
 TEST_CASE("a run that never crosses a threshold has no divergence time", "[comparator]") {
   const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0), run = test::turning(Method::Classical, 1e-5, 0);
-  const MethodMetrics m = compareRun(run, ref, {1e-3}, {std::nullopt}, 2.0);
+  const MethodMetrics m = measureRun(run, ref, {1e-3}, {std::nullopt}, 2.0);
   CHECK_FALSE(m.divergence_time_s[0]);
   CHECK_FALSE(m.divergence_meaningful[0]);
   CHECK(m.status == "ok");
@@ -47,7 +47,7 @@ TEST_CASE("a failed run diverges at its failure time and keeps its cause", "[com
   const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
   Trajectory run = test::turning(Method::Eigen, kSlope, 0, 3.0);  // stops at 3 s, error 0.063 rad
   markFailed(run, 3.0, Failure::EigenGap, "eigenvalue gap below the floor");
-  const MethodMetrics m = compareRun(run, ref, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, 2.0);
+  const MethodMetrics m = measureRun(run, ref, {1e-3, 1e-1}, {std::nullopt, std::nullopt}, 2.0);
   CHECK(*m.divergence_time_s[0] == Approx(0.05));  // crossed before failing
   CHECK(*m.divergence_time_s[1] == 3.0);           // never crossed: failure time
   CHECK(m.failure == "eigenvalue gap below the floor");
@@ -61,9 +61,9 @@ TEST_CASE("the reference horizon flags divergence times beyond it", "[comparator
   REQUIRE(h[0]);
   CHECK(*h[0] == Approx(0.48));
   CHECK_FALSE(h[1]);
-  const MethodMetrics m = compareRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3, 1e-1}, h, 2.0);
+  const MethodMetrics m = measureRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3, 1e-1}, h, 2.0);
   CHECK(m.divergence_meaningful[0]);  // 0.05 < 0.48
-  const MethodMetrics slow = compareRun(test::turning(Method::Classical, 0.0011, 0), ref, {1e-3, 1e-1}, h, 2.0);
+  const MethodMetrics slow = measureRun(test::turning(Method::Classical, 0.0011, 0), ref, {1e-3, 1e-1}, h, 2.0);
   CHECK(*slow.divergence_time_s[0] == Approx(0.91));
   CHECK_FALSE(slow.divergence_meaningful[0]);  // 0.91 >= 0.48: within the reference's own uncertainty
 }
@@ -82,14 +82,14 @@ TEST_CASE("energy scale falls back when the reference never moves", "[comparator
 TEST_CASE("outcome: ok, wrong only before the reference horizon, failed", "[comparator]") {
   const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
   // Error kSlope t: beyond kWrongRad = 0.1 rad from t = 4.77 s on.
-  const MethodMetrics drifting = compareRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3}, {std::nullopt}, 2.0);
+  const MethodMetrics drifting = measureRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3}, {std::nullopt}, 2.0);
   REQUIRE(drifting.status == "ok");
   CHECK(outcomeOf(drifting, std::nullopt) == "wrong");  // no horizon: the whole run counts
   CHECK(outcomeOf(drifting, 6.0) == "wrong");
   CHECK(outcomeOf(drifting, 3.0) == "ok");  // beyond 0.1 rad only where the reference itself is uncertain
-  const MethodMetrics close = compareRun(test::turning(Method::Classical, 0.001, 0), ref, {1e-3}, {std::nullopt}, 2.0);
+  const MethodMetrics close = measureRun(test::turning(Method::Classical, 0.001, 0), ref, {1e-3}, {std::nullopt}, 2.0);
   CHECK(outcomeOf(close, std::nullopt) == "ok");  // 0.01 rad at most
   Trajectory stopped = test::turning(Method::Eigen, 0, 0, 3.0);
   markFailed(stopped, 3.0, Failure::NonPositiveEigenvalue, "eigenvalue lambda_0 <= 0");
-  CHECK(outcomeOf(compareRun(stopped, ref, {1e-3}, {std::nullopt}, 2.0), std::nullopt) == "failed");
+  CHECK(outcomeOf(measureRun(stopped, ref, {1e-3}, {std::nullopt}, 2.0), std::nullopt) == "failed");
 }

@@ -23,7 +23,7 @@ ComparisonResult synthetic() {
   Trajectory failed = test::turning(Method::Eigen, 0.021, 0.5, 3.0);
   markFailed(failed, 3.0, Failure::NonPositiveEigenvalue, "eigenvalue lambda_0 = -0.1 <= 0");
   failed.failure_cond_A = 250.0;
-  ComparisonResult r = compareRuns(test::turning(em::test::method("simbody"), 0, 0), test::turning(em::test::method("simbody"), 1e-6, 0),
+  ComparisonResult r = compareTrajectories(test::turning(em::test::method("simbody"), 0, 0), test::turning(em::test::method("simbody"), 1e-6, 0),
                                    {test::turning(Method::Classical, 1e-5, 0), failed}, o);
   r.scene_name = "synthetic";
   r.t_end = 10;
@@ -119,13 +119,13 @@ TEST_CASE("the figure's coordinate is the angle a method leaves the reference on
   };
   CompareOptions o;
   o.methods = {Method::Classical};
-  const ComparisonResult r = compareRuns(withSecond(test::turning(em::test::method("simbody"), 0, 0), 0),
+  const ComparisonResult r = compareTrajectories(withSecond(test::turning(em::test::method("simbody"), 0, 0), 0),
                                          withSecond(test::turning(em::test::method("simbody"), 1e-6, 0), 0),
                                          {withSecond(test::turning(Method::Classical, 1e-5, 0), 0.2)}, o);
   const json c = makeReport(r)["series"]["coordinate"];
   CHECK(c["name"] == "b.q0");
   CHECK(c["index"] == 1);
-  const ComparisonResult still = compareRuns(withSecond(test::turning(em::test::method("simbody"), 0, 0), 0),
+  const ComparisonResult still = compareTrajectories(withSecond(test::turning(em::test::method("simbody"), 0, 0), 0),
                                              withSecond(test::turning(em::test::method("simbody"), 1e-6, 0), 0),
                                              {withSecond(test::turning(Method::Classical, 1e-5, 0), 0)}, o);
   CHECK(makeReport(still)["series"]["coordinate"]["name"] == "a.q0");  // none leaves: the first angle

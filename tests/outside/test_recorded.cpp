@@ -64,7 +64,7 @@ std::string csvWith(const Trajectory& tr, const std::string& name, Keep keep, si
 const auto kAll = [](const std::string&) { return true; };
 
 MethodMetrics metricsOf(const Trajectory& run, const Trajectory& ref, const Trajectory& tight) {
-  const ComparisonResult r = compareRuns(ref, tight, {run}, CompareOptions{});
+  const ComparisonResult r = compareTrajectories(ref, tight, {run}, CompareOptions{});
   return r.metrics[0];
 }
 
