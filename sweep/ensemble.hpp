@@ -12,12 +12,21 @@
 
 namespace em {
 
-/// The plan key "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}}.
+/// A published breakdown time the members' distribution is held against
+/// (the paper's 7.2 s): figures mark it, the claims page places it.
+struct EnsembleClaim {
+  double t_s = 0;     ///< the time, s, within the plan's t_end
+  std::string label;  ///< how figures name it ("the paper's 7.2 s"), one printable line
+};
+
+/// The plan key "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u},
+/// "claim": {"t_s": T, "label": L}}.
 struct Ensemble {
   int count = 1;           ///< members per scene; member 0 is the scene itself
   std::uint64_t seed = 1;  ///< with the member's index, the one source of its draws
   double sigma_q = 0;      ///< standard deviation of each angle (rad; a ball's rotation vector)
   double sigma_u = 0;      ///< standard deviation of each speed (rad/s)
+  std::optional<EnsembleClaim> claim;  ///< absent: no time is marked
 };
 
 /// Member `k` of `m`'s ensemble. Member 0 is `m`. Member k > 0 draws standard

@@ -266,9 +266,22 @@ void readMethodParams(const json& doc, MethodOptions& options) {
 // Largest ensemble.perturb.q: one radian (metre) of standard deviation.
 constexpr double kMaxSigmaQ = 1;
 
-// "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}}.
-Ensemble ensembleAt(const json& v) {
-  onlyKeys(v, "ensemble", {"count", "seed", "perturb"});
+// "ensemble.claim": {"t_s": T, "label": L}, T within the plan's t_end.
+EnsembleClaim claimAt(const json& v, double t_end) {
+  onlyKeys(v, "ensemble.claim", {"t_s", "label"});
+  EnsembleClaim c;
+  c.t_s = positiveNumber(v.value("t_s", json()), "ensemble.claim.t_s");
+  if (c.t_s > t_end) throw InputError("ensemble.claim.t_s", gnum(c.t_s) + " beyond the plan's t_end " + gnum(t_end));
+  c.label = stringAt(v.value("label", json()), "ensemble.claim.label");
+  if (c.label.empty() || c.label.size() > 80 ||
+      std::any_of(c.label.begin(), c.label.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20; }))
+    throw InputError("ensemble.claim.label", "1 to 80 characters without a control character: figures print it");
+  return c;
+}
+
+// "ensemble": {"count": N, "seed": S, "perturb": {"q": sigma_q, "u": sigma_u}, "claim": {...}}.
+Ensemble ensembleAt(const json& v, double t_end) {
+  onlyKeys(v, "ensemble", {"count", "seed", "perturb", "claim"});
   Ensemble e;
   if (!v.contains("count")) throw InputError("ensemble.count", "missing");
   e.count = wholeNumberAt(v["count"], "ensemble.count", 1, 100000, "members per scene");
@@ -294,6 +307,7 @@ Ensemble ensembleAt(const json& v) {
                                                " rad (m): an ensemble perturbs a state to nearby states");
   if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
     throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");
+  if (v.contains("claim")) e.claim = claimAt(v["claim"], t_end);
   return e;
 }
 
@@ -316,7 +330,7 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("plugins")) pluginsAt(doc["plugins"], p.file, p.scenes);  // before the lines that name them
   p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
-  if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"]);
+  if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"], p.t_end);
   // An ensemble reads divergence, not timing: it may run each case once.
   if (doc.contains("repeats"))
     p.repeats = p.ensemble ? wholeNumberAt(doc["repeats"], "repeats", 1, 100, "an ensemble may time each case once")

@@ -184,6 +184,9 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   if (doneWith(plan, c, dir, scene.source.sha256)) return false;
   CaseRecord rec = baseRecord(c, scene);
   json doc = {{"format", "eigenmass-sweep-case/1"}, {"plan", plan.name}, {"key", caseKey(plan, c, scene.source.sha256)}};
+  doc["tables"] = json::array();  // the plan's tables: what plot draws from the merged results (outside the key)
+  for (PlanTable t : plan.tables) doc["tables"].push_back(planTableName(t));
+  if (plan.ensemble && plan.ensemble->claim) doc["claim"] = {{"t_s", plan.ensemble->claim->t_s}, {"label", plan.ensemble->claim->label}};
   const Model model = plan.ensemble ? ensembleMember(scene.model, *plan.ensemble, c.member) : scene.model;
   if (plan.ensemble) doc["member"] = memberJson(model, c.member);
   const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;

@@ -238,25 +238,22 @@ def sweep_figures(results, out):
         rows = list(csv.DictReader(f))
     runs = [r for r in rows if r["role"] == "run"]
     drawn = len(WRITTEN)
-    settings = {}
-    for r in runs:
-        if r["max_pose_error_rad"]:
-            settings.setdefault((r["scene"], r["method"], r["integrator"]), set()).add(r["setting"])
-    # Work-precision when a method ran at several settings; cost against size when each
-    # ran at one setting per scene over three sizes or more (a work-precision plan's
-    # few scenes of different sizes are no size sweep).
-    several = any(len(s) > 1 for s in settings.values())
-    if several and not os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
+    # The plan's tables say which figures its results are for (a case file names them).
+    tables = cases[0].get("tables")
+    if tables is None:
+        sys.exit("%s: its case files name no plan tables (made before eigenmass 0.3): merge and plot them with the "
+                 "version that ran them, or rerun the plan into a fresh folder" % results)
+    if "work-precision" in tables or "engine-study" in tables:
         work_precision(rows, out)
-    if not several and len({r["nu"] for r in runs}) >= 3:
+    if "cost-vs-size" in tables:
         cost_vs_size(runs, t_end, out)
     trajectories(rows, results, out)
     if os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
-        ensemble_cdf(plan, runs, t_end, out)
+        ensemble_cdf(plan, runs, t_end, cases[0].get("claim"), out)
         ensemble_prediction(plan, results, t_end, out)
     if len(WRITTEN) == drawn:
-        sys.exit("%s: nothing to draw: no method ran at two settings against a reference, every scene has one size, "
-                 "no trajectory was kept and there is no ensemble" % results)
+        sys.exit("%s: nothing to draw: the plan's tables (%s) have no figure, no trajectory was kept and there is no "
+                 "ensemble" % (results, ", ".join(tables) or "none"))
 
 
 def work_precision(rows, out):
@@ -409,8 +406,9 @@ def fig5(scene, ref, runs, out):
 DT_STYLES = ["-", "--", "-.", ":"]
 
 
-def ensemble_cdf(plan, runs, t_end, out):
-    """A row per method (its colour), a column per scene, a line style per step."""
+def ensemble_cdf(plan, runs, t_end, claim, out):
+    """A row per method (its colour), a column per scene, a line style per step; the plan's
+    ensemble.claim (a published breakdown time), if it states one, dotted."""
     scenes = sorted({r["scene"] for r in runs})
     methods = list(dict.fromkeys(r["method"] for r in runs))
     fig, axes = plt.subplots(len(methods), len(scenes), figsize=(4.6 * len(scenes), 2.6 * len(methods)),
@@ -428,13 +426,14 @@ def ensemble_cdf(plan, runs, t_end, out):
                 ys = [0.0] + [y for n in range(len(crossed)) for y in (n / len(t), (n + 1) / len(t))] + \
                      [len(crossed) / len(t)]
                 ax.plot(xs, ys, DT_STYLES[k % len(DT_STYLES)], color=color(method), lw=1.4, label="dt %g" % dt)
-            ax.axvline(7.2, color="k", lw=0.8, ls=":")
+            if claim:
+                ax.axvline(claim["t_s"], color="k", lw=0.8, ls=":")
             ax.set_title("%s, %s (%d members)" % (method, scene, len(t)), fontsize=9)
             ax.set_xlim(0, t_end)
             ax.set_ylim(0, 1.02)
             ax.grid(alpha=0.3)
             if i == len(methods) - 1:
-                ax.set_xlabel("time t, s; dotted: the paper's 7.2 s")
+                ax.set_xlabel("time t, s" + ("; dotted: " + claim["label"] if claim else ""))
             if j == 0:
                 ax.set_ylabel("fraction beyond 0.1 rad")
             if i == 0 and j == 0:
@@ -443,11 +442,13 @@ def ensemble_cdf(plan, runs, t_end, out):
 
 
 def ensemble_prediction(plan, results, t_end, out):
+    """Measured against predicted divergence time per member; a member still within 0.1 rad at t_end
+    (censored: its time is only known to exceed t_end) is an open triangle at t_end, pointing up."""
     path = os.path.join(results, plan + "-prediction.csv")
     if not os.path.exists(path):
         return
     with open(path) as f:
-        pred = [p for p in csv.DictReader(f) if float(p["threshold"]) == 0.1 and p["predicted_s"] and p["measured_s"]]
+        pred = [p for p in csv.DictReader(f) if float(p["threshold"]) == 0.1 and p["predicted_s"]]
     scenes = sorted({p["scene"] for p in pred})
     if not scenes:
         return
@@ -455,16 +456,24 @@ def ensemble_prediction(plan, results, t_end, out):
     for ax, scene in zip(axes[0], scenes):
         for method in dict.fromkeys(p["method"] for p in pred):
             mine = [p for p in pred if p["scene"] == scene and p["method"] == method]
-            ax.scatter([float(p["predicted_s"]) for p in mine], [float(p["measured_s"]) for p in mine], s=6,
-                       color=color(method), alpha=0.5, label=method)
-        ax.plot([0, t_end * 1.5], [0, t_end * 1.5], "k:", lw=0.8)
-        ax.set_xlim(0, t_end * 1.5)
-        ax.set_ylim(0, t_end)
-        ax.set_title(scene + ": every member and step")
-        ax.set_xlabel("predicted from e(t0) and chi, s")
+            seen = [p for p in mine if p["measured_s"]]
+            censored = [float(p["predicted_s"]) for p in mine if not p["measured_s"]]
+            ax.scatter([float(p["predicted_s"]) for p in seen], [float(p["measured_s"]) for p in seen], s=6,
+                       color=color(method), alpha=0.5, label="%s (%d left, %d censored)" % (method, len(seen),
+                                                                                         len(censored)))
+            ax.scatter(censored, [t_end] * len(censored), s=14, marker="^", facecolors="none",
+                       edgecolors=color(method), linewidths=0.6, alpha=0.6)
+        x_max = min(3 * t_end, max([t_end * 1.5] + [1.03 * float(p["predicted_s"]) for p in pred]))  # censored ones lie far right
+        ax.plot([0, x_max], [0, x_max], "k:", lw=0.8)
+        ax.axhline(t_end, color="0.5", lw=0.6)
+        ax.set_xlim(0, x_max)
+        ax.set_ylim(0, t_end * 1.04)
+        ax.set_title(scene + ": every member and step", fontsize=10)
+        ax.set_xlabel("predicted from e(t0) and chi, s\nopen triangles at %g s: still within 0.1 rad (censored)"
+                      % t_end)
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("measured: pose beyond 0.1 rad, s")
-    axes[0][0].legend(fontsize=8)
+    axes[0][0].legend(fontsize=7, loc="lower right")
     save(fig, out, plan + "-prediction")
 
 

@@ -689,7 +689,7 @@ TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary a
     CHECK(drawsText(svg, "max pose error, rad"));
     CHECK(drawsText(svg, "CPU s (median of the repeats)"));
   }
-  // Two scenes of different sizes in a work-precision plan are no size sweep: no cost figure.
+  // The plan's tables decide the figures: a work-precision plan gets no cost figure.
   CHECK_FALSE(fs::exists(dir / "fig/cost-vs-size.svg"));
   const std::string lock = slurp((dir / "fig/work-precision-gimbal_lock.svg").string());
   CHECK(lock.find("id=\"failed-classical\"") != std::string::npos);

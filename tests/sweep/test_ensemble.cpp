@@ -29,6 +29,11 @@ std::vector<std::string> lines(const std::string& path) {
   return out;
 }
 
+std::string slurpFile(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 }  // namespace
 
 TEST_CASE("member 0 is the scene, others are drawn reproducibly and stay valid for each joint kind", "[sweep][ensemble]") {
@@ -71,7 +76,8 @@ TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row 
                {"scenes", {test::sourcePath("data/scenes/chain03.json")}},
                {"t_end", 1},
                {"repeats", 1},
-               {"ensemble", {{"count", 4}, {"seed", 3}, {"perturb", {{"q", 1e-3}, {"u", 1e-3}}}}},
+               {"ensemble", {{"count", 4}, {"seed", 3}, {"perturb", {{"q", 1e-3}, {"u", 1e-3}}},
+                             {"claim", {{"t_s", 0.7}, {"label", "a claimed 0.7 s"}}}}},
                {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
                {"reference_check", {{"method", "simbody"}, {"integrator", "rkmerson"}, {"tolerance", 1e-11}}},
                {"lines", {{{"methods", {"classical", "eigen"}}, {"integrator", "rk4"}, {"dt", {1e-2, 5e-3}}}}},
@@ -110,4 +116,12 @@ TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row 
   CHECK(m2.at("result").at("pose_error_by_t0_rad").get<double>() >= 0);
   const std::vector<std::string> predicted = lines(dir + "/ens-prediction.csv");
   CHECK(predicted.size() == 1 + 4 * 2 * 2 * 2);  // members x methods x steps x thresholds
+  // The case files name the plan's tables and claim: plot draws from them, not from the data's shape.
+  CHECK(m2.at("tables") == json::array({"runs"}));
+  CHECK(m2.at("claim").at("label") == "a claimed 0.7 s");
+  REQUIRE(shell(exe + " plot " + dir + " --format svg --out " + kDir + "/fig >/dev/null") == 0);
+  const std::string cdf = slurpFile(kDir + "/fig/ens-cdf.svg"), prediction = slurpFile(kDir + "/fig/ens-prediction.svg");
+  CHECK(cdf.find("dotted: a claimed 0.7 s") != std::string::npos);
+  CHECK(prediction.find("censored") != std::string::npos);  // members still within 0.1 rad at t_end drawn as such
+  CHECK_FALSE(fs::exists(kDir + "/fig/work-precision-chain03.svg"));  // tables: runs (two steps are no work-precision plan)
 }

@@ -142,6 +142,13 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: 1e+06 beyond 1 rad (m)"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"w", 1e-3}}}};
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.w: unknown key"));
+  // A claim the figures mark: within t_end, a printable label.
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e-3}}}, {"claim", {{"t_s", 1e3}, {"label", "x"}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.claim.t_s: 1000 beyond the plan's t_end"));
+  p["ensemble"]["claim"] = {{"t_s", 0.1}, {"label", "two\nlines"}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.claim.label: 1 to 80 characters without a control character"));
+  p["ensemble"]["claim"] = {{"t_s", 0.1}, {"label", "x"}, {"source", "y"}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.claim.source: unknown key"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e-3}}}};
   p["repeats"] = 1;  // an ensemble may run each case once; a plain plan may not (above)
   CHECK(planError(p).empty());
