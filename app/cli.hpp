@@ -34,6 +34,8 @@ void addEngineStudy(CLI::App& app);
 /// `jobs` workers (0: every core) and merge them, or, with `list`, print one
 /// command per case (sweep and engine-study share it). Returns the exit status.
 int sweepPlan(const Plan& plan, const std::string& plan_path, const std::string& dir, int jobs, bool list);
+/// Refuse a path with a line break where --list prints it (each case's command must stay one line).
+void refuseLineBreaks(const std::vector<std::pair<const char*, std::string>>& paths);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).
 int exitCode();
 

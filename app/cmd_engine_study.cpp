@@ -12,6 +12,7 @@
 #include "app/cli.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
+#include "io/scene_json.hpp"
 #include "io/shipped.hpp"
 #include "sweep/sweep.hpp"
 
@@ -62,8 +63,13 @@ int runStudy(StudyArgs& a) {
   const Scene scene = a.scene.load();  // a bad scene is named as every command names it, before any file is written
   if (a.plan.empty()) a.plan = shippedFile("data/plans/engines.json", EM_SOURCE_DIR);
   const json tmpl = readJsonFile(a.plan, "plan");
-  const std::string name = "engine-study-" + fs::path(a.scene.path).stem().string();
+  const std::string stem = fs::path(a.scene.path).stem().string();
+  if (!isSceneName(stem))  // before any file is written: the stem names the study's plan and every case
+    throw std::invalid_argument(a.scene.path + ": its file name's stem must be letters, digits, '_' or '-' (1 to 64): "
+                                "it names the study's plan and cases; rename or copy the file");
+  const std::string name = "engine-study-" + stem;
   const std::string dir = a.results.empty() ? "results/" + name : a.results;
+  if (a.list) refuseLineBreaks({{"--results", dir}});
   prepareFolder("--results", dir);
   const std::string path = writeStudyPlan(studyPlan(a, tmpl, name), dir);
   const Plan plan = loadPlan(path);

@@ -47,12 +47,19 @@ int runOneCase(const Plan& plan, const std::string& name, const std::string& dir
   throw std::invalid_argument("--case " + name + ": not a case of " + plan.file + " (--list names them)");
 }
 
+}  // namespace
+
+void refuseLineBreaks(const std::vector<std::pair<const char*, std::string>>& paths) {
+  for (const auto& [option, path] : paths)  // one case, one line: a runner (GNU parallel, a Slurm array) splits at newlines
+    if (path.find_first_of("\n\r") != std::string::npos)
+      throw std::invalid_argument(std::string(option) + " " + printable(path) + ": holds a line break, which would split "
+                                  "each case's command over two lines of --list; rename it");
+}
+
+namespace {
+
 int runSweepCommand(const SweepArgs& a) {
-  if (a.list)  // one case, one line: a runner (GNU parallel, a Slurm array) splits at newlines
-    for (const auto& [option, path] : {std::pair<const char*, std::string>{"the plan's path", a.plan}, {"--results", a.results}})
-      if (path.find_first_of("\n\r") != std::string::npos)
-        throw std::invalid_argument(std::string(option) + " " + printable(path) + ": holds a line break, which would split "
-                                    "each case's command over two lines of --list; rename it");
+  if (a.list) refuseLineBreaks({{"the plan's path", a.plan}, {"--results", a.results}});
   const Plan plan = loadPlan(a.plan);
   if (a.list + !a.merge.empty() + !a.one_case.empty() > 1)
     throw std::invalid_argument("--list, --merge and --case: give at most one");

@@ -253,6 +253,8 @@ void simulateDefaults(const json& sim, SceneSpec& s) {
 
 SceneSpec spec(const json& doc) {
   if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
+  if (doc.contains("format") && doc["format"] == "eigenmass-plan/1")  // before its keys are blamed one by one
+    throw Err("format", "a plan, not a scene (eigenmass-plan/1, docs/sweep.md): `sweep PLAN` runs it; this command takes a scene or a URDF");
   checkKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
   const std::string fmt = string(require(doc, "", "format"), "format");
   if (fmt != "eigenmass-scene/1")

@@ -51,6 +51,10 @@ KINDS = {"report": "a compare report", "sweep": "a sweep's merged results", "ext
 WRITTEN = []
 
 
+class Refused(Exception):
+    """An input of the right shape that this tool will not draw: its message is the whole line."""
+
+
 def color(method):
     return COLORS.get(method, "k")
 
@@ -241,7 +245,7 @@ def sweep_figures(results, out):
     # The plan's tables say which figures its results are for (a case file names them).
     tables = cases[0].get("tables")
     if tables is None:
-        sys.exit("%s: its case files name no plan tables (made before eigenmass 0.3): merge and plot them with the "
+        raise Refused("%s: its case files name no plan tables (an older eigenmass made them): plot them with the "
                  "version that ran them, or rerun the plan into a fresh folder" % results)
     if "work-precision" in tables or "engine-study" in tables:
         work_precision(rows, out)
@@ -252,7 +256,7 @@ def sweep_figures(results, out):
         ensemble_cdf(plan, runs, t_end, cases[0].get("claim"), out)
         ensemble_prediction(plan, results, t_end, out)
     if len(WRITTEN) == drawn:
-        sys.exit("%s: nothing to draw: the plan's tables (%s) have no figure, no trajectory was kept and there is no "
+        raise Refused("%s: nothing to draw: the plan's tables (%s) have no figure, no trajectory was kept and there is no "
                  "ensemble" % (results, ", ".join(tables) or "none"))
 
 
@@ -612,6 +616,9 @@ def main():
     except Exception as e:  # noqa: BLE001 - every failure is one line for eigenmass to print (exit 2)
         # A file of the right format but not of its shape, a file missing or empty.
         with open(os.path.join(a.out, "error.txt"), "w") as f:
+            if isinstance(e, Refused):
+                f.write(str(e)[:300].replace("\n", " "))
+                sys.exit(2)
             if isinstance(e, KeyError):
                 what = "key %s not found" % e
             elif isinstance(e, OSError) and e.filename:

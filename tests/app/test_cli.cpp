@@ -420,7 +420,7 @@ TEST_CASE("one output never overwrites another of the same command", "[cli][host
   fs::remove_all(dir);
 }
 
-TEST_CASE("sweep --list refuses a path with a line break: each case stays one line", "[cli][hostile][sweep]") {
+TEST_CASE("sweep and engine-study --list refuse a path with a line break: each case stays one line", "[cli][hostile][sweep]") {
   // Issue 42, bug 8: parallel and a Slurm array count ran half-cases.
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "eigenmass_test_list_nl";
@@ -436,6 +436,22 @@ TEST_CASE("sweep --list refuses a path with a line break: each case stays one li
     CHECK_THAT(r.out, Catch::Contains("holds a line break"));
     CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
   }
+  // engine-study writes its plan and lists its cases the same way: refused before any file is written.
+  const std::string scene = std::string(EM_SOURCE_DIR) + "/data/scenes/chain03.json";
+  const Run r = eigenmass("engine-study " + scene + " --list --results '" + odd + "/study'", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--results") && Catch::Contains("holds a line break"));
+  CHECK_FALSE(fs::exists(odd + "/study"));
+  // A scene whose stem cannot name the study's plan and cases: refused before any file is written.
+  fs::copy_file(scene, dir / "we ird.json");
+  const Run w = eigenmass("engine-study '" + (dir / "we ird.json").string() + "' --list --results '" + (dir / "w").string() + "'", true);
+  CHECK(w.status == 2);
+  CHECK_THAT(w.out, Catch::Contains("we ird.json: its file name's stem must be letters"));
+  CHECK_FALSE(fs::exists(dir / "w"));
+  // A plan where a scene belongs is named as a plan, not blamed key by key.
+  const Run p = eigenmass("engine-study " + plan + " --list --results '" + (dir / "p").string() + "'", true);
+  CHECK(p.status == 2);
+  CHECK_THAT(p.out, Catch::Contains("format: a plan, not a scene"));
   fs::remove_all(dir);
 }
 
@@ -694,6 +710,25 @@ TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary a
   const std::string lock = slurp((dir / "fig/work-precision-gimbal_lock.svg").string());
   CHECK(lock.find("id=\"failed-classical\"") != std::string::npos);
   CHECK(lock.find("id=\"failed-eigen\"") != std::string::npos);
+  // The same results under a plan whose tables have no figure, and under case files that name no tables
+  // (an older version's): one line each, exit 2, nothing drawn.
+  for (const bool older : {false, true}) {
+    const fs::path copy = dir / (older ? "older" : "runs");
+    fs::copy(results, copy);
+    for (const auto& e : fs::directory_iterator(copy)) {
+      if (e.path().extension() != ".json") continue;
+      nlohmann::json c = nlohmann::json::parse(slurp(e.path().string()));
+      if (older) c.erase("tables");
+      else c["tables"] = {"runs"};
+      std::ofstream(e.path().string()) << c.dump();
+    }
+    const Run n = eigenmass("plot " + copy.string() + " --format svg --out " + (dir / "none").string(), true);
+    INFO(n.out);
+    CHECK(n.status == 2);
+    CHECK_THAT(n.out, Catch::Contains(older ? "its case files name no plan tables" : "nothing to draw: the plan's tables (runs)"));
+    CHECK(std::count(n.out.begin(), n.out.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(dir / "none/work-precision-pendulum5.svg"));
+  }
 
   // The extreme summary the gallery test keeps: a cell per case and method, coloured by outcome.
   const Run e = eigenmass("plot " + em::test::sourcePath("tests/extreme/expected.json") + " --format svg --out " + (dir / "x").string());
