@@ -34,6 +34,9 @@ void addEngineStudy(CLI::App& app);
 /// `jobs` workers (0: every core) and merge them, or, with `list`, print one
 /// command per case (sweep and engine-study share it). Returns the exit status.
 int sweepPlan(const Plan& plan, const std::string& plan_path, const std::string& dir, int jobs, bool list);
+/// Refuse what a sweep writes into `dir` (each case's result and CSV, the merged files) where it is one of
+/// its inputs (the plan, its scenes): a plan or scene kept in the results folder under a case's name.
+void refuseSweepOverInputs(const Plan& plan, const std::string& plan_path, const std::string& dir);
 /// Refuse a path with a line break where --list prints it (each case's command must stay one line).
 void refuseLineBreaks(const std::vector<std::pair<const char*, std::string>>& paths);
 /// Exit status of the subcommand that ran (0 ok, 1 gate broken / run failed, 2 bad input).

@@ -73,6 +73,7 @@ int runStudy(StudyArgs& a) {
   prepareFolder("--results", dir);
   const std::string path = writeStudyPlan(studyPlan(a, tmpl, name), dir);
   const Plan plan = loadPlan(path);
+  if (!a.list) refuseSweepOverInputs(plan, path, dir);
   std::fprintf(stderr, "engine-study: %s (%d speeds), %zu cases of %s\n", scene.source.file.c_str(), scene.model.nu,
                planCases(plan).size(), path.c_str());
   return sweepPlan(plan, path, dir, a.jobs, a.list);

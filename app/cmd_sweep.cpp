@@ -38,6 +38,22 @@ int mergeInto(const Plan& plan, const std::string& dir) {
   return 1;
 }
 
+}  // namespace
+
+void refuseSweepOverInputs(const Plan& plan, const std::string& plan_path, const std::string& dir) {
+  std::vector<std::string> inputs = {plan_path}, written;
+  for (const PlanScene& s : plan.scenes) inputs.push_back(s.file);
+  for (const char* tail : {".csv", ".md", "-ensemble.csv", "-prediction.csv"})
+    written.push_back((fs::path(dir) / (plan.name + tail)).string());
+  for (const SweepCase& c : planCases(plan)) {
+    written.push_back(caseFile(dir, c));
+    written.push_back(caseCsv(dir, c));
+  }
+  refuseInputs("--results", dir, written, inputs);
+}
+
+namespace {
+
 int runOneCase(const Plan& plan, const std::string& name, const std::string& dir) {
   for (const SweepCase& c : planCases(plan))
     if (c.name == name) {
@@ -67,9 +83,11 @@ int runSweepCommand(const SweepArgs& a) {
   const std::string dir = !a.merge.empty() ? a.merge : a.results.empty() ? "results/" + plan.name : a.results;
   if (!a.merge.empty()) {
     if (!fs::is_directory(dir)) throw std::invalid_argument("--merge " + dir + ": no such folder");
+    refuseSweepOverInputs(plan, a.plan, dir);
     return mergeInto(plan, dir);
   }
   if (!a.list) prepareFolder("--results", dir);
+  if (!a.list) refuseSweepOverInputs(plan, a.plan, dir);
   if (!a.one_case.empty()) return runOneCase(plan, a.one_case, dir);
   return sweepPlan(plan, a.plan, dir, a.jobs, a.list);
 }

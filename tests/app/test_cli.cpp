@@ -409,7 +409,15 @@ TEST_CASE("one output never overwrites another of the same command", "[cli][host
       {"extreme " + s + " " + twin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex5",
        s + " and " + twin + " would both write " + d + "/ex5/chain01.rk4-0.001.report.json"},
       {"extreme " + thin + " " + thin + " --t-end 0.01 --out-dir " + d + "/ex6", thin + ": listed twice"},
+      // A plan kept in its results folder under one of its cases' names: the case would replace the plan.
+      {"sweep " + d + "/sw/chain01.classical.rk4.0.01.json --results " + d + "/sw",
+       "--results " + d + "/sw: would write " + d + "/sw/chain01.classical.rk4.0.01.json, which is an input file"},
   };
+  fs::create_directories(dir / "sw");
+  std::ofstream(d + "/sw/chain01.classical.rk4.0.01.json")
+      << nlohmann::json{{"format", "eigenmass-plan/1"}, {"name", "sw"}, {"scenes", {s}}, {"t_end", 0.1},
+                        {"lines", {{{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-2}}}}}}.dump();
+  const std::string plan_text = em::readFile(d + "/sw/chain01.classical.rk4.0.01.json", "plan");
   for (const auto& [args, phrase] : cases) {
     const Run r = eigenmass(args, true);
     INFO(args << " -> " << r.out);
@@ -417,6 +425,7 @@ TEST_CASE("one output never overwrites another of the same command", "[cli][host
     CHECK_THAT(r.out, Catch::Contains(phrase));
     CHECK(r.out.find("running") == std::string::npos);  // before any run
   }
+  CHECK(em::readFile(d + "/sw/chain01.classical.rk4.0.01.json", "plan") == plan_text);
   fs::remove_all(dir);
 }
 
