@@ -1,8 +1,9 @@
 #include "compare/gate.hpp"
 
+#include "io/json_input.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,15 +14,6 @@ namespace {
 using json = nlohmann::json;
 
 const char* kMetrics[] = {"max_pose_error_rad", "max_position_error_m", "energy_error_max"};
-
-[[noreturn]] void bad(const std::string& file, const std::string& path, const std::string& what) {
-  throw std::runtime_error(file + ": " + path + ": " + what);
-}
-
-double positive(const json& v, const std::string& file, const std::string& path) {
-  if (!v.is_number() || !(v.get<double>() > 0)) bad(file, path, "expected a positive number");
-  return v.get<double>();
-}
 
 // Largest value of a per-sample series over t <= horizon.
 double maxUpTo(const std::vector<double>& t, const std::vector<double>& v, double horizon) {
@@ -40,16 +32,45 @@ const std::vector<double>& seriesOf(const MethodMetrics& m, const std::string& m
 }
 
 // The in-house integrator and its dt or tolerance that a scene's bounds hold for.
-RunSpec inhouseSettings(const json& run, const std::string& file, const std::string& path) {
-  if (!run.is_object() || !run.contains("integrator") || !run["integrator"].is_string())
-    bad(file, path, "expected {\"integrator\": ..., \"dt\" or \"tolerance\": ...}");
+RunSpec inhouseSettings(const json& run, const std::string& path) {
+  onlyKeys(run, path, {"integrator", "dt", "tolerance"});
   RunSpec s;
-  const std::string name = run["integrator"].get<std::string>();
+  const std::string name = stringAt(requireKey(run, path, "integrator"), jsonPath(path, "integrator"));
   if (!findIntegrator(name, s.integrator) || !info(s.integrator).runs(Engine::InHouse))
-    bad(file, path + ".integrator", "unknown in-house integrator '" + name + "' (" + joined(integratorNames(Engine::InHouse)) + ")");
-  if (s.fixedStep()) s.dt = positive(run.value("dt", json()), file, path + ".dt");
-  else s.tol = positive(run.value("tolerance", json()), file, path + ".tolerance");
+    throw InputError(jsonPath(path, "integrator"),
+                     "unknown in-house integrator '" + printable(name, 40) + "' (" + joined(integratorNames(Engine::InHouse)) + ")");
+  const char* key = s.fixedStep() ? "dt" : "tolerance";
+  const char* other = s.fixedStep() ? "tolerance" : "dt";
+  if (run.contains(other)) throw InputError(jsonPath(path, other), "not read with " + name + " (its setting is " + key + ")");
+  s.setSetting(positiveAt(requireKey(run, path, key), jsonPath(path, key)));
   return s;
+}
+
+// One scene's bounds: {"horizon_s", "inhouse", "methods": {method: {metric: {"value", "reason"}}}}.
+SceneTolerances sceneTolerances(const json& s, const std::string& sp) {
+  onlyKeys(s, sp, {"horizon_s", "inhouse", "methods"});
+  SceneTolerances st;
+  st.horizon_s = positiveAt(requireKey(s, sp, "horizon_s"), jsonPath(sp, "horizon_s"));
+  st.inhouse = inhouseSettings(requireKey(s, sp, "inhouse"), jsonPath(sp, "inhouse"));
+  const std::string msp = jsonPath(sp, "methods");
+  const json& methods = requireKey(s, sp, "methods");
+  if (!methods.is_object()) throw InputError(msp, "expected an object");
+  for (auto& [method, bounds] : methods.items()) {
+    const std::string mp = jsonPath(msp, method);
+    Method id;
+    if (!findMethod(method, id)) throw InputError(mp, "unknown method (" + joined(methodNames()) + ")");
+    if (!bounds.is_object()) throw InputError(mp, "expected an object");
+    for (auto& [metric, b] : bounds.items()) {
+      const std::string bp = jsonPath(mp, metric);
+      if (std::find(std::begin(kMetrics), std::end(kMetrics), metric) == std::end(kMetrics))
+        throw InputError(bp, "unknown metric (max_pose_error_rad, max_position_error_m, energy_error_max)");
+      onlyKeys(b, bp, {"value", "reason"});
+      const std::string reason = b.contains("reason") ? stringAt(b["reason"], jsonPath(bp, "reason")) : "";
+      if (reason.empty()) throw InputError(jsonPath(bp, "reason"), "every bound needs a one-line reason");
+      st.methods[method].push_back({metric, positiveAt(requireKey(b, bp, "value"), jsonPath(bp, "value")), reason});
+    }
+  }
+  return st;
 }
 
 // The run was made with the integrator and the dt or tolerance the bounds were set for.
@@ -60,42 +81,19 @@ bool sameSettings(const RunSpec& ran, const RunSpec& file) {
 }  // namespace
 
 Tolerances loadTolerances(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file + ": cannot open the tolerance file");
-  json doc;
+  const json doc = readJsonFile(file, "tolerance file");  // strict: a duplicate key is an error, not the last one
   try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {
-    bad(file, "(document)", "invalid JSON");
+    onlyKeys(doc, "", {"format", "scenes"});
+    if (stringAt(requireKey(doc, "", "format"), "format") != "eigenmass-tolerances/1")
+      throw InputError("format", "expected \"eigenmass-tolerances/1\"");
+    const json& scenes = requireKey(doc, "", "scenes");
+    if (!scenes.is_object()) throw InputError("scenes", "expected an object");
+    Tolerances t;
+    for (auto& [scene, s] : scenes.items()) t.scenes[scene] = sceneTolerances(s, jsonPath("scenes", scene));
+    return t;
+  } catch (const InputError& e) {
+    throw std::runtime_error(file + ": " + e.what());
   }
-  if (!doc.is_object() || doc.value("format", "") != "eigenmass-tolerances/1")
-    bad(file, "format", "expected \"eigenmass-tolerances/1\"");
-  if (!doc.contains("scenes") || !doc["scenes"].is_object()) bad(file, "scenes", "expected an object");
-  Tolerances t;
-  for (auto& [scene, s] : doc["scenes"].items()) {
-    const std::string sp = "scenes." + scene;
-    if (!s.is_object()) bad(file, sp, "expected an object");
-    SceneTolerances st;
-    st.horizon_s = positive(s.value("horizon_s", json()), file, sp + ".horizon_s");
-    st.inhouse = inhouseSettings(s.value("inhouse", json()), file, sp + ".inhouse");
-    if (!s.contains("methods") || !s["methods"].is_object()) bad(file, sp + ".methods", "expected an object");
-    for (auto& [method, bounds] : s["methods"].items()) {
-      const std::string mp = sp + ".methods." + method;
-      Method id;
-      if (!findMethod(method, id)) bad(file, mp, "unknown method (" + joined(methodNames()) + ")");
-      for (auto& [metric, b] : bounds.items()) {
-        const std::string bp = mp + "." + metric;
-        if (std::find(std::begin(kMetrics), std::end(kMetrics), metric) == std::end(kMetrics))
-          bad(file, bp, "unknown metric (max_pose_error_rad, max_position_error_m, energy_error_max)");
-        if (!b.is_object() || !b.contains("reason") || !b["reason"].is_string() || b["reason"].get<std::string>().empty())
-          bad(file, bp + ".reason", "every bound needs a one-line reason");
-        st.methods[method].push_back({metric, positive(b.value("value", json()), file, bp + ".value"),
-                                      b["reason"].get<std::string>()});
-      }
-    }
-    t.scenes[scene] = st;
-  }
-  return t;
 }
 
 GateResult evaluateGate(const ComparisonResult& r, const Tolerances& tol) {

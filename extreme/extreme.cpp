@@ -50,36 +50,26 @@ namespace {
 // x-extreme: {"runs": ["rk4:1e-3", ...], "reference_tol": 1e-10}; anything else is refused.
 void readExtremeKeys(const json& x, ExtremeCase& c) {
   const std::string at = "x-extreme";
-  if (!x.is_object()) throw InputError(at, "expected an object");
-  for (auto it = x.begin(); it != x.end(); ++it) {
-    const std::string path = jsonPath(at, it.key());
-    if (it.key() == "runs") {
-      if (!it->is_array() || it->empty()) throw InputError(path, "expected a non-empty list of \"integrator:value\"");
-      c.settings.clear();
-      for (size_t i = 0; i < it->size(); ++i) {
-        if (!(*it)[i].is_string()) throw InputError(jsonPath(path, i), "expected a string \"integrator:value\"");
-        try {
-          c.settings.push_back(parseSetting((*it)[i].get<std::string>()));
-        } catch (const std::invalid_argument& e) {
-          throw InputError(jsonPath(path, i), e.what());
-        }
+  onlyKeys(x, at, {"runs", "reference_tol"});
+  if (x.contains("runs")) {
+    const std::string path = jsonPath(at, "runs");
+    const json runs = nonEmptyArrayAt(x["runs"], path);
+    c.settings.clear();
+    for (size_t i = 0; i < runs.size(); ++i) {
+      try {
+        c.settings.push_back(parseSetting(stringAt(runs[i], jsonPath(path, i))));
+      } catch (const std::invalid_argument& e) {
+        throw InputError(jsonPath(path, i), e.what());
       }
-    } else if (it.key() == "reference_tol") {
-      if (!it->is_number() || !(it->get<double>() > 0)) throw InputError(path, "must be a number > 0");
-      c.reference_tol = it->get<double>();
-    } else {
-      throw InputError(path, "unknown key (runs, reference_tol)");
     }
   }
+  if (x.contains("reference_tol")) c.reference_tol = positiveAt(x["reference_tol"], jsonPath(at, "reference_tol"));
 }
 
 void readCaseKeys(const std::string& path, ExtremeCase& c) {
   const json doc = parseJsonStrict(readFile(path, "scene"));
   try {
-    if (doc.contains("x-why")) {
-      if (!doc["x-why"].is_string()) throw InputError("x-why", "expected a string");
-      c.why = doc["x-why"].get<std::string>();
-    }
+    if (doc.contains("x-why")) c.why = stringAt(doc["x-why"], "x-why");
     if (doc.contains("x-extreme")) readExtremeKeys(doc["x-extreme"], c);
   } catch (const InputError& e) {
     throw std::runtime_error(path + ": " + e.what());

@@ -1,5 +1,6 @@
 #include "io/json_input.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -133,5 +134,65 @@ std::string jsonPath(const std::string& path, const std::string& key) {
   return path.empty() ? printable(key) : path + "." + printable(key);
 }
 std::string jsonPath(const std::string& path, size_t index) { return path + "[" + std::to_string(index) + "]"; }
+
+const nlohmann::json& requireKey(const nlohmann::json& obj, const std::string& path, const char* key) {
+  auto it = obj.find(key);
+  if (it == obj.end()) throw InputError(jsonPath(path, key), "missing required key");
+  return *it;
+}
+
+void onlyKeys(const nlohmann::json& obj, const std::string& path, const std::vector<std::string>& known) {
+  if (!obj.is_object()) throw InputError(path.empty() ? "(document)" : path, "expected an object");
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (it.key().rfind("x-", 0) == 0) continue;
+    bool ok = false;
+    for (const std::string& k : known) ok = ok || it.key() == k;
+    if (ok) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError(jsonPath(path, it.key()), "unknown key (" + list + ")");
+  }
+}
+
+std::string describeJson(const nlohmann::json& v) {
+  if (v.is_string()) return "string \"" + printable(v.get<std::string>(), 40) + "\"";
+  if (v.is_array()) return "a list of " + std::to_string(v.size());
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  return v.type_name();
+}
+
+double numberAt(const nlohmann::json& v, const std::string& path) {
+  if (!v.is_number()) throw InputError(path, "expected a number, got " + describeJson(v));
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw InputError(path, "not a finite number");
+  return x;
+}
+
+double positiveAt(const nlohmann::json& v, const std::string& path) {
+  if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
+    throw InputError(path, "must be a finite number > 0");
+  return v.get<double>();
+}
+
+std::string stringAt(const nlohmann::json& v, const std::string& path) {
+  if (!v.is_string()) throw InputError(path, "expected a string, got " + describeJson(v));
+  return v.get<std::string>();
+}
+
+bool boolAt(const nlohmann::json& v, const std::string& path) {
+  if (!v.is_boolean()) throw InputError(path, "expected true or false");
+  return v.get<bool>();
+}
+
+int wholeNumberAt(const nlohmann::json& v, const std::string& path, int lo, int hi, const std::string& why) {
+  if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
+    throw InputError(path, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + " (" + why + ")");
+  return v.get<int>();
+}
+
+nlohmann::json nonEmptyArrayAt(const nlohmann::json& v, const std::string& path) {
+  if (!v.is_array() || v.empty()) throw InputError(path, "expected a non-empty list");
+  return v;
+}
 
 }  // namespace em

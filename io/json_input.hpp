@@ -6,6 +6,7 @@
 /// plans are read through it.
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -42,5 +43,28 @@ constexpr int kMaxJsonDepth = 64;
 /// "path.key" and "path[i]": JSON paths as errors print them (keys printable()).
 std::string jsonPath(const std::string& path, const std::string& key);
 std::string jsonPath(const std::string& path, size_t index);
+
+// Typed getters of every reader (scenes, plans, tolerance files, the gallery's
+// x-extreme): each throws InputError at `path`, in one phrasing for all.
+
+/// The value of `key` in `obj`; else "missing required key".
+const nlohmann::json& requireKey(const nlohmann::json& obj, const std::string& path, const char* key);
+/// `obj` is an object whose keys are all `known` (or start with "x-": notes for
+/// people); else "expected an object" or "unknown key (a, b, ...)".
+void onlyKeys(const nlohmann::json& obj, const std::string& path, const std::vector<std::string>& known);
+/// What a value is, for a message: its type, a short string's text (never a dump).
+std::string describeJson(const nlohmann::json& v);
+/// A finite number; else "expected a number, got ..." or "not a finite number".
+double numberAt(const nlohmann::json& v, const std::string& path);
+/// A finite number > 0; else "must be a finite number > 0".
+double positiveAt(const nlohmann::json& v, const std::string& path);
+/// A string; else "expected a string, got ...".
+std::string stringAt(const nlohmann::json& v, const std::string& path);
+/// true or false; else "expected true or false".
+bool boolAt(const nlohmann::json& v, const std::string& path);
+/// A whole number from lo to hi; else "must be a whole number from lo to hi (why)".
+int wholeNumberAt(const nlohmann::json& v, const std::string& path, int lo, int hi, const std::string& why);
+/// A list with at least one element; else "expected a non-empty list".
+nlohmann::json nonEmptyArrayAt(const nlohmann::json& v, const std::string& path);
 
 }  // namespace em

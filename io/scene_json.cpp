@@ -37,47 +37,10 @@ std::string at(const std::string& path, const std::string& key) { return jsonPat
 std::string at(const std::string& path, size_t i) { return jsonPath(path, i); }
 
 // Every key must be known for its object; "x-" keys are free.
-void checkKeys(const json& obj, const std::string& path, std::initializer_list<const char*> known) {
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    const std::string& k = it.key();
-    if (k.rfind("x-", 0) == 0) continue;
-    bool ok = false;
-    for (const char* kk : known) ok = ok || k == kk;
-    if (!ok) throw Err(at(path, k), "unknown key");
-  }
-}
-
-const json& require(const json& obj, const std::string& path, const char* key) {
-  auto it = obj.find(key);
-  if (it == obj.end()) throw Err(at(path, key), "missing required key");
-  return *it;
-}
-
-// What a value is, for a message: its type, and a short string's text (never
-// a recursive dump: the value may be nested arbitrarily or be megabytes long).
-std::string describe(const json& v) {
-  if (v.is_string()) return "string \"" + printable(v.get<std::string>(), 40) + "\"";
-  if (v.is_array()) return "a list of " + std::to_string(v.size());
-  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  return v.type_name();
-}
-
-double number(const json& v, const std::string& path) {
-  if (!v.is_number()) throw Err(path, "expected a number, got " + describe(v));
-  const double x = v.get<double>();
-  if (!std::isfinite(x)) throw Err(path, "not a finite number");
-  return x;
-}
-
-std::string string(const json& v, const std::string& path) {
-  if (!v.is_string()) throw Err(path, "expected a string, got " + describe(v));
-  return v.get<std::string>();
-}
-
 // Scene, body and joint names end up in file names and CSV headers: letters,
 // digits, '_' and '-', 1 to 64 of them (docs/scene-format.md).
 std::string name(const json& v, const std::string& path) {
-  const std::string n = string(v, path);
+  const std::string n = stringAt(v, path);
   if (n.empty()) throw Err(path, "empty name");
   if (!isSceneName(n))
     throw Err(path, "name \"" + printable(n, 40) + "\" has characters outside letters, digits, '_' and '-' (or is over " +
@@ -102,7 +65,7 @@ Eigen::VectorXd numbers(const json& v, const std::string& path, int min_len, int
                         (max_len != min_len ? " or " + std::to_string(max_len) : "") +
                         (max_len == 1 ? " number" : " numbers") + ", got " + std::to_string(len));
   Eigen::VectorXd x(len);
-  for (int i = 0; i < len; ++i) x[i] = number(v[i], at(path, i));
+  for (int i = 0; i < len; ++i) x[i] = numberAt(v[i], at(path, i));
   return x;
 }
 
@@ -139,7 +102,7 @@ Mat3 inertia(const json& v, const std::string& path) {
 }
 
 JointType jointType(const json& v, const std::string& path) {
-  const std::string t = string(v, path);
+  const std::string t = stringAt(v, path);
   std::string known;
   for (const JointTypeInfo& row : jointTypeTable()) {
     if (t == row.name) return row.type;
@@ -150,7 +113,7 @@ JointType jointType(const json& v, const std::string& path) {
 
 // k or c: one number for every coordinate, or one per coordinate; >= 0.
 Eigen::VectorXd perCoordinate(const json& v, const std::string& path, int nu) {
-  Eigen::VectorXd x = v.is_array() ? numbers(v, path, nu) : Eigen::VectorXd::Constant(nu, number(v, path));
+  Eigen::VectorXd x = v.is_array() ? numbers(v, path, nu) : Eigen::VectorXd::Constant(nu, numberAt(v, path));
   for (int i = 0; i < nu; ++i)
     if (x[i] < 0) throw Err(v.is_array() ? at(path, i) : path, "must be >= 0");
   return x;
@@ -158,7 +121,7 @@ Eigen::VectorXd perCoordinate(const json& v, const std::string& path, int nu) {
 
 Spring spring(const json& v, const std::string& path, int nu) {
   if (!v.is_object()) throw Err(path, "expected an object {k, c, q_rest}");
-  checkKeys(v, path, {"k", "c", "q_rest"});
+  onlyKeys(v, path, {"k", "c", "q_rest"});
   Spring s;
   s.k = v.contains("k") ? perCoordinate(v["k"], at(path, "k"), nu) : Eigen::VectorXd::Zero(nu);
   s.c = v.contains("c") ? perCoordinate(v["c"], at(path, "c"), nu) : Eigen::VectorXd::Zero(nu);
@@ -177,10 +140,10 @@ void readJointAxes(const json& v, const std::string& path, Joint& j) {
   forbid("axis", naxes == 1);
   forbid("axes", naxes == 2);
   forbid("spring", jointQuat(j.type) < 0);
-  if (naxes == 1) j.axis[0] = unitAxis(require(v, path, "axis"), at(path, "axis"));
+  if (naxes == 1) j.axis[0] = unitAxis(requireKey(v, path, "axis"), at(path, "axis"));
   if (naxes == 2) {
     const std::string p = at(path, "axes");
-    const json& a = require(v, path, "axes");
+    const json& a = requireKey(v, path, "axes");
     if (!a.is_array() || a.size() != 2) throw Err(p, "expected two axes");
     j.axis[0] = unitAxis(a[0], at(p, 0));
     j.axis[1] = unitAxis(a[1], at(p, 1));
@@ -191,12 +154,12 @@ void readJointAxes(const json& v, const std::string& path, Joint& j) {
 Joint joint(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   Joint j;
-  j.type = jointType(require(v, path, "type"), at(path, "type"));
-  checkKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
+  j.type = jointType(requireKey(v, path, "type"), at(path, "type"));
+  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
   if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
   readJointAxes(v, path, j);
-  j.in_parent = vec3(require(v, path, "in_parent"), at(path, "in_parent"));
-  j.in_body = vec3(require(v, path, "in_body"), at(path, "in_body"));
+  j.in_parent = vec3(requireKey(v, path, "in_parent"), at(path, "in_parent"));
+  j.in_body = vec3(requireKey(v, path, "in_body"), at(path, "in_body"));
   const int nq = jointNq(j.type), nu = jointNu(j.type), nt = jointNt(j.type), quat = jointQuat(j.type);
   j.q0 = Eigen::VectorXd::Zero(nq);
   if (quat >= 0) j.q0[quat] = 1;
@@ -223,26 +186,26 @@ Joint joint(const json& v, const std::string& path) {
 
 BodySpec body(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
-  checkKeys(v, path, {"name", "parent", "mass", "inertia", "joint"});
+  onlyKeys(v, path, {"name", "parent", "mass", "inertia", "joint"});
   BodySpec b;
-  b.name = name(require(v, path, "name"), at(path, "name"));
-  b.parent = string(require(v, path, "parent"), at(path, "parent"));
-  b.mass = number(require(v, path, "mass"), at(path, "mass"));
+  b.name = name(requireKey(v, path, "name"), at(path, "name"));
+  b.parent = stringAt(requireKey(v, path, "parent"), at(path, "parent"));
+  b.mass = numberAt(requireKey(v, path, "mass"), at(path, "mass"));
   if (!(b.mass > 0)) throw Err(at(path, "mass"), "must be > 0");
   if (!(b.mass >= kMassMin && b.mass <= kMassMax))
     throw Err(at(path, "mass"), gnum(b.mass) + " kg outside [" + gnum(kMassMin) + ", " + gnum(kMassMax) + "]");
-  b.inertia = inertia(require(v, path, "inertia"), at(path, "inertia"));
-  b.joint = joint(require(v, path, "joint"), at(path, "joint"));
+  b.inertia = inertia(requireKey(v, path, "inertia"), at(path, "inertia"));
+  b.joint = joint(requireKey(v, path, "joint"), at(path, "joint"));
   b.extra = extras(v);
   return b;
 }
 
 void simulateDefaults(const json& sim, SceneSpec& s) {
   if (!sim.is_object()) throw Err("simulate", "expected an object");
-  checkKeys(sim, "simulate", {"t_end", "output_dt"});
-  if (sim.contains("t_end")) s.t_end = number(sim["t_end"], "simulate.t_end");
+  onlyKeys(sim, "simulate", {"t_end", "output_dt"});
+  if (sim.contains("t_end")) s.t_end = numberAt(sim["t_end"], "simulate.t_end");
   if (!(s.t_end > 0)) throw Err("simulate.t_end", "must be > 0");
-  if (sim.contains("output_dt")) s.output_dt = number(sim["output_dt"], "simulate.output_dt");
+  if (sim.contains("output_dt")) s.output_dt = numberAt(sim["output_dt"], "simulate.output_dt");
   if (!(s.output_dt > 0)) throw Err("simulate.output_dt", "must be > 0");
   try {
     outputIntervals(s.t_end, s.output_dt);  // the grid rule every run checks, here at load
@@ -255,16 +218,16 @@ SceneSpec spec(const json& doc) {
   if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
   if (doc.contains("format") && doc["format"] == "eigenmass-plan/1")  // before its keys are blamed one by one
     throw Err("format", "a plan, not a scene (eigenmass-plan/1, docs/sweep.md): `sweep PLAN` runs it; this command takes a scene or a URDF");
-  checkKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
-  const std::string fmt = string(require(doc, "", "format"), "format");
+  onlyKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
+  const std::string fmt = stringAt(requireKey(doc, "", "format"), "format");
   if (fmt != "eigenmass-scene/1")
     throw Err("format", "unsupported format '" + printable(fmt, 40) + "' (expected eigenmass-scene/1)");
   SceneSpec s;
-  s.name = name(require(doc, "", "name"), "name");
+  s.name = name(requireKey(doc, "", "name"), "name");
   if (doc.contains("gravity")) s.gravity = vec3(doc["gravity"], "gravity");
   if (!(s.gravity.norm() <= kGravityMax))
     throw Err("gravity", "|g| = " + gnum(s.gravity.norm()) + " m/s^2 beyond " + gnum(kGravityMax) + " (a thousand g)");
-  const json& bodies = require(doc, "", "bodies");
+  const json& bodies = requireKey(doc, "", "bodies");
   if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
   if (bodies.empty()) throw Err("bodies", "empty body list");
   for (size_t i = 0; i < bodies.size(); ++i) s.bodies.push_back(body(bodies[i], at("bodies", i)));

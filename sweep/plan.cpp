@@ -33,33 +33,6 @@ const TableRow kTables[] = {{PlanTable::WorkPrecision, "work-precision"},
                             {PlanTable::Trajectories, "trajectories"},
                             {PlanTable::EngineStudy, "engine-study"}};
 
-double positiveNumber(const json& v, const std::string& path) {
-  if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
-    throw InputError(path, "must be a finite number > 0");
-  return v.get<double>();
-}
-
-std::string stringAt(const json& v, const std::string& path) {
-  if (!v.is_string()) throw InputError(path, "expected a string");
-  return v.get<std::string>();
-}
-
-json arrayAt(const json& v, const std::string& path) {
-  if (!v.is_array() || v.empty()) throw InputError(path, "expected a non-empty list");
-  return v;
-}
-
-// Every key of `obj` is one of `known` (or starts with "x-": notes for people).
-void onlyKeys(const json& obj, const std::string& path, const std::vector<std::string>& known) {
-  if (!obj.is_object()) throw InputError(path.empty() ? "(document)" : path, "expected an object");
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    if (it.key().rfind("x-", 0) == 0 || std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
-    std::string list;
-    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-    throw InputError(jsonPath(path, it.key()), "unknown key (" + list + ")");
-  }
-}
-
 Method methodAt(const json& v, const std::string& path) {
   Method m;
   const std::string name = stringAt(v, path);
@@ -92,7 +65,7 @@ RunSpec runAt(const json& v, const std::string& path) {
   const char* other = s.fixedStep() ? "tolerance" : "dt";
   if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(s.integrator)) + " takes " + key + ", not " + other);
   if (!v.contains(key)) throw InputError(jsonPath(path, key), std::string("missing (") + integratorName(s.integrator) + " takes a " + key + ")");
-  s.setSetting(positiveNumber(v[key], jsonPath(path, key)));
+  s.setSetting(positiveAt(v[key], jsonPath(path, key)));
   return s;
 }
 
@@ -100,7 +73,7 @@ PlanLine lineAt(const json& v, const std::string& path) {
   onlyKeys(v, path, {"methods", "integrator", "dt", "tolerance"});
   PlanLine line;
   const std::string mpath = jsonPath(path, "methods");
-  const json methods = arrayAt(v.contains("methods") ? v["methods"] : json(), mpath);
+  const json methods = nonEmptyArrayAt(v.contains("methods") ? v["methods"] : json(), mpath);
   for (size_t i = 0; i < methods.size(); ++i) line.methods.push_back(methodAt(methods[i], jsonPath(mpath, i)));
   if (!v.contains("integrator")) throw InputError(jsonPath(path, "integrator"), "missing");
   line.integrator = integratorAt(v["integrator"], jsonPath(path, "integrator"));
@@ -115,14 +88,9 @@ PlanLine lineAt(const json& v, const std::string& path) {
   const std::string other = key == "dt" ? "tolerance" : "dt";
   if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(line.integrator)) + " takes " + key);
   const std::string spath = jsonPath(path, key);
-  const json settings = arrayAt(v.contains(key) ? v[key] : json(), spath);
-  for (size_t i = 0; i < settings.size(); ++i) line.settings.push_back(positiveNumber(settings[i], jsonPath(spath, i)));
+  const json settings = nonEmptyArrayAt(v.contains(key) ? v[key] : json(), spath);
+  for (size_t i = 0; i < settings.size(); ++i) line.settings.push_back(positiveAt(settings[i], jsonPath(spath, i)));
   return line;
-}
-
-bool boolAt(const json& v, const std::string& path) {
-  if (!v.is_boolean()) throw InputError(path, "expected true or false");
-  return v.get<bool>();
 }
 
 // A URDF's import options in a scene entry, as the CLI's --balance-inertia, --lock-joint, --floating-base.
@@ -132,7 +100,7 @@ UrdfOptions urdfOptionsAt(const json& v, const std::string& at) {
   if (v.contains("floating_base")) u.floating_base = boolAt(v["floating_base"], jsonPath(at, "floating_base"));
   if (v.contains("lock_joint")) {
     const std::string lpath = jsonPath(at, "lock_joint");
-    const json joints = arrayAt(v["lock_joint"], lpath);
+    const json joints = nonEmptyArrayAt(v["lock_joint"], lpath);
     for (size_t k = 0; k < joints.size(); ++k) u.lock_joints.push_back(stringAt(joints[k], jsonPath(lpath, k)));
   }
   return u;
@@ -168,7 +136,7 @@ PlanScene sceneAt(const json& v, const std::string& at, const fs::path& base) {
 }
 
 std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
-  const json list = arrayAt(v, "scenes");
+  const json list = nonEmptyArrayAt(v, "scenes");
   std::vector<PlanScene> out;
   std::set<std::string> stems;
   const fs::path base = fs::path(plan_file).parent_path();
@@ -240,13 +208,6 @@ std::vector<PlanTable> tablesAt(const json& v) {
   return out;
 }
 
-// A whole number from lo to hi at `key`; `why` ends the error.
-int wholeNumberAt(const json& v, const std::string& key, int lo, int hi, const std::string& why) {
-  if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
-    throw InputError(key, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + " (" + why + ")");
-  return v.get<int>();
-}
-
 // The methods' own options (the registry rows' params) at their keys.
 void readMethodParams(const json& doc, MethodOptions& options) {
   for (const MethodParam& m : methodParams()) {
@@ -256,7 +217,7 @@ void readMethodParams(const json& doc, MethodOptions& options) {
       options.params[m.name] = wholeNumberAt(v, m.name, int(m.min), int(m.max), "a method option");
       continue;
     }
-    const double x = positiveNumber(v, m.name);
+    const double x = positiveAt(v, m.name);
     if (!(x > m.min && x <= m.max))
       throw InputError(m.name, "must be in (" + gnum(m.min) + ", " + gnum(m.max) + "], got " + gnum(x));
     options.params[m.name] = x;
@@ -270,7 +231,7 @@ constexpr double kMaxSigmaQ = 1;
 EnsembleClaim claimAt(const json& v, double t_end) {
   onlyKeys(v, "ensemble.claim", {"t_s", "label"});
   EnsembleClaim c;
-  c.t_s = positiveNumber(v.value("t_s", json()), "ensemble.claim.t_s");
+  c.t_s = positiveAt(v.value("t_s", json()), "ensemble.claim.t_s");
   if (c.t_s > t_end) throw InputError("ensemble.claim.t_s", gnum(c.t_s) + " beyond the plan's t_end " + gnum(t_end));
   c.label = stringAt(v.value("label", json()), "ensemble.claim.label");
   if (c.label.empty() || c.label.size() > 80 ||
@@ -328,8 +289,8 @@ void readPlanKeys(const json& doc, Plan& p) {
     throw InputError("description", "a control character (newline, escape): it is printed in the tables as one line");
   p.scenes = scenesAt(doc.value("scenes", json()), p.file);
   if (doc.contains("plugins")) pluginsAt(doc["plugins"], p.file, p.scenes);  // before the lines that name them
-  p.t_end = positiveNumber(doc.value("t_end", json()), "t_end");
-  if (doc.contains("output_dt")) p.output_dt = positiveNumber(doc["output_dt"], "output_dt");
+  p.t_end = positiveAt(doc.value("t_end", json()), "t_end");
+  if (doc.contains("output_dt")) p.output_dt = positiveAt(doc["output_dt"], "output_dt");
   if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"], p.t_end);
   // An ensemble reads divergence, not timing: it may run each case once.
   if (doc.contains("repeats"))
@@ -340,14 +301,14 @@ void readPlanKeys(const json& doc, Plan& p) {
     if (!p.reference) throw InputError("reference_check", "needs a reference to check");
     p.reference_check = runAt(doc["reference_check"], "reference_check");
   }
-  const json lines = arrayAt(doc.value("lines", json()), "lines");
+  const json lines = nonEmptyArrayAt(doc.value("lines", json()), "lines");
   for (size_t i = 0; i < lines.size(); ++i) p.lines.push_back(lineAt(lines[i], jsonPath("lines", i)));
   if (doc.contains("runs")) p.runs = runsAt(doc["runs"], p);  // after the lines: no line may name the recorded scheme
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
   for (PlanTable t : {PlanTable::WorkPrecision, PlanTable::EngineStudy})
     if (p.hasTable(t) && !p.reference) throw InputError("tables", std::string(planTableName(t)) + " needs a reference");
-  if (doc.contains("max_steps")) p.options.max_steps = positiveNumber(doc["max_steps"], "max_steps");
-  if (doc.contains("max_samples")) p.options.max_samples = positiveNumber(doc["max_samples"], "max_samples");
+  if (doc.contains("max_steps")) p.options.max_steps = positiveAt(doc["max_steps"], "max_steps");
+  if (doc.contains("max_samples")) p.options.max_samples = positiveAt(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);
 }
 

@@ -25,7 +25,8 @@ json tolerances(double pose_bound, const std::string& integrator = "rk4") {
           {"scenes",
            {{"synthetic",
              {{"horizon_s", 2.0},
-              {"inhouse", {{"integrator", integrator}, {"dt", 1e-3}, {"tolerance", 1e-10}}},
+              {"inhouse", integrator == "rk4" ? json{{"integrator", integrator}, {"dt", 1e-3}}
+                                              : json{{"integrator", integrator}, {"tolerance", 1e-10}}},
               {"methods",
                {{"classical", {{"max_pose_error_rad", {{"value", pose_bound}, {"reason", "test bound"}}}}},
                 {"eigen-jacobi-orth", {{"energy_error_max", {{"value", 1.0}, {"reason", "skipped"}}}}}}}}}}}};
@@ -91,4 +92,14 @@ TEST_CASE("a malformed tolerance file names the file and the key", "[gate]") {
   CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad3.json", j)), Catch::Contains("methods.newton: unknown method"));
   CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad4.json", tolerances(1, "rkmerson"))),
                     Catch::Contains("synthetic.inhouse.integrator: unknown in-house integrator 'rkmerson'"));
+  // A setting the integrator does not read, a duplicate key (the file is read strictly), a key of nobody's.
+  j = tolerances(1);
+  j["scenes"]["synthetic"]["inhouse"]["tolerance"] = 1e-10;
+  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad5.json", j)), Catch::Contains("synthetic.inhouse.tolerance: not read with rk4"));
+  const std::string dup = std::string(EM_BINARY_DIR) + "/tol_bad6.json";
+  std::ofstream(dup) << R"({"format": "eigenmass-tolerances/1", "format": "eigenmass-tolerances/1", "scenes": {}})";
+  CHECK_THROWS_WITH(loadTolerances(dup), Catch::Contains("tol_bad6.json") && Catch::Contains("format") && Catch::Contains("duplicate"));
+  j = tolerances(1);
+  j["scenes"]["synthetic"]["horizon"] = 2;
+  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad7.json", j)), Catch::Contains("scenes.synthetic.horizon: unknown key (horizon_s, inhouse, methods)"));
 }

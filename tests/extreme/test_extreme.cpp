@@ -136,7 +136,7 @@ TEST_CASE("x-extreme is validated, naming the file and the key", "[extreme]") {
   };
   CHECK_THAT(errorOf("{\"runs\": [\"rk4:1e-3\", \"rk4:0\"]}"), Catch::Contains("case.json: x-extreme.runs[1]: 'rk4:0'"));
   CHECK_THAT(errorOf("{\"runs\": []}"), Catch::Contains("case.json: x-extreme.runs: expected a non-empty list"));
-  CHECK_THAT(errorOf("{\"reference_tol\": -1}"), Catch::Contains("case.json: x-extreme.reference_tol: must be a number > 0"));
+  CHECK_THAT(errorOf("{\"reference_tol\": -1}"), Catch::Contains("case.json: x-extreme.reference_tol: must be a finite number > 0"));
   CHECK_THAT(errorOf("{\"run\": [\"rk4:1e-3\"]}"), Catch::Contains("case.json: x-extreme.run: unknown key"));
   const ExtremeCase ok = loadExtremeCase(gallery("stiff_springs"));
   REQUIRE(ok.settings.size() == 3);
