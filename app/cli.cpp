@@ -229,7 +229,7 @@ void addSceneArg(CLI::App* cmd, SceneArg& s) {
                 "URDF: set principal moments that violate the triangle inequality to their mean (MuJoCo's balanceinertia), "
                 "noted in the outputs; refused otherwise");
   cmd->add_flag("--floating-base", s.urdf.floating_base,
-                "URDF: free the root link: it moves on a free joint named floating_base (6 speeds) instead of being "
+                "URDF: free the root link: it moves on a free joint named floating_base (floating_base_2, ... where the URDF has that name; 6 speeds) instead of being "
                 "held by the ground");
   cmd->add_option("--lock-joint", s.urdf.lock_joints,
                   "URDF: hold this joint at zero, merged like a fixed joint (repeatable or comma-separated)")

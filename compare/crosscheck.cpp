@@ -30,7 +30,7 @@ std::unique_ptr<EngineModel> engineModel(const EngineRow& row, const Scene& scen
                                          std::vector<std::string>& notes) {
   if (scene.source.format != "urdf" || !row.urdf) return row.model(scene.model);
   const UrdfSource source{readFile(scene.source.file, "URDF file"), scene.source_joints, urdf.lock_joints,
-                          urdf.balance_inertia, urdf.floating_base ? kFloatingBaseJoint : ""};
+                          urdf.balance_inertia, urdf.floating_base ? scene.source_joints.front() : ""};  // the free root's joint comes first (io/urdf.cpp)
   try {
     return row.urdf(scene.model, source);
   } catch (const std::runtime_error& e) {

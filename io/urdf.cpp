@@ -283,6 +283,23 @@ BodySpec linkBody(const std::string& link, const std::string& parent, const std:
   return b;
 }
 
+// The free root's joint name: floating_base, or floating_base_2, _3, ... where the URDF
+// names a joint so (Unitree's A1 has a fixed joint 'floating_base' between base and trunk).
+std::string floatingJointName(const urdf::ModelInterface& u) {
+  std::string name = kFloatingBaseJoint;
+  for (int k = 2; u.getJoint(name); ++k) name = std::string(kFloatingBaseJoint) + "_" + std::to_string(k);
+  return name;
+}
+
+// --floating-base on a root that already holds its base by a URDF floating joint (a massless
+// 'world' above the robot, as Unitree's AS2): the base floats without the option.
+void refuseFloatingTwice(const urdf::Link& root) {
+  for (const urdf::JointSharedPtr& j : root.child_joints)
+    if (j->type == urdf::Joint::FLOATING && !root.inertial)
+      throw Err("--floating-base", linkAt(root.name) + " (no mass) holds " + linkAt(j->child_link_name) + " by the floating " +
+                                      jointAt(j->name) + " already: import without --floating-base, and that link floats");
+}
+
 void setFree(Joint& j) {
   j.type = JointType::Free;
   j.q0 = Eigen::VectorXd::Zero(7);
@@ -339,19 +356,19 @@ UrdfScene importUrdf(const std::string& text, const std::string& source, const U
     if (!j || w.carrier.at(j->child_link_name) != j->child_link_name) continue;  // merged
     s.joint_names.push_back(name);
   }
+  if (opt.floating_base) refuseFloatingTwice(*u->getRoot());  // before the root's mass is asked for
   // A body's joint point is placed from its parent's CM: every moving link's mass first.
   std::map<std::string, MassPart> mass;
   for (const auto& [link, carrier] : w.carrier)
     if (!carrier.empty() && carrier == link) mass.emplace(link, bodyMass(w, link));
   for (const std::string& name : s.joint_names) s.spec.bodies.push_back(body(*u->getJoint(name), w, mass));
   if (opt.floating_base) {  // the root link first, on its free joint at its frame's origin
-    const std::string root = u->getRoot()->name;
-    if (u->getJoint(kFloatingBaseJoint))
-      throw Err("--floating-base", "the URDF already has a joint named '" + std::string(kFloatingBaseJoint) + "'");
-    s.spec.bodies.insert(s.spec.bodies.begin(), linkBody(root, "", kFloatingBaseJoint, w, mass));
+    const std::string root = u->getRoot()->name, joint = floatingJointName(*u);
+    s.spec.bodies.insert(s.spec.bodies.begin(), linkBody(root, "", joint, w, mass));
     setFree(s.spec.bodies.front().joint);
-    s.joint_names.insert(s.joint_names.begin(), kFloatingBaseJoint);
-    s.notes.push_back(linkAt(root) + ": moves on a free joint '" + kFloatingBaseJoint + "' (--floating-base)");
+    s.joint_names.insert(s.joint_names.begin(), joint);
+    s.notes.push_back(linkAt(root) + ": moves on a free joint '" + joint + "' (--floating-base" +
+                      (joint == kFloatingBaseJoint ? "" : std::string("; the URDF has a joint named '") + kFloatingBaseJoint + "'") + ")");
   }
   if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute, continuous, prismatic or floating joint: nothing moves");
   requireDistinct(s.spec.bodies, s.joint_names);

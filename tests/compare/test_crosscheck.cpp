@@ -86,6 +86,20 @@ TEST_CASE("freed by --floating-base, published robots agree with MuJoCo's readin
   }
 }
 
+TEST_CASE("a freed root gets a joint name apart from the URDF's, and a base that floats already is refused (floating-base)", "[crosscheck][urdf]") {
+  // Unitree's A1 names a fixed joint floating_base: ours becomes floating_base_2, and MuJoCo's reading finds it.
+  UrdfOptions opt;
+  opt.floating_base = true;
+  const Scene scene = loadScene(test::sourcePath("tests/robots/named_floating_base.urdf"), opt);
+  REQUIRE(scene.model.bodies[0].joint.type == JointType::Free);
+  CHECK(scene.model.bodies[0].joint.name == "floating_base_2");
+  checkRows("named_floating_base.urdf", crossCheck(scene, opt, 20, 7), 20);
+  // A massless root holding the base by a floating joint (Unitree's AS2): one line that says what to do.
+  CHECK_THROWS_WITH(loadScene(test::sourcePath("tests/robots/floating_hub.urdf"), opt),
+                    Catch::Contains("--floating-base: link 'space' (no mass) holds link 'hub' by the floating joint 'float' "
+                                    "already: import without --floating-base"));
+}
+
 TEST_CASE("URDF prismatic and floating joints agree with MuJoCo's own reading", "[crosscheck][urdf][sliding]") {
   // tests/robots: a rail and a telescope with turned frames; a floating joint
   // whose frame is turned (MuJoCo's rest orientation composes with ours).
