@@ -101,7 +101,7 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
     const MethodMetrics& m = p.metrics;
     points.push_back({{"method", m.name()},
                       {"integrator", integratorName(m.run.integrator)},
-                      {m.run.fixedStep() ? "step" : "tolerance", m.run.setting()},
+                      {m.run.fixedStep() ? "dt" : "tolerance", m.run.setting()},
                       {"status", m.status},
                       {"failure", failureJson(m)},
                       {"max_pose_error_rad", finiteOrNull(m.pose.value)},

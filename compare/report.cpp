@@ -82,7 +82,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"energy_error_final", finiteOrNull(m.energy_error_final)},
             {"dissipated_final_J", finiteOrNull(m.dissipated_final)},
             {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
-  if (m.run.fixedStep()) j["step"] = m.run.dt;
+  if (m.run.fixedStep()) j["dt"] = m.run.dt;  // the key runSpec() and every other report part use
   else j["tolerance"] = m.run.tol;
   if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
     j["source"] = from;

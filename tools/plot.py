@@ -125,7 +125,8 @@ def method_label(m):
     extra = m["outcome"] if m["outcome"] != "ok" else ""
     if m["failure"]:
         extra = "failed at %g s: %s" % (m["failure"]["t"], m["failure"]["kind"])
-    setting = "dt %g" % m["step"] if "step" in m else "tol %g" % m["tolerance"]
+    dt = m.get("dt", m.get("step"))  # "step" in reports before one vocabulary
+    setting = "dt %g" % dt if dt is not None else "tol %g" % m["tolerance"]
     return "%s %s %s%s" % (m["name"], m["integrator"], setting, " (%s)" % extra if extra else "")
 
 
@@ -492,7 +493,7 @@ def precision_figures(prec, out):
     for p in prec["points"]:
         lines.setdefault((p["method"], p["integrator"]), []).append(p)
     for (method, integ), pts in lines.items():
-        setting = [p.get("step", p.get("tolerance")) for p in pts]
+        setting = [p.get("dt", p.get("step", p.get("tolerance"))) for p in pts]  # "step": older files
         err = [max(num(p["max_pose_error_rad"]), FLOOR) for p in pts]
         cpu = [num(p["run_time_s"]) for p in pts]
         ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]

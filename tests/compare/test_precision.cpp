@@ -26,7 +26,7 @@ TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles"
   }
   const auto j = precisionJson(r);
   CHECK(j["format"] == "eigenmass-precision/1");
-  CHECK(j["points"][1]["step"] == 5e-3);
+  CHECK(j["points"][1]["dt"] == 5e-3);
   CHECK(precisionTable(r).find("eigen-jacobi") != std::string::npos);
 }
 

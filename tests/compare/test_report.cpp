@@ -46,7 +46,7 @@ TEST_CASE("the report has the documented top level and method fields", "[report]
                         "max_pose_error_rad", "max_position_error_m", "divergence_time_s", "energy_error_max",
                         "energy_error_final", "diagnostics"})
     CHECK(c.contains(k));
-  CHECK(c["step"] == 1e-3);
+  CHECK(c["dt"] == 1e-3);
   CHECK(c["divergence_time_s"]["1e-3"].is_null());
   CHECK(c["max_pose_error_rad"].get<double>() == Approx(1e-4).epsilon(1e-9));
 }
