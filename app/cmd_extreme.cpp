@@ -76,7 +76,7 @@ void printCase(const ExtremeCaseResult& c) {
                   e.outcome.c_str(),
                   e.failure_kind == Failure::None
                       ? ""
-                      : (std::string(failureName(e.failure_kind)) + " at " + gnum(e.failure_time.value_or(0)) + " s").c_str());
+                      : (std::string(failureName(e.failure_kind)) + " at " + gnum(e.failure_time) + " s").c_str());
 }
 
 int checkAgainst(const std::vector<ExtremeCaseResult>& results, const nlohmann::json& expected, const std::string& file) {

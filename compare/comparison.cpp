@@ -235,7 +235,7 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
     const MethodMetrics& m = *r.second_engine_metrics;
     o << "second engine: " << r.second_engine->method() << "/" << r.second_engine->integrator() << " dt "
       << gnum(r.second_engine->run.dt) << " against the reference: max pose "
-      << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time.value_or(0)) + " s)" : "")
+      << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time) + " s)" : "")
       << ", the two independent engines' distance: errors below it are not resolved\n";
   } else if (!r.second_engine_skipped.empty()) {
     o << "second engine: not run (" << r.second_engine_skipped << ")\n";
@@ -276,8 +276,8 @@ std::string summaryTable(const ComparisonResult& r) {
     }
   }
   for (const MethodMetrics& m : r.metrics)
-    if (m.status != "ok")
-      o << m.name() << " failed at t = " << gnum(m.failure_time.value_or(0)) << " s: " << m.failure << "\n";
+    if (m.failed())
+      o << m.name() << " failed at t = " << gnum(m.failure_time) << " s: " << m.failure << "\n";
   o << "outcome: ok; wrong = completed but beyond " << gnum(kWrongRad)
     << " rad of the reference before the reference horizon (only the comparison shows it); failed = stopped.\n";
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"

@@ -117,8 +117,8 @@ GateResult evaluateGate(const ComparisonResult& r, const Tolerances& tol) {
         c.note = std::string("run with other in-house integrator settings than the tolerance file's (") +
                  integratorName(st.inhouse.integrator) + (st.inhouse.fixedStep() ? " dt " : " tol ") +
                  gnum(st.inhouse.setting()) + ")";
-      else if (m->status != "ok" && m->failure_time && *m->failure_time <= st.horizon_s)
-        c.note = "method failed at t = " + gnum(*m->failure_time) + " s: " + m->failure;
+      else if (m->failed() && m->failure_time <= st.horizon_s)
+        c.note = "method failed at t = " + gnum(m->failure_time) + " s: " + m->failure;
       else if (!covers)
         c.note = "run shorter than the horizon";
       c.passed = c.note.empty() && c.value <= c.bound;

@@ -78,16 +78,8 @@ std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const
 MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale) {
   MethodMetrics m;
+  static_cast<RunEnd&>(m) = run;  // how it ended and its cost, whole
   m.run = run.run;
-  m.status = run.status();
-  m.failure = run.failure;
-  m.failure_kind = run.failure_kind;
-  m.failure_cond_A = run.failure_cond_A;
-  if (run.failed()) m.failure_time = run.failure_time;
-  m.run_time_s = run.run_time_s;
-  m.steps = run.steps;
-  m.rhs_evals = run.rhs_evals;
-  m.step_retries = run.step_retries;
   m.max_joint_separation = run.max_joint_separation;
   m.series = errorSeries(run, ref, energy_scale);
   const ErrorSeries& s = m.series;
@@ -122,7 +114,7 @@ MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std
 }
 
 std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) {
-  if (m.status != "ok") return "failed";
+  if (m.failed()) return "failed";
   const ErrorSeries& s = m.series;
   for (size_t k = 0; k < s.t.size() && (!horizon || s.t[k] < *horizon); ++k)
     if (!(s.pose_rad[k] <= kWrongRad)) return "wrong";  // NaN counts as beyond

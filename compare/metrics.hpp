@@ -32,16 +32,9 @@ struct Peak {
 /// inside the reference horizon is `wrong` (outcomeOf).
 constexpr double kWrongRad = 0.1;
 
-struct MethodMetrics {
+struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajectory's, assigned whole
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
-  std::string status, failure;
-  Failure failure_kind = Failure::None;
-  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();  ///< cond(A) where it stopped (in-house)
   std::string outcome;  ///< "ok", "wrong" or "failed" (outcomeOf)
-  std::optional<double> failure_time;
-  double run_time_s = 0;
-  long steps = 0, rhs_evals = 0;
-  long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
   double max_joint_separation = std::numeric_limits<double>::quiet_NaN();  ///< m; maximal-coordinate engines (ODE)
   Peak pose, position, coord, energy;
   bool coords_shared = false;

@@ -64,7 +64,7 @@ json outsideSource(Method method) {
 json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   json j = {{"name", m.name()},
             {"integrator", integratorName(m.run.integrator)},
-            {"status", m.status},
+            {"status", m.status()},
             {"outcome", m.outcome},
             {"failure", failureJson(m)},
             {"run_time_s", m.run_time_s},
@@ -274,8 +274,8 @@ json failureJson(const std::optional<double>& t, Failure kind, const std::string
 }
 
 json failureJson(const MethodMetrics& m) {
-  if (m.status == "ok") return nullptr;
-  return failureJson(m.failure_time, m.failure_kind, m.failure, m.failure_cond_A);
+  if (!m.failed()) return nullptr;
+  return failureJson(m.failedAt(), m.failure_kind, m.failure, m.failure_cond_A);
 }
 
 }  // namespace em

@@ -107,22 +107,15 @@ void firstDrift(const Trajectory& tr, ExtremeEntry& e) {
 
 ExtremeEntry entryOf(const MethodMetrics& m, const Trajectory& tr, const std::vector<double>& thresholds) {
   ExtremeEntry e;
+  static_cast<RunEnd&>(e) = m;  // how it ended and its cost, whole
   e.method = m.name();
   e.outcome = m.outcome;
-  e.failure_kind = m.failure_kind;
-  e.failure_time = m.failure_time;
-  e.failure = m.failure;
-  e.failure_cond_A = m.failure_cond_A;
   for (size_t i = 0; i < thresholds.size(); ++i) {
     if (thresholds[i] == kDivergedRad) e.diverged_at = m.divergence_time_s[i];
     if (thresholds[i] == kWrongRad) e.wrong_at = m.divergence_time_s[i];
   }
   e.max_pose = m.pose.value;
   e.max_energy = m.energy.value;
-  e.run_time_s = m.run_time_s;
-  e.steps = m.steps;
-  e.rhs_evals = m.rhs_evals;
-  e.step_retries = m.step_retries;
   e.eigenfactor = info(m.run.method).eigenfactor;
   e.eigen = tr.eigen;
   if (e.eigenfactor) firstDrift(tr, e);

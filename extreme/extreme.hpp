@@ -43,16 +43,11 @@ ExtremeCase loadExtremeCase(const std::string& path, const UrdfOptions& urdf = {
 constexpr double kDivergedRad = 1e-3;
 
 /// What one method did in one case under one setting.
-struct ExtremeEntry {
+struct ExtremeEntry : RunEnd {  ///< how the run ended and its cost: its metrics', assigned whole
   std::string method, outcome;
-  Failure failure_kind = Failure::None;
-  std::optional<double> failure_time;
-  std::string failure;
-  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();  ///< cond(A) where an in-house run stopped
   std::optional<double> diverged_at;   ///< first time beyond kDivergedRad (pose)
   std::optional<double> wrong_at;      ///< first time beyond kWrongRad (pose)
-  double max_pose = 0, max_energy = 0, run_time_s = 0;
-  long steps = 0, rhs_evals = 0, step_retries = 0;
+  double max_pose = 0, max_energy = 0;
   bool eigenfactor = false;
   EigenStats eigen;
   std::string first_drift;             ///< first drift diagnostic above kDriftBound ("" if none)

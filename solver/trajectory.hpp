@@ -3,6 +3,7 @@
 /// reference: samples on an output grid, in the source's order, with the
 /// RunSpec that made it. appendSample is the one sampler of both engines.
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,29 @@ struct EigenStats {
   long block_merges = 0, block_splits = 0;  ///< eigen-block: clusters joined and broken up
 };
 
+/// How a run ended and what it cost: one struct that a trajectory, its
+/// metrics (compare/metrics.hpp) and the gallery's entry (extreme/) share,
+/// assigned whole instead of copied field by field.
+struct RunEnd {
+  std::string failure;                     ///< cause when failed
+  Failure failure_kind = Failure::None;    ///< its kind (registry's failure table)
+  double failure_time = 0;                 ///< s; meaningful when failed()
+  /// cond(A) = max/min eigenvalue of A at the state where the run stopped
+  /// (in-house methods; NaN when it completed or for another engine).
+  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();
+  double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
+  long steps = 0, rhs_evals = 0;
+  long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
+
+  bool failed() const { return failure_kind != Failure::None; }
+  /// "ok" or "failed", as every output writes it.
+  std::string status() const { return failed() ? "failed" : "ok"; }
+  /// The failure time, or nothing for a run that completed.
+  std::optional<double> failedAt() const { return failed() ? std::optional<double>(failure_time) : std::nullopt; }
+};
+
 /// A sampled run. Coordinates, speeds and bodies in the source's order.
-struct Trajectory {
+struct Trajectory : RunEnd {
   std::string scene;
   RunSpec run;                             ///< what made it
   std::vector<std::string> q_names, u_names, body_names;
@@ -51,26 +73,14 @@ struct Trajectory {
   std::vector<double> dissipated;          ///< W_diss per sample (0 without dampers)
   std::vector<std::vector<Pose>> poses;    ///< per sample, per body
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
-  // Run summary.
-  std::string failure;                     ///< cause when failed
-  Failure failure_kind = Failure::None;    ///< its kind (registry's failure table)
-  double failure_time = 0;
-  /// cond(A) = max/min eigenvalue of A at the state where the run stopped
-  /// (in-house methods; NaN when it completed or for another engine).
-  double failure_cond_A = std::numeric_limits<double>::quiet_NaN();
+  // Run summary: how it ended and its cost are RunEnd's.
   /// The largest distance (m) between a joint's two points over the steps:
   /// a maximal-coordinate engine's constraint violation (ODE); NaN otherwise.
   double max_joint_separation = std::numeric_limits<double>::quiet_NaN();
-  double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   double sample_time_s = 0;                ///< CPU time spent recording samples
-  long steps = 0, rhs_evals = 0;
-  long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
   EigenStats eigen;  ///< eigenfactor methods only
 
   size_t size() const { return t.size(); }
-  bool failed() const { return failure_kind != Failure::None; }
-  /// "ok" or "failed", as every output writes it.
-  std::string status() const { return failed() ? "failed" : "ok"; }
   std::string method() const { return methodName(run.method); }
   std::string integrator() const { return integratorName(run.integrator); }
 };
