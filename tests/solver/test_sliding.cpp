@@ -26,6 +26,23 @@ Workspace formAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd
   return ws;
 }
 
+// A and B of `m` against a closed form at 20 random states (seed `seed`): `closed`
+// gives (A, B) at (q, u); `seen` is called with each state's workspace.
+template <class Closed, class Seen>
+void checkAgainstClosedForm(const Model& m, unsigned seed, Closed closed, Seen seen) {
+  std::mt19937 rng(seed);
+  Eigen::VectorXd q, u;
+  for (int k = 0; k < 20; ++k) {
+    randomState(m, rng, q, u);
+    const auto [A, B] = closed(q, u);
+    const Workspace ws = formAt(m, q, u);
+    INFO("state " << k);
+    CHECK(test::relErr(ws.A, A) <= kClosedForm);
+    CHECK(test::relErr(ws.B, B) <= kClosedForm);
+    seen(ws, B);
+  }
+}
+
 BodySpec body(const std::string& name, const std::string& parent, double mass, const Mat3& J, JointType type) {
   BodySpec b;
   b.name = name;
@@ -102,20 +119,15 @@ TEST_CASE("a bead sliding on a turning rod: Coriolis and centripetal terms in cl
   bead.joint.axis[0] = Vec3::UnitX();
   s.bodies = {rod, bead};
   const Model m = buildModel(s);
-  std::mt19937 rng(12);
-  Eigen::VectorXd q, u;
   double coriolis = 0;
-  for (int k = 0; k < 20; ++k) {
-    randomState(m, rng, q, u);
-    const double rho = a + q[1], thd = u[0], rd = u[1];
-    const Eigen::Matrix2d A = Eigen::Vector2d(Iz + m_r * a * a + mb * rho * rho + Jz, mb).asDiagonal();
-    const Eigen::Vector2d B(-2 * mb * rho * rd * thd, mb * rho * thd * thd);
-    const Workspace ws = formAt(m, q, u);
-    INFO("state " << k);
-    CHECK(test::relErr(ws.A, A) <= kClosedForm);
-    CHECK(test::relErr(ws.B, B) <= kClosedForm);
-    coriolis = std::max(coriolis, std::abs(B[0]));
-  }
+  checkAgainstClosedForm(
+      m, 12,
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+        const double rho = a + q[1], thd = u[0], rd = u[1];
+        const Eigen::Matrix2d A = Eigen::Vector2d(Iz + m_r * a * a + mb * rho * rho + Jz, mb).asDiagonal();
+        return std::pair<Eigen::MatrixXd, Eigen::VectorXd>{A, Eigen::Vector2d(-2 * mb * rho * rd * thd, mb * rho * thd * thd)};
+      },
+      [&](const Workspace&, const Eigen::VectorXd& B) { coriolis = std::max(coriolis, std::abs(B[0])); });
   CHECK(coriolis > 0.1);  // not vacuous: the Coriolis term is there
 }
 
@@ -139,22 +151,18 @@ TEST_CASE("a telescoping rod on a turntable: the slide's joint force tau in clos
   slider.joint.axis[0] = Vec3::UnitZ();
   sc.bodies = {yoke, rod, slider};
   const Model m = buildModel(sc);
-  std::mt19937 rng(41);
-  Eigen::VectorXd q, u;
   double tau = 0;
-  for (int k = 0; k < 20; ++k) {
-    randomState(m, rng, q, u);
-    const double th = q[1], r = q[2], ps_d = u[0], th_d = u[1], r_d = u[2], sn = std::sin(th), co = std::cos(th);
-    const Eigen::Vector3d A(c + I + j + m_s * r * r * sn * sn, I + j + m_s * r * r, m_s);
-    const Eigen::Vector3d B(-(2 * m_s * r * r_d * sn * sn + 2 * m_s * r * r * sn * co * th_d) * ps_d,
-                            -2 * m_s * r * r_d * th_d + m_s * r * r * ps_d * ps_d * sn * co + m_s * g * r * sn,
-                            m_s * r * (th_d * th_d + ps_d * ps_d * sn * sn) - m_s * g * co);
-    const Workspace ws = formAt(m, q, u);
-    INFO("state " << k);
-    CHECK(test::relErr(ws.A, Eigen::Matrix3d(A.asDiagonal())) <= kClosedForm);
-    CHECK(test::relErr(ws.B, B) <= kClosedForm);
-    tau = std::max(tau, ws.tau[m.file_to_internal[2]].norm());
-  }
+  checkAgainstClosedForm(
+      m, 41,
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+        const double th = q[1], r = q[2], ps_d = u[0], th_d = u[1], r_d = u[2], sn = std::sin(th), co = std::cos(th);
+        const Eigen::Vector3d A(c + I + j + m_s * r * r * sn * sn, I + j + m_s * r * r, m_s);
+        const Eigen::Vector3d B(-(2 * m_s * r * r_d * sn * sn + 2 * m_s * r * r * sn * co * th_d) * ps_d,
+                                -2 * m_s * r * r_d * th_d + m_s * r * r * ps_d * ps_d * sn * co + m_s * g * r * sn,
+                                m_s * r * (th_d * th_d + ps_d * ps_d * sn * sn) - m_s * g * co);
+        return std::pair<Eigen::MatrixXd, Eigen::VectorXd>{Eigen::Matrix3d(A.asDiagonal()), B};
+      },
+      [&](const Workspace& ws, const Eigen::VectorXd&) { tau = std::max(tau, ws.tau[m.file_to_internal[2]].norm()); });
   CHECK(tau > 0.1);  // not vacuous: the slide's joint point has a velocity-product acceleration
 }
 
