@@ -23,6 +23,7 @@
 #include "io/shipped.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
+#include "io/scene_json.hpp"
 
 namespace em::cli {
 
@@ -74,6 +75,15 @@ std::string formatOf(const nlohmann::json& j) {
   return j.is_object() && j.contains("format") && j["format"].is_string() ? j["format"].get<std::string>() : "";
 }
 
+// A name read from the input that will name figure files (a report's scene,
+// a sweep's plan): refused unless it is a name a scene may have, so that no
+// figure can be written outside --out (tools/plot.py checks every name it reads too).
+void requireFigureName(const nlohmann::json& v, const std::string& where) {
+  if (!v.is_string() || !isSceneName(v.get<std::string>()))
+    throw std::runtime_error(where + " is " + printable(v.dump(), 60) + ": a name read from a file must be letters, "
+                             "digits, '_' and '-' (1 to 64), since it names the figures; nothing drawn");
+}
+
 // The first sweep case file of a results folder names its plan; the merged CSV must be there.
 void checkResults(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -85,6 +95,7 @@ void checkResults(const std::string& dir) {
       continue;
     }
     if (formatOf(j) != "eigenmass-sweep-case/1" || !j.contains("plan")) continue;
+    requireFigureName(j["plan"], e.path().string() + ": key plan");
     const std::string plan = j["plan"].get<std::string>();
     if (!fs::exists(fs::path(dir) / (plan + ".csv")))
       throw std::runtime_error(dir + ": no merged " + plan + ".csv (run `eigenmass sweep PLAN --merge " + dir + "` first)");
@@ -120,10 +131,17 @@ std::string kindOf(PlotArgs& a) {
   }
   const nlohmann::json j = readJsonFile(a.input, "report");
   const std::string format = formatOf(j);
-  if (format == "eigenmass-report/1" && j.contains("series")) return "report";
+  if (format == "eigenmass-report/1" && j.contains("series")) {
+    requireFigureName(j.contains("scene") && j["scene"].is_object() ? j["scene"].value("name", nlohmann::json()) : nlohmann::json(),
+                      a.input + ": key scene.name");
+    return "report";
+  }
   if (format == "eigenmass-report/1") throw std::runtime_error(a.input + ": key 'series' not found (a report without its series)");
   if (format == "eigenmass-extreme/1" && j.contains("cases")) return "extreme";
-  if (format == "eigenmass-precision/1" && j.contains("points")) return "precision";
+  if (format == "eigenmass-precision/1" && j.contains("points")) {
+    requireFigureName(j.value("scene", nlohmann::json()), a.input + ": key scene");
+    return "precision";
+  }
   if (format == "eigenmass-trajectory-meta/1") {  // the sidecar given: draw its CSV
     a.input = a.input.substr(0, a.input.size() - std::string(".json").size());
     checkTrajectory(a.input);

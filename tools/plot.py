@@ -28,7 +28,7 @@ each file written, one per line. An input of the right format but not of its
 shape exits 2 with its one-line reason in OUT/error.txt. Needs Debian's
 python3-matplotlib.
 """
-import argparse, csv, glob, json, math, os, shutil, signal, sys
+import argparse, csv, glob, json, math, os, re, shutil, signal, sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -73,8 +73,25 @@ def positive(values):
     return [max(num(v), FLOOR) if not math.isnan(num(v)) else math.nan for v in values]
 
 
+# What a name read from a file may be before it becomes part of a figure's
+# file name: what scene names may be (io/scene_json.hpp's isSceneName).
+SAFE_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}\Z")
+
+
+def checked_name(value, where):
+    """`value`, read from `where` (a file and its key), if it can name a file; else Refused."""
+    if isinstance(value, str) and SAFE_NAME.match(value):
+        return value
+    shown = json.dumps(value)[:60] if not isinstance(value, str) else json.dumps(value[:60])
+    raise Refused("%s is %s: a name read from a file must be letters, digits, '_' and '-' (1 to 64), since it names "
+                  "the figures; nothing drawn" % (where, shown))
+
+
 def save(fig, out, stem):
     path = os.path.join(out, "%s.%s" % (stem, FORMAT[0]))
+    # Every figure lands in OUT itself, whatever a name read from a file said.
+    if os.path.dirname(os.path.realpath(path)) != os.path.realpath(out) or stem.startswith("."):
+        raise Refused("the figure name %s would leave the output folder; nothing drawn" % json.dumps(stem[:80]))
     fig.tight_layout()
     meta = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[FORMAT[0]]
     fig.savefig(path, dpi=110, metadata=meta)
@@ -106,8 +123,8 @@ def last_finite(ts, ys, t_stop):
 # ----------------------------------------------------------------------------------------- report
 
 
-def report_figures(rep, out, csv_dir):
-    scene = rep["scene"]["name"]
+def report_figures(rep, out, csv_dir, source):
+    scene = checked_name(rep["scene"]["name"], "%s: key scene.name" % source)
     s = rep["series"]
     t = s["t"]
     methods = {m["name"]: m for m in rep["methods"]}
@@ -238,9 +255,12 @@ def first_angle(cols):
 def sweep_figures(results, out):
     cases = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(results, "*.json")))]
     cases = [c for c in cases if c.get("format") == "eigenmass-sweep-case/1"]
-    plan, t_end = cases[0]["plan"], cases[0]["key"]["t_end"]
+    plan, t_end = checked_name(cases[0]["plan"], "%s: a case file's key plan" % results), cases[0]["key"]["t_end"]
     with open(os.path.join(results, plan + ".csv")) as f:
         rows = list(csv.DictReader(f))
+    for r in rows:  # names that build figure and trajectory file names
+        for column in ("scene", "method", "integrator"):
+            checked_name(r[column], "%s: column %s of %s.csv" % (results, column, plan))
     runs = [r for r in rows if r["role"] == "run"]
     drawn = len(WRITTEN)
     # The plan's tables say which figures its results are for (a case file names them).
@@ -485,9 +505,9 @@ def ensemble_prediction(plan, results, t_end, out):
 # -------------------------------------------------------------------------------------- precision
 
 
-def precision_figures(prec, out):
+def precision_figures(prec, out, source):
     """Error against CPU time and against the step or tolerance: a line per method and integrator."""
-    scene = prec["scene"]
+    scene = checked_name(prec["scene"], "%s: key scene" % source)
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     lines = {}
     for p in prec["points"]:
@@ -643,8 +663,8 @@ def draw(a):
     else:
         with open(a.input) as f:
             data = json.load(f)
-        {"report": lambda: report_figures(data, a.out, a.csv_dir), "extreme": lambda: extreme_figures(data, a.out),
-         "precision": lambda: precision_figures(data, a.out)}[a.kind]()
+        {"report": lambda: report_figures(data, a.out, a.csv_dir, a.input), "extreme": lambda: extreme_figures(data, a.out),
+         "precision": lambda: precision_figures(data, a.out, a.input)}[a.kind]()
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 // The CLI as a user runs it: exit codes, one-line errors, JSON and CSV outputs.
 #include <catch2/catch.hpp>
 
+#include <functional>
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -815,6 +816,79 @@ TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib nam
   CHECK(err(expected + " --format jpg").first == 2);
   CHECK(err(expected + " --csv-dir /tmp").first == 2);
   CHECK(std::count(sc.second.begin(), sc.second.end(), '\n') == 1);
+}
+
+TEST_CASE("plot never writes outside --out: a name read from any input kind is refused in one line", "[cli][hostile][plot]") {
+  // Issue 53, bug 1: a report whose scene.name was "../x/evil" made plot write its SVGs into x/,
+  // overwriting a file there, and exit 0. Every name read from a file that builds a figure's file
+  // name (a report's scene, a precision file's scene, a sweep's plan and its CSV's scene, method and
+  // integrator) must be a scene name; the figures land in --out or nowhere.
+  namespace fs = std::filesystem;
+  const fs::path dir = freshDir("eigenmass_test_plot_escape");
+  const std::string d = dir.string();
+  fs::create_directories(dir / "x");
+  std::ofstream(d + "/x/evil-divergence.svg") << "precious";  // what the escaped figure overwrote
+  REQUIRE(eigenmass("compare " + scene("chain01.json") + " --t-end 0.2 --methods classical --out " + d + "/r.json").status == 0);
+  REQUIRE(eigenmass("precision " + scene("chain01.json") + " --t-end 0.2 --methods classical --settings 1e-2 --out " + d +
+                    "/p.json").status == 0);
+  const nlohmann::json plan = {{"format", "eigenmass-plan/1"}, {"name", "wp"}, {"scenes", {scene("chain01.json")}},
+                               {"t_end", 0.2}, {"reference", {{"method", "classical"}, {"integrator", "rk8pd"}, {"tolerance", 1e-12}}},
+                               {"lines", {{{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-2}}}}},
+                               {"tables", {"work-precision"}}};
+  std::ofstream(d + "/wp.json") << plan.dump();
+  REQUIRE(eigenmass("sweep " + d + "/wp.json --results " + d + "/wp -j 1").status == 0);
+  // Each input, its name replaced by one that climbs out of --out.
+  const auto tamperJson = [&](const std::string& from, const std::string& to, const std::function<void(nlohmann::json&)>& f) {
+    nlohmann::json j = nlohmann::json::parse(slurp(from));
+    f(j);
+    std::ofstream(to) << j.dump();
+  };
+  tamperJson(d + "/r.json", d + "/bad.report.json", [](nlohmann::json& j) { j["scene"]["name"] = "../x/evil"; });
+  tamperJson(d + "/p.json", d + "/bad.precision.json", [](nlohmann::json& j) { j["scene"] = "../x/evil"; });
+  fs::copy(d + "/wp", d + "/plan_bad");
+  for (const auto& e : fs::directory_iterator(d + "/plan_bad"))
+    if (e.path().extension() == ".json")
+      tamperJson(e.path().string(), e.path().string(), [](nlohmann::json& j) {
+        if (j.contains("plan")) j["plan"] = "../x/evil";
+      });
+  for (const char* column : {"scene", "method", "integrator"}) {  // the merged CSV's names: tools/plot.py's own check
+    const std::string folder = d + "/csv_" + column;
+    fs::copy(d + "/wp", folder);
+    std::string text = slurp(folder + "/wp.csv");
+    const std::string was = column == std::string("scene") ? "chain01" : column == std::string("method") ? "classical" : "rk4";
+    for (size_t at = text.find("," + was + ","); at != std::string::npos; at = text.find("," + was + ",", at + 1))
+      text.replace(at + 1, was.size(), "../x/evil");
+    if (column == std::string("scene")) text.replace(text.find("\nchain01,") + 1, 7, "../x/evil");
+    std::ofstream(folder + "/wp.csv") << text;
+  }
+  for (const auto& [input, where] :
+       {std::pair<std::string, std::string>{d + "/bad.report.json", "bad.report.json: key scene.name is \"../x/evil\""},
+        {d + "/bad.precision.json", "bad.precision.json: key scene is \"../x/evil\""},
+        {d + "/plan_bad", ".json: key plan is \"../x/evil\""},
+        {d + "/csv_scene", "csv_scene: column scene of wp.csv is \"../x/evil\""},
+        {d + "/csv_method", "csv_method: column method of wp.csv is \"../x/evil\""},
+        {d + "/csv_integrator", "csv_integrator: column integrator of wp.csv is \"../x/evil\""}}) {
+    fs::remove_all(d + "/figs");
+    const Run r = eigenmass("plot " + input + " --out " + d + "/figs --format svg", true);
+    INFO(input << " -> " << r.out);
+    CHECK(r.status == 2);
+    CHECK_THAT(r.out, Catch::Contains(where) && Catch::Contains("a name read from a file must be letters, digits"));
+    CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+    CHECK(slurp(d + "/x/evil-divergence.svg") == "precious");  // nothing overwritten
+    size_t in_x = 0;
+    for (const auto& e : fs::directory_iterator(d + "/x")) in_x += e.is_regular_file();
+    CHECK(in_x == 1);  // nothing added beside it
+    const bool drew = fs::exists(d + "/figs") && !fs::is_empty(d + "/figs");
+    CHECK_FALSE(drew);
+  }
+  // A trajectory's figures are named after the CSV the user gave, not after its sidecar's scene.
+  REQUIRE(eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + d + "/s.csv").status == 0);
+  tamperJson(d + "/s.csv.json", d + "/s.csv.json", [](nlohmann::json& j) { j["scene"] = "../x/evil"; });
+  const Run t = eigenmass("plot " + d + "/s.csv --out " + d + "/tfigs --format svg");
+  CHECK(t.status == 0);
+  CHECK(t.out == d + "/tfigs/s-energy.svg\n" + d + "/tfigs/s-state.svg\n");
+  CHECK(slurp(d + "/x/evil-divergence.svg") == "precious");
+  fs::remove_all(dir);
 }
 
 TEST_CASE("plot draws a CSV folder only with its own report, and a missing or empty trajectory is one line", "[cli][hostile][plot]") {
