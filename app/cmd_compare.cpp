@@ -193,7 +193,7 @@ void addEngineOptions(CLI::App* cmd, Engine e, EngineArgs& ea) {
         ->check(integratorValidator(e))
         ->capture_default_str();
   }
-  if (hasAdaptiveScheme(e))  // an engine with a scheme that takes a tolerance (Simbody)
+  if (hasAdaptiveScheme(e))  // an engine with a scheme that takes a tolerance
     cmd->add_option(engineOption(e, "tol"), ea.tol, "Accuracy of the compared " + name + " method")
         ->check(positiveFinite())
         ->capture_default_str();
@@ -216,11 +216,15 @@ void addRunOptions(CLI::App* cmd, CompareArgs& a) {
 }
 
 void addReferenceOptions(CLI::App* cmd, CompareArgs& a) {
-  cmd->add_option("--reference", a.reference, "Reference engine: simbody or classical (in-house)")
-      ->check(CLI::IsMember({methodName(referenceMethod()), methodName(Method::Classical)}))
+  const Method ref = referenceMethod(), inhouse = Method::Classical;
+  const auto adaptive = [](Method m) { return std::string(integratorName(adaptiveIntegrator(info(m).engine))); };
+  cmd->add_option("--reference", a.reference, std::string("Reference engine: ") + methodName(ref) + " or " +
+                                                  methodName(inhouse) + " (in-house)")
+      ->check(CLI::IsMember({methodName(ref), methodName(inhouse)}))
       ->capture_default_str();
   cmd->add_option("--reference-integrator", a.reference_integrator,
-                  "Integrator of the reference (default rkmerson for simbody, rk8pd for classical)")
+                  "Integrator of the reference (default " + adaptive(ref) + " for " + methodName(ref) + ", " +
+                      adaptive(inhouse) + " for " + methodName(inhouse) + ")")
       ->check(integratorValidator());
   cmd->add_option("--reference-tol", a.opt.reference.tol, "Tolerance (accuracy) of the reference; its horizon run uses 1/100 of it")
       ->check(positiveFinite())

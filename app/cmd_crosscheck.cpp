@@ -6,7 +6,7 @@
 
 #include "app/cli.hpp"
 #include "compare/crosscheck.hpp"
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 
 namespace em::cli {
 
@@ -38,14 +38,14 @@ int runCrossCheck(const CrossCheckArgs& a) {
   // "-mass" row, given those masses, is judged whole.
   std::vector<std::string> rows, unjudged_udot;
   for (Engine e : otherEngines()) {
-    const EngineRow& row = engineRow(e);
-    rows.emplace_back(row.name);
-    if (row.mass_note) rows.push_back(massRowName(row.name)), unjudged_udot.emplace_back(row.name);
+    const std::string name = engineName(e);
+    rows.push_back(name);
+    if (engineCode(e).mass_note) rows.push_back(massRowName(name)), unjudged_udot.push_back(name);
   }
   for (Method p : plugins) {  // a plugin's u' against the in-house one, then against each engine's
     rows.emplace_back(methodName(p));
     for (Engine e : otherEngines())
-      if (engineRow(e).model) rows.push_back(std::string(methodName(p)) + "/" + engineName(e));
+      if (engineCode(e).model) rows.push_back(std::string(methodName(p)) + "/" + engineName(e));
   }
   for (const std::string& engine : rows) {
     CrossCheckRow worst{0, engine};
@@ -60,8 +60,8 @@ int runCrossCheck(const CrossCheckArgs& a) {
     else if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
   }
   for (Engine e : otherEngines()) {
-    if (const char* note = engineRow(e).mass_note) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
-    if (const char* note = engineRow(e).equations_note) std::printf("(%s: %s)\n", engineName(e), note);
+    if (const char* note = engineCode(e).mass_note) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
+    if (const char* note = engineCode(e).equations_note) std::printf("(%s: %s)\n", engineName(e), note);
   }
   double worst = 0;
   for (const CrossCheckRow& r : c.rows) {

@@ -68,7 +68,8 @@ void addPrecision(CLI::App& app) {
       ->delimiter(',')
       ->check(positiveFinite())
       ->capture_default_str();
-  cmd->add_option("--reference-tol", a->opt.reference.tol, "Accuracy of the Simbody RK-Merson reference")
+  cmd->add_option("--reference-tol", a->opt.reference.tol,
+                  std::string("Accuracy of the reference, ") + methodName(a->opt.reference.method) + " " + integratorName(a->opt.reference.integrator))
       ->check(positiveFinite())
       ->capture_default_str();
   addRunOptions(cmd, a->run, "Sampling interval (s), a multiple of every step");

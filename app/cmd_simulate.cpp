@@ -89,7 +89,7 @@ void addSimulate(CLI::App& app) {
   auto* dt = cmd->add_option("--dt", a->spec.dt, "Fixed step of fixed-step integrators (s)")
                  ->check(positiveFinite())
                  ->capture_default_str();
-  auto* tol = cmd->add_option("--tol", a->spec.tol, "Absolute and relative tolerance of adaptive integrators (Simbody: accuracy)")
+  auto* tol = cmd->add_option("--tol", a->spec.tol, "Absolute and relative tolerance of adaptive integrators (another engine's: its accuracy)")
                   ->check(positiveFinite())
                   ->capture_default_str();
   dt->excludes(tol);

@@ -24,12 +24,12 @@
 #include "io/atomic_file.hpp"
 #include "io/scene.hpp"
 #include "io/shipped.hpp"
-#include "reference/simbody_reference.hpp"
+#include "engines/simbody.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor_ops.hpp"
 #include "compare/crosscheck.hpp"
-#include "reference/engine.hpp"
-#include "reference/mujoco_peer.hpp"
+#include "engines/engine.hpp"
+#include "engines/mujoco_system.hpp"
 #include "outside/plugin.hpp"
 
 using namespace em;
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
 namespace {
 
 void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
-  MujocoPeer mj(m);
+  MujocoSystem mj(m);
   mj.setState(m.q0(), m.u0());
   mj.forward();
   r.has_mujoco = true;
@@ -238,7 +238,7 @@ Row measure(int n) {
   // The correction after a step: forming A and the Jacobi sweeps from an exact basis.
   StepInfo step;
   r.jacobi = secondsPerCall([&] { yj = ye; jacobi.afterStep(0, yj.data(), step); });
-  SimbodyReference ref(m);
+  SimbodySystem ref(m);
   const Eigen::VectorXd q = m.q0(), u = m.u0();
   // setState invalidates the Position stage, so each call realizes from scratch.
   r.simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
@@ -246,7 +246,7 @@ Row measure(int n) {
   measureMujoco(m, classical.workspace(), r);
   std::vector<Method> others;  // engines' u' under the in-house integrators, then the plugins'
   for (const EngineRow& row : engineRows())
-    if (row.udot_method.name) others.push_back(parseMethod(row.udot_method.name));
+    if (row.code.udot_method.name) others.push_back(parseMethod(row.code.udot_method.name));
   others.insert(others.end(), g_plugins.begin(), g_plugins.end());
   for (Method method : others) {
     Dynamics other(m, method);

@@ -112,18 +112,23 @@ Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& 
   return runTrajectory(scene.model, s);
 }
 
-// The second engine's rk4 at kSecondEngineDt (or the output step, if finer) on the reference's grid.
+// The second engine (its row's roles: scheme and step; the output step if finer) on the reference's grid.
 void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns& out, void (*progress)(const std::string&)) {
+  const EngineInfo& second = info(secondEngine());
+  if (!second.roles.second_scheme) {
+    out.second_engine_skipped = "no engine's row names itself the second engine";
+    return;
+  }
   RunSpec s = reference;
-  s.method = info(parseEngine(kSecondEngine)).method;
-  s.integrator = parseIntegrator(kSecondEngineScheme);
-  s.dt = reference.output_dt / std::ceil(reference.output_dt / kSecondEngineDt - 1e-9);
+  s.method = second.method;
+  s.integrator = parseIntegrator(second.roles.second_scheme);
+  s.dt = reference.output_dt / std::ceil(reference.output_dt / second.roles.second_dt - 1e-9);
   s.options.max_steps = HUGE_VAL;  // its cost is the floor's, asked for by the comparison
-  const std::string label = std::string(kSecondEngine) + "/" + kSecondEngineScheme;
+  const std::string label = std::string(second.name) + "/" + second.roles.second_scheme;
   try {
     out.second_engine = runLabelled(scene, s, "second engine " + label + " dt " + gnum(s.dt), progress);
   } catch (const std::exception& e) {
-    out.second_engine_skipped = std::string(kSecondEngine) + ": " + e.what();
+    out.second_engine_skipped = std::string(second.name) + ": " + e.what();
   }
 }
 

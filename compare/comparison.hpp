@@ -30,9 +30,9 @@ struct CompareOptions {
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
   Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
   std::vector<double> thresholds = {1e-3, 1e-1};
-  /// Beside the reference, MuJoCo rk4 at kSecondEngineDt on the grid: the
-  /// distance of the two independent engines, a second floor (compare; the
-  /// gallery leaves it out).
+  /// Beside the reference, the second engine (the row whose roles say so:
+  /// MuJoCo rk4 at 1e-4 s) on the grid: the distance of the two independent
+  /// engines, a second floor (compare; the gallery leaves it out).
   bool second_engine = true;
   /// Horizon (s) of the reference motion's long-run Lyapunov exponent, measured
   /// apart from the grid's finite-time one (compare --lyapunov-long); 0: not measured.
@@ -75,11 +75,6 @@ struct ComparisonResult {
   std::vector<std::pair<std::string, std::string>> engine_notes;
 };
 
-/// The second engine, beside the reference: the distance of two independent engines.
-constexpr const char* kSecondEngine = "mujoco";
-/// Its scheme and step: fine enough that rk4's own error (~dt^4) is below the reference's tolerance.
-constexpr const char* kSecondEngineScheme = "rk4";
-constexpr double kSecondEngineDt = 1e-4;
 
 /// Throws for settings that cannot run (SettingError, a method named twice,
 /// no threshold): what runComparison checks before anything runs.
@@ -92,7 +87,7 @@ struct ReferenceRuns {
   Trajectory reference, tight;
   Lyapunov lyapunov;
   std::optional<Lyapunov> lyapunov_long;    ///< over CompareOptions::lyapunov_long_s, when asked
-  std::optional<Trajectory> second_engine;  ///< MuJoCo rk4 at kSecondEngineDt (CompareOptions::second_engine)
+  std::optional<Trajectory> second_engine;  ///< the second engine's run (CompareOptions::second_engine; its row's roles)
   std::string second_engine_skipped;        ///< why it did not run, when asked
 };
 /// Run them as `opt` says (after checkComparisonOptions).

@@ -6,7 +6,7 @@
 
 #include "io/json_input.hpp"
 #include "outside/plugin.hpp"
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 #include "solver/formation.hpp"
 
 namespace em {
@@ -26,16 +26,17 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
 
 // An engine's model as it can take the scene: its own URDF reader, else the
 // Model; where its reader cannot be used, the Model, and a note saying so.
-std::unique_ptr<EngineModel> engineModel(const EngineRow& row, const Scene& scene, const UrdfOptions& urdf,
+std::unique_ptr<EngineModel> engineModel(Engine e, const Scene& scene, const UrdfOptions& urdf,
                                          std::vector<std::string>& notes) {
+  const EngineCode& row = engineCode(e);
   if (scene.source.format != "urdf" || !row.urdf) return row.model(scene.model);
   const UrdfSource source{readFile(scene.source.file, "URDF file"), scene.source_joints, urdf.lock_joints,
                           urdf.balance_inertia, urdf.floating_base ? scene.source_joints.front() : ""};  // the free root's joint comes first (io/urdf.cpp)
   try {
     return row.urdf(scene.model, source);
-  } catch (const std::runtime_error& e) {
-    notes.push_back(std::string(row.name) + ": its own URDF reading is not used (" + e.what() +
-                    "); its rows are the imported Model built in " + row.name);
+  } catch (const std::runtime_error& ex) {
+    notes.push_back(std::string(engineName(e)) + ": its own URDF reading is not used (" + ex.what() +
+                    "); its rows are the imported Model built in " + engineName(e));
     return row.model(scene.model);
   }
 }
@@ -79,15 +80,14 @@ void compare(const Model& m, EngineModel& engine, const std::string& name, int k
 std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf, CrossCheck& c) {
   std::vector<Checked> out;
   for (Engine e : otherEngines()) {
-    const EngineRow& row = engineRow(e);
-    if (!row.model) continue;
+    if (!engineCode(e).model) continue;
     try {
-      Checked k{row.name, engineModel(row, scene, urdf, c.notes), std::nullopt};
+      Checked k{engineName(e), engineModel(e, scene, urdf, c.notes), std::nullopt};
       const std::vector<CompiledMass> mass = k.model->compiledMass();
       if (!mass.empty()) k.with_mass = withMass(scene.model, mass);
       out.push_back(std::move(k));
     } catch (const std::exception& ex) {
-      c.skipped.push_back(std::string(row.name) + ": " + ex.what());
+      c.skipped.push_back(std::string(engineName(e)) + ": " + ex.what());
     }
   }
   return out;

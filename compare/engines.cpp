@@ -6,7 +6,7 @@
 #include "compare/progress.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
@@ -22,7 +22,7 @@ RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid) {
 
 Method referenceMethod() {
   useEngines();
-  return info(parseEngine(kReferenceEngine)).method;
+  return info(referenceEngine()).method;
 }
 
 RunSpec defaultReferenceSpec(Method method) {
@@ -43,13 +43,13 @@ Trajectory runTrajectory(const Model& m, const RunSpec& spec) {
   if (recordedRun(spec.method)) return recordedTrajectory(m, spec);  // a run made elsewhere: nothing runs
   if (info(spec.method).isolated) return simulateIsolated(m, spec, observe);  // code from outside: in a child process
   if (spec.engine() == Engine::InHouse) return simulate(m, spec, observe);
-  return engineRow(spec.engine()).simulate(m, spec, observe);
+  return engineCode(spec.engine()).simulate(m, spec, observe);
 }
 
 std::string engineSceneNote(Engine e, const Model& m) {
   if (e == Engine::InHouse) return "";
-  const EngineRow& row = engineRow(e);
-  return row.scene_note ? row.scene_note(m) : "";
+  const EngineCode& code = engineCode(e);
+  return code.scene_note ? code.scene_note(m) : "";
 }
 
 namespace {
@@ -108,16 +108,16 @@ Equations inhouseEquations(const Model& m) {
 
 Equations engineEquations(const Model& m, Engine e) {
   if (e == Engine::InHouse) return inhouseEquations(m);
-  const EngineRow& row = engineRow(e);
-  if (!row.model) throw std::invalid_argument(std::string(row.name) + " gives no equations at a state");
-  const EngineEquations q = row.model(m)->at(m.q0(), m.u0());
+  const EngineCode& code = engineCode(e);
+  if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
+  const EngineEquations q = code.model(m)->at(m.q0(), m.u0());
   return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
 }
 
 std::vector<Engine> enginesWithEquations() {
   std::vector<Engine> out = {Engine::InHouse};
   for (Engine e : otherEngines())
-    if (engineRow(e).model) out.push_back(e);
+    if (engineCode(e).model) out.push_back(e);
   return out;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 /// Runs one method on its engine (the one dispatch point: the in-house
-/// integrators, or the engine's row, reference/engine.hpp), and the one place
+/// integrators, or the engine's row, engines/engine.hpp), and the one place
 /// where a scene's run defaults and the reference's defaults apply.
 #include <optional>
 #include <string>
@@ -20,9 +20,8 @@ struct Grid {
 /// (simulate.t_end, simulate.output_dt): the one place scene defaults apply.
 RunSpec onGrid(RunSpec spec, const Scene& scene, const Grid& grid);
 
-/// The engine whose method is the reference when nothing else is asked.
-constexpr const char* kReferenceEngine = "simbody";
-/// The method of that engine.
+/// The method of the engine whose row says it is the reference when nothing
+/// else is asked (EngineRoles::reference, solver/registry.hpp).
 Method referenceMethod();
 
 /// The reference run of `method` when nothing else is asked: its engine's

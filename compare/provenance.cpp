@@ -1,6 +1,6 @@
 #include "compare/provenance.hpp"
 
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 
 #include <chrono>
 #include <ctime>
@@ -62,7 +62,7 @@ std::string eigenVersion() {
 // Every engine's library by its engine's name, then the in-house solver's.
 nlohmann::json libraries() {
   nlohmann::json l = {{"eigen", eigenVersion()}, {"gsl", GSL_VERSION}, {"urdfdom", EM_URDFDOM_VERSION}};
-  for (const EngineRow& r : engineRows()) l[r.name] = r.version();
+  for (const EngineRow& r : engineRows()) l[r.info.name] = r.code.version();
   return l;
 }
 
@@ -87,7 +87,7 @@ nlohmann::json provenance() {
 
 std::string versionText() {
   std::string engines;
-  for (const EngineRow& r : engineRows()) engines += std::string(engines.empty() ? "" : ", ") + r.name + " " + r.version();
+  for (const EngineRow& r : engineRows()) engines += std::string(engines.empty() ? "" : ", ") + r.info.name + " " + r.code.version();
   return std::string("eigenmass ") + EM_VERSION + " (commit " + EM_GIT_COMMIT + "); engines: " + engines + "; Eigen " +
          eigenVersion() + ", GSL " + GSL_VERSION + ", liburdfdom " + EM_URDFDOM_VERSION + "; " + __VERSION__;
 }

@@ -188,8 +188,10 @@ Method addPlugin(const std::string& name, const std::string& path) {
   lib.summary = "plugin " + path + ": its own u' under the in-house integrators";
   libs().push_back(lib);
   PluginLib& row = libs().back();
-  MethodInfo added{Method::Classical, row.name.c_str(), Engine::InHouse, Correction::None, ExtraState::None, false,
-                  makePluginMethod, {}, row.summary.c_str()};
+  MethodInfo added;
+  added.name = row.name.c_str();
+  added.make = makePluginMethod;
+  added.summary = row.summary.c_str();
   added.isolated = true;
   row.id = addMethod(added);
   return row.id;

@@ -397,8 +397,10 @@ Method addRecordedRun(const std::string& name, const std::string& path, const Mo
   Entry& row = entries().back();
   static std::deque<std::string> summaries;  // the rows' summaries (a row keeps a pointer)
   summaries.push_back("recorded run " + path + " (" + row.run.format + ")");
-  row.id = addMethod({Method::Classical, row.run.name.c_str(), Engine::InHouse, Correction::None, ExtraState::None, false,
-                      nullptr, {}, summaries.back().c_str()});
+  MethodInfo added;  // no factory: nothing runs, its samples are read (runTrajectory)
+  added.name = row.run.name.c_str();
+  added.summary = summaries.back().c_str();
+  row.id = addMethod(added);
   return row.id;
 }
 

@@ -17,7 +17,7 @@
 #include "compare/report.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 #include "solver/formation.hpp"
 #include "solver/method.hpp"
 
@@ -118,8 +118,10 @@ Method pythonMethod(const std::string& name, py::object f) {
   }
   static std::deque<std::string> names;  // the rows point at them
   names.push_back(name);
-  MethodInfo row{Method::Classical, names.back().c_str(), Engine::InHouse, Correction::None, ExtraState::None, false,
-                 makePythonMethod, {}, "a Python function f(t, q, u) -> u' (eigenmass.compare)"};
+  MethodInfo row;
+  row.name = names.back().c_str();
+  row.make = makePythonMethod;
+  row.summary = "a Python function f(t, q, u) -> u' (eigenmass.compare)";
   id = addMethod(row);
   pythonFunctions()[id] = new py::object(std::move(f));
   return id;
@@ -163,9 +165,9 @@ py::dict equations(const Scene& s, const std::string& engine, std::optional<py::
     if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite at this state");
     A = ws.A, B = ws.B, udot = llt.solve(ws.B), T = ws.kinetic, V = ws.potential;
   } else {
-    const EngineRow& row = engineRow(e);
-    if (!row.model) throw std::invalid_argument(std::string(row.name) + " gives no equations at a state");
-    const EngineEquations x = row.model(m)->at(q, u);
+    const EngineCode& code = engineCode(e);
+    if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
+    const EngineEquations x = code.model(m)->at(q, u);
     A = x.A, B = x.B, udot = x.udot, T = x.kinetic, V = x.potential;
   }
   const std::vector<int> p = m.uFilePermutation();

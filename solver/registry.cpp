@@ -29,29 +29,65 @@ namespace {
 
 // The tables themselves: built-in rows, then what addEngine and addMethod add.
 std::deque<EngineInfo>& engines() {
-  static std::deque<EngineInfo> table = {
-      {Engine::InHouse, "inhouse", Integrator::RK4, Integrator::RK8PD, HUGE_VAL, Method::Classical},
-  };
+  static std::deque<EngineInfo> table = [] {
+    EngineInfo inhouse;
+    inhouse.name = "inhouse";
+    inhouse.summary = "the in-house solver (solver/)";
+    inhouse.fixed_scheme = "rk4";
+    inhouse.adaptive_scheme = "rk8pd";
+    inhouse.id = Engine::InHouse;
+    inhouse.fixed_default = Integrator::RK4;
+    inhouse.adaptive_default = Integrator::RK8PD;
+    inhouse.method = Method::Classical;
+    return std::deque<EngineInfo>{inhouse};
+  }();
   return table;
 }
 
+// A built-in method's row: the in-house engine's, owned by eigenmass.
+MethodInfo inHouse(Method id, const char* name, MethodFactory* make, const char* colour, const char* summary) {
+  MethodInfo r;
+  r.id = id;
+  r.name = name;
+  r.make = make;
+  r.colour = colour;
+  r.summary = summary;
+  r.owner = "eigenmass";
+  return r;
+}
+
+// An eigenfactor method's row: its extra state, its correction and its options.
+MethodInfo eigenfactor(MethodInfo r, ExtraState extra, Correction correction, std::vector<MethodParam> params) {
+  r.eigenfactor = true;
+  r.extra = extra;
+  r.correction = correction;
+  r.params = std::move(params);
+  return r;
+}
+
 std::deque<MethodInfo>& methods() {
+  using M = Method;
+  using X = ExtraState;
+  using C = Correction;
   static std::deque<MethodInfo> table = {
-      {Method::Classical, "classical", Engine::InHouse, Correction::None, ExtraState::None, false, makeClassical, {},
-       "Cholesky of A every evaluation (paper method a)", "tab:blue"},
-      {Method::Articulated, "articulated", Engine::InHouse, Correction::None, ExtraState::None, false, makeArticulated, {},
-       "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)", "tab:cyan"},
-      {Method::Eigen, "eigen", Engine::InHouse, Correction::None, ExtraState::CLambda, true, makeEigen, {kRefine, kRefineTol},
-       "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)", "tab:orange"},
-      {Method::EigenJacobi, "eigen-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CLambda, true, makeEigen,
-       {kRefine, kRefineTol}, "eigen plus a Jacobi re-diagonalization after every step (paper method c)", "tab:green"},
-      {Method::EigenJacobiOrth, "eigen-jacobi-orth", Engine::InHouse, Correction::OrthonormalizeJacobi,
-       ExtraState::CLambda, true, makeEigen, {kRefine, kRefineTol}, "eigen-jacobi that also re-orthonormalizes C (not in the paper)", "tab:olive"},
-      {Method::EigenBlock, "eigen-block", Engine::InHouse, Correction::None, ExtraState::CD, true, makeEigenBlock,
-       {kRefine, kRefineTol, kBlockGap},
-       "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)", "tab:purple"},
-      {Method::EigenBlockJacobi, "eigen-block-jacobi", Engine::InHouse, Correction::Jacobi, ExtraState::CD, true,
-       makeEigenBlock, {kRefine, kRefineTol, kBlockGap}, "eigen-block plus the paper's Jacobi correction after every step", "tab:brown"},
+      inHouse(M::Classical, "classical", makeClassical, "tab:blue", "Cholesky of A every evaluation (paper method a)"),
+      inHouse(M::Articulated, "articulated", makeArticulated, "tab:cyan",
+              "Featherstone's articulated-body recursion: u' in O(n) without forming A (not in the paper)"),
+      eigenfactor(inHouse(M::Eigen, "eigen", makeEigen, "tab:orange",
+                          "Junkins-Schaub: C and lambda integrated, u' = C^T Lambda^-1 C B (paper method b)"),
+                  X::CLambda, C::None, {kRefine, kRefineTol}),
+      eigenfactor(inHouse(M::EigenJacobi, "eigen-jacobi", makeEigen, "tab:green",
+                          "eigen plus a Jacobi re-diagonalization after every step (paper method c)"),
+                  X::CLambda, C::Jacobi, {kRefine, kRefineTol}),
+      eigenfactor(inHouse(M::EigenJacobiOrth, "eigen-jacobi-orth", makeEigen, "tab:olive",
+                          "eigen-jacobi that also re-orthonormalizes C (not in the paper)"),
+                  X::CLambda, C::OrthonormalizeJacobi, {kRefine, kRefineTol}),
+      eigenfactor(inHouse(M::EigenBlock, "eigen-block", makeEigenBlock, "tab:purple",
+                          "A = C^T D C with D block diagonal over eigenvalue clusters: survives near-crossings (not in the paper)"),
+                  X::CD, C::None, {kRefine, kRefineTol, kBlockGap}),
+      eigenfactor(inHouse(M::EigenBlockJacobi, "eigen-block-jacobi", makeEigenBlock, "tab:brown",
+                          "eigen-block plus the paper's Jacobi correction after every step"),
+                  X::CD, C::Jacobi, {kRefine, kRefineTol, kBlockGap}),
   };
   return table;
 }
@@ -150,6 +186,23 @@ std::vector<Engine> otherEngines() {
   return e;
 }
 
+Engine referenceEngine() {
+  for (const EngineInfo& r : engineTable())
+    if (r.roles.reference) return r.id;
+  return Engine::InHouse;
+}
+
+Engine secondEngine() {
+  for (const EngineInfo& r : engineTable())
+    if (r.roles.second_scheme) return r.id;
+  return Engine::InHouse;
+}
+
+std::string methodOwner(Method m) {
+  const MethodInfo& r = info(m);
+  return r.owner ? r.owner : r.name;
+}
+
 Engine parseEngine(const std::string& name) {
   Engine e;
   if (!findEngine(name, e)) throw std::invalid_argument("unknown engine '" + name + "' (" + joined(names(engineTable())) + ")");
@@ -181,17 +234,23 @@ Integrator schemeRow(const EngineScheme& s, Engine e) {
 
 }  // namespace
 
-Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
-                 const char* fixed_default, const char* adaptive_default, double max_tol, const char* colour) {
-  if (nameTaken(name)) throw std::logic_error(std::string("registry: the name ") + name + " is taken");
-  const Engine e = static_cast<Engine>(engines().size());
-  const Method m = static_cast<Method>(methods().size());
-  engines().push_back({e, name, Integrator::RK4, Integrator::RK4, max_tol, m});
-  methods().push_back({m, name, e, Correction::None, ExtraState::None, false, nullptr, {}, summary, colour});
-  for (const EngineScheme& s : schemes) schemeRow(s, e);
-  engines().back().fixed_default = parseIntegrator(fixed_default);
-  engines().back().adaptive_default = parseIntegrator(adaptive_default);
-  return e;
+Engine addEngine(EngineInfo row) {
+  if (nameTaken(row.name)) throw std::logic_error(std::string("registry: the name ") + row.name + " is taken");
+  row.id = static_cast<Engine>(engines().size());
+  row.method = static_cast<Method>(methods().size());
+  for (const EngineScheme& s : row.schemes) schemeRow(s, row.id);
+  row.fixed_default = parseIntegrator(row.fixed_scheme);
+  row.adaptive_default = parseIntegrator(row.adaptive_scheme);
+  MethodInfo m;
+  m.id = row.method;
+  m.name = row.name;
+  m.engine = row.id;
+  m.summary = row.summary;
+  m.colour = row.colour;
+  m.owner = row.name;
+  engines().push_back(row);
+  methods().push_back(m);
+  return row.id;
 }
 
 Method addMethod(MethodInfo row) {

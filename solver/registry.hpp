@@ -32,14 +32,45 @@ enum class Method : int { Classical, Articulated, Eigen, EigenJacobi, EigenJacob
 /// The in-house integrators; another engine's own schemes take the ids after them.
 enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP };
 
-/// An engine's row: its name, the integrators it runs when none is named, and its method.
-struct EngineInfo {
-  Engine id;
+/// Another engine's integrator, as its row names it: a name already in the
+/// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
+struct EngineScheme {
   const char* name;
-  Integrator fixed_default;     ///< when nothing is asked (in-house rk4)
-  Integrator adaptive_default;  ///< when a tolerance alone is asked, and for reference runs
-  double max_tol;               ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
-  Method method;                ///< the method it runs (in-house: the reference's, classical)
+  bool fixed_step;
+  const char* summary;
+  const char* marker;  ///< in figures (a shared scheme keeps its row's)
+};
+
+/// What a comparison takes an engine for when nothing else is asked, stated
+/// on its row and nowhere else: the reference of scenes without loops (its
+/// adaptive scheme at kReferenceTol), and the second engine beside it.
+struct EngineRoles {
+  bool reference = false;               ///< the default reference
+  const char* second_scheme = nullptr;  ///< the second engine's scheme (nullptr: not the second engine)
+  double second_dt = 0;                 ///< and its step (finer where the output step is)
+};
+
+/// An engine's own code: how it runs, what it gives at a state, what it says
+/// of itself (engines/engine.hpp). The registry never looks inside it.
+struct EngineCode;
+
+/// An engine's row, found by its id (info(Engine)). Its fields are named
+/// where it is written (engines/<name>.cpp); addEngine sets the last three.
+struct EngineInfo {
+  const char* name = nullptr;
+  const char* summary = nullptr;       ///< its method's one line (--help, docs)
+  std::vector<EngineScheme> schemes;   ///< its integrators (rk4: the in-house tableau)
+  const char* fixed_scheme = nullptr;  ///< what it runs when nothing is asked
+  const char* adaptive_scheme = nullptr;  ///< a tolerance alone, and as a reference
+  double max_tol = HUGE_VAL;           ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
+  const char* colour = nullptr;        ///< its method's colour in every figure (matplotlib name)
+  EngineRoles roles;
+  const EngineCode* code = nullptr;    ///< its code (nullptr for the in-house engine)
+  // Set by addEngine:
+  Engine id = Engine::InHouse;
+  Integrator fixed_default = Integrator::RK4;     ///< fixed_scheme's row
+  Integrator adaptive_default = Integrator::RK4;  ///< adaptive_scheme's row
+  Method method = Method::Classical;              ///< the method it runs (in-house: the reference's, classical)
 };
 
 /// Tolerance of a reference run when none is asked (with the engine's adaptive default).
@@ -71,20 +102,26 @@ struct MethodInfo;
 /// Builds an in-house method's own code for one model (defined in the method's own file).
 using MethodFactory = std::unique_ptr<MethodImpl>(const Model&, const MethodInfo&, const MethodOptions&);
 
+/// A method's row. Its fields are named where it is written (the built-in
+/// rows, an engine's, a plugin's); addMethod sets its id.
 struct MethodInfo {
-  Method id;
-  const char* name;
-  Engine engine;
-  Correction correction;
-  ExtraState extra;                 ///< what it integrates beside (q, u)
-  bool eigenfactor;                 ///< integrates a factorization of A: drift diagnostics
-  MethodFactory* make;              ///< in-house methods only (nullptr for another engine's)
-  std::vector<MethodParam> params;  ///< its own options (values in MethodOptions::params)
-  const char* summary;              ///< one line: --help and docs
-  const char* colour = nullptr;     ///< its colour in every figure (matplotlib name); nullptr: methodColour's palette
+  Method id = Method::Classical;
+  const char* name = nullptr;
+  Engine engine = Engine::InHouse;
+  Correction correction = Correction::None;
+  ExtraState extra = ExtraState::None;  ///< what it integrates beside (q, u)
+  bool eigenfactor = false;             ///< integrates a factorization of A: drift diagnostics
+  MethodFactory* make = nullptr;        ///< in-house methods only (nullptr for another engine's)
+  std::vector<MethodParam> params;      ///< its own options (values in MethodOptions::params)
+  const char* summary = nullptr;        ///< one line: --help and docs
+  const char* colour = nullptr;         ///< its colour in every figure (matplotlib name); nullptr: methodColour's palette
   /// Its runs go through a child process (code from outside that may crash
   /// or hang: a plugin's; compare/engines.cpp's runTrajectory).
   bool isolated = false;
+  /// Whose route it is in the engine study: "eigenmass" for the in-house
+  /// methods, an engine's name for its method; nullptr: its own name (an
+  /// engine's u' under the in-house integrators, a plugin).
+  const char* owner = nullptr;
 
   /// Whether the row has the option `name`.
   bool takes(const std::string& name) const;
@@ -140,20 +177,11 @@ const std::deque<MethodInfo>& methodTable();
 const std::deque<IntegratorInfo>& integratorTable();
 const std::vector<FailureInfo>& failureTable();
 
-/// Another engine's integrator, as addEngine takes it: a name already in the
-/// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
-struct EngineScheme {
-  const char* name;
-  bool fixed_step;
-  const char* summary;
-  const char* marker;  ///< in figures (a shared scheme keeps its row's)
-};
 /// Another engine, its method (named as the engine) and its schemes, added
-/// to the tables; `fixed_default` and `adaptive_default` name two of its
+/// to the tables; its row's fixed_scheme and adaptive_scheme name two of its
 /// schemes. Throws std::logic_error for a name already taken. Not thread-safe:
 /// add before any run starts.
-Engine addEngine(const char* name, const char* summary, const std::vector<EngineScheme>& schemes,
-                 const char* fixed_default, const char* adaptive_default, double max_tol, const char* colour = nullptr);
+Engine addEngine(EngineInfo row);
 /// A method from outside (a plugin, a Python function) run by the in-house
 /// integrators through `make`; its row's id is set here. Throws
 /// std::invalid_argument for a name already taken.
@@ -185,6 +213,12 @@ bool findEngine(const std::string& name, Engine& out);
 bool hasAdaptiveScheme(Engine e);
 /// Every engine but the in-house code, in table order.
 std::vector<Engine> otherEngines();
+/// The engine whose row says it is the default reference (EngineRoles::reference),
+/// and the one that is the second engine; the in-house engine where no row says so.
+Engine referenceEngine();
+Engine secondEngine();
+/// Whose route a method is in the engine study (MethodInfo::owner).
+std::string methodOwner(Method m);
 
 /// Names in table order, optionally of one engine only (CLI validators, help).
 std::vector<std::string> methodNames();

@@ -190,10 +190,7 @@ std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<s
 
 std::string routeOwner(const std::string& method) {
   Method m;
-  if (!findMethod(method, m)) return method;
-  const MethodInfo& i = info(m);
-  if (i.engine != Engine::InHouse) return engineName(i.engine);
-  return static_cast<int>(m) <= static_cast<int>(Method::EigenBlockJacobi) ? "eigenmass" : method;
+  return findMethod(method, m) ? methodOwner(m) : method;
 }
 
 std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::string& scene, double t_end, double floor) {

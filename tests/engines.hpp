@@ -1,7 +1,7 @@
 #pragma once
 // The other engines' methods, schemes and engines by name: their ids are
-// given at run time, when reference/engine_table.cpp adds their rows.
-#include "reference/engine.hpp"
+// given at run time, when engines/table.cpp adds their rows.
+#include "engines/engine.hpp"
 
 namespace em::test {
 

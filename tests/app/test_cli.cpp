@@ -307,7 +307,7 @@ TEST_CASE("the version flag and a trajectory's sidecar say how it was produced",
   CHECK(v.status == 0);
   CHECK(v.out.rfind("eigenmass ", 0) == 0);
   // Every engine of the table with its library's version (issue 42: --version omitted MuJoCo).
-  for (const em::EngineRow& row : em::engineRows()) CHECK_THAT(v.out, Catch::Contains(std::string(row.name) + " " + row.version()));
+  for (const em::EngineRow& row : em::engineRows()) CHECK_THAT(v.out, Catch::Contains(std::string(row.info.name) + " " + row.code.version()));
   CHECK_THAT(v.out, Catch::Contains("simbody 3.") && Catch::Contains("mujoco 2.2"));
   const std::string out = std::string(EM_BINARY_DIR) + "/cli_sidecar/chain02.csv";
   const Run r = eigenmass("simulate " + scene("chain02.json") + " --t-end 0.1 --out " + out);
@@ -320,7 +320,7 @@ TEST_CASE("the version flag and a trajectory's sidecar say how it was produced",
                         "date_utc"})
     CHECK(meta["provenance"].contains(k));
   CHECK(meta["provenance"]["command_line"].get<std::string>().find("simulate") != std::string::npos);
-  for (const em::EngineRow& row : em::engineRows()) CHECK(meta["provenance"]["libraries"][row.name] == row.version());
+  for (const em::EngineRow& row : em::engineRows()) CHECK(meta["provenance"]["libraries"][row.info.name] == row.code.version());
 }
 
 TEST_CASE("import writes the URDF as a scene that loads back, never over its input", "[cli][urdf]") {
@@ -664,7 +664,7 @@ TEST_CASE("plot draws a new robot's report: a series and a legend entry per meth
   CHECK(drawsText(energy, "|E(t) + W_diss(t) - E(0)| / max kinetic energy of the reference"));
   CHECK(drawsText(coord, rep["series"]["coordinate"]["name"].get<std::string>() + ", rad"));
   CHECK(div.find("failed-") == std::string::npos);  // nothing failed on this robot: no x drawn
-  // Colours are the registry's (solver/registry.cpp, reference/engine_table.cpp): classical
+  // Colours are the registry's (solver/registry.cpp, engines/table.cpp): classical
   // tab:blue, eigen tab:orange, simbody tab:gray, mujoco tab:red; no method is drawn black.
   for (const char* hex : {"#1f77b4", "#ff7f0e", "#7f7f7f", "#d62728"}) CHECK(div.find(std::string("stroke: ") + hex) != std::string::npos);
   CHECK(div.find("stroke: #000000; stroke-width: 1.2") == std::string::npos);

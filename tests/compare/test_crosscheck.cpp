@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/crosscheck.hpp"
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -40,7 +40,7 @@ constexpr double kUdotCond = 2e-9;
 // (simbody, mujoco, mujoco-mass, dart, bullet).
 size_t rowKinds() {
   size_t n = 0;
-  for (const EngineRow& r : engineRows()) n += (r.model ? 1 : 0) + (r.mass_note ? 1 : 0);
+  for (const EngineRow& r : engineRows()) n += (r.code.model ? 1 : 0) + (r.code.mass_note ? 1 : 0);
   return n;
 }
 
@@ -56,7 +56,7 @@ void checkRows(const std::string& what, const CrossCheck& c, int states, double 
     } else {
       // An engine without a mass matrix (Bullet) gives A and B through its u': judged as u'.
       const bool from_udot = row.engine.find("-mass") == std::string::npos &&
-                             engineRow(parseEngine(row.engine)).equations_note != nullptr;
+                             engineCode(parseEngine(row.engine)).equations_note != nullptr;
       CHECK(row.A <= (from_udot ? udot : kRoundOff));
       CHECK(row.B <= (from_udot ? udot : kRoundOff));
       CHECK(row.udot <= udot);

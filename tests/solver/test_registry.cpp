@@ -62,10 +62,16 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
 }
 
 TEST_CASE("another engine is added at run time: its method, its schemes, a shared tableau and its tolerance bound", "[registry]") {
-  // What reference/engine_table.cpp does for every engine's row, on a made-up engine.
+  // What engines/table.cpp does for every engine's row, on a made-up engine.
   const size_t methods = methodTable().size(), integrators = integratorTable().size();
-  const Engine toy = addEngine("toy", "a made-up engine", {{"rk4", true, "the in-house tableau", "o"}, {"toy-sdirk", false, "adaptive", "*"}},
-                               "rk4", "toy-sdirk", 1.0);
+  EngineInfo row;
+  row.name = "toy";
+  row.summary = "a made-up engine";
+  row.schemes = {{"rk4", true, "the in-house tableau", "o"}, {"toy-sdirk", false, "adaptive", "*"}};
+  row.fixed_scheme = "rk4";
+  row.adaptive_scheme = "toy-sdirk";
+  row.max_tol = 1.0;
+  const Engine toy = addEngine(row);
   CHECK(static_cast<int>(toy) == 1);  // ids follow the built-in ones
   CHECK(parseEngine("toy") == toy);
   const Method m = info(toy).method;
@@ -95,15 +101,20 @@ TEST_CASE("another engine is added at run time: its method, its schemes, a share
   }
   s.tol = 0.5;
   CHECK_NOTHROW(checkRunSpec(s));
-  CHECK_THROWS_AS(addEngine("toy", "again", {}, "rk4", "rk4", 1.0), std::logic_error);  // one name, one row
-  CHECK_THROWS_AS(addEngine("classical", "a method's name", {}, "rk4", "rk4", 1.0), std::logic_error);
+  CHECK(methodOwner(m) == "toy");  // the engine study files its route under its engine
+  CHECK_THROWS_AS(addEngine(row), std::logic_error);  // one name, one row
+  row.name = "classical";
+  CHECK_THROWS_AS(addEngine(row), std::logic_error);  // a method's name
 }
 
 TEST_CASE("a method from outside is added at run time and refused under a taken name", "[registry]") {
-  MethodInfo row = info(Method::Classical);  // the in-house integrators run it through its factory
+  MethodInfo row;  // the in-house integrators run it through its factory
   row.name = "mine";
+  row.make = info(Method::Classical).make;
   row.summary = "a user's method";
   const Method m = addMethod(row);
+  CHECK(methodOwner(m) == "mine");  // its own route in the engine study, not eigenmass's
+  CHECK(methodOwner(Method::EigenBlockJacobi) == "eigenmass");
   CHECK(parseMethod("mine") == m);
   CHECK(info(m).engine == Engine::InHouse);
   CHECK(static_cast<int>(m) > static_cast<int>(Method::EigenBlockJacobi));  // after the built-ins (and any row added before)

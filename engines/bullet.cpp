@@ -38,8 +38,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "reference/engine.hpp"
-#include "reference/fixed_step.hpp"
+#include "engines/engine.hpp"
+#include "engines/fixed_step.hpp"
 #include "solver/joint.hpp"
 #include "solver/method.hpp"
 
@@ -557,27 +557,26 @@ std::unique_ptr<MethodImpl> makeBulletUdot(const Model& m, const MethodInfo&, co
 }  // namespace
 
 EngineRow bulletEngine() {
-  return {"bullet",
-          "Bullet 3.24's btMultiBody stepped by btMultiBodyDynamicsWorld (Featherstone's articulated bodies, "
-          "semi-implicit Euler or its rk4, springs and dampers as joint torques held over a step), fixed step "
-          "(what PyBullet runs)",
-          {{"bullet-euler", true, "Bullet's semi-implicit Euler (stepSimulation: velocities, then positions from them)",
-            "P"},
-           {"bullet-rk4", true, "btMultiBody's own rk4 (useRK4Integration; the springs' torques held over the step)",
-            "X"}},
-          "bullet-euler",
-          "bullet-euler",  // Bullet has no adaptive scheme
-          HUGE_VAL,
-          "darkgoldenrod",
-          simulateFixedStep<BulletStepper>,
-          [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<BulletModel>(m); },
-          nullptr,  // Bullet's URDF importer is not in libbullet-dev
-          [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); },
-          nullptr,
-          {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
-                          "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot},
-          "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
-          "without gravity, B = A u'; both err by ~eps cond(A), as u' does"};
+  EngineRow r;
+  r.info.name = "bullet";
+  r.info.summary = "Bullet 3.24's btMultiBody stepped by btMultiBodyDynamicsWorld (Featherstone's articulated bodies, "
+                   "semi-implicit Euler or its rk4, springs and dampers as joint torques held over a step), fixed step "
+                   "(what PyBullet runs)";
+  r.info.schemes = {
+      {"bullet-euler", true, "Bullet's semi-implicit Euler (stepSimulation: velocities, then positions from them)", "P"},
+      {"bullet-rk4", true, "btMultiBody's own rk4 (useRK4Integration; the springs' torques held over the step)", "X"}};
+  r.info.fixed_scheme = "bullet-euler";
+  r.info.adaptive_scheme = "bullet-euler";  // Bullet has no adaptive scheme
+  r.info.colour = "darkgoldenrod";
+  r.code.simulate = simulateFixedStep<BulletStepper>;
+  r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<BulletModel>(m); };
+  // no urdf: Bullet's URDF importer is not in libbullet-dev
+  r.code.version = [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); };
+  r.code.udot_method = {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
+                                       "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot};
+  r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
+                          "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
+  return r;
 }
 
 }  // namespace em

@@ -11,12 +11,12 @@
 
 namespace em {
 
-class SimbodyReference {
+class SimbodySystem {
  public:
-  explicit SimbodyReference(const Model& m);
-  ~SimbodyReference();
-  SimbodyReference(const SimbodyReference&) = delete;
-  SimbodyReference& operator=(const SimbodyReference&) = delete;
+  explicit SimbodySystem(const Model& m);
+  ~SimbodySystem();
+  SimbodySystem(const SimbodySystem&) = delete;
+  SimbodySystem& operator=(const SimbodySystem&) = delete;
 
   /// Set the state from in-house (q, u), internal order.  // q: (nq), u: (nu)
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u);

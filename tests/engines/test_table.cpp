@@ -1,4 +1,4 @@
-// The engine seam (reference/engine_table.cpp): every row is in the
+// The engine seam (engines/table.cpp): every row is in the
 // registry as an engine, a method and its schemes; every row runs a scene on
 // the grid through the one dispatch point and lands near the in-house
 // solution; every row that gives equations gives the in-house ones. A new
@@ -15,23 +15,32 @@ TEST_CASE("every engine row is in the registry: its engine, its method and its s
   useEngines();
   useEngines();  // once: a second call adds nothing
   REQUIRE(otherEngines().size() == engineRows().size());
+  int references = 0, seconds = 0;
   for (const EngineRow& row : engineRows()) {
-    INFO(row.name);
-    const Engine e = parseEngine(row.name);
+    INFO(row.info.name);
+    const Engine e = parseEngine(row.info.name);
     const MethodInfo& m = info(info(e).method);
-    CHECK(std::string(m.name) == row.name);  // an engine runs one method, named as the engine
+    CHECK(std::string(m.name) == row.info.name);  // an engine runs one method, named as the engine
     CHECK(m.engine == e);
     CHECK(m.make == nullptr);
-    CHECK(integratorNames(e).size() == row.schemes.size());
-    for (const EngineScheme& s : row.schemes) {
+    CHECK(methodOwner(m.id) == row.info.name);
+    CHECK(integratorNames(e).size() == row.info.schemes.size());
+    for (const EngineScheme& s : row.info.schemes) {
       CHECK(info(parseIntegrator(s.name)).runs(e));
       CHECK(info(parseIntegrator(s.name)).fixed_step == s.fixed_step);
     }
-    CHECK(integratorName(defaultIntegrator(e)) == std::string(row.fixed_default));
-    CHECK(integratorName(adaptiveIntegrator(e)) == std::string(row.adaptive_default));
-    CHECK(&engineRow(e) == &row);
-    CHECK_FALSE(row.version().empty());
+    CHECK(integratorName(defaultIntegrator(e)) == std::string(row.info.fixed_scheme));
+    CHECK(integratorName(adaptiveIntegrator(e)) == std::string(row.info.adaptive_scheme));
+    CHECK(&engineCode(e) == &row.code);  // found by its id, not by its name
+    CHECK_FALSE(row.code.version().empty());
+    references += row.info.roles.reference;
+    seconds += row.info.roles.second_scheme != nullptr;
+    if (row.info.roles.second_scheme) CHECK(info(parseIntegrator(row.info.roles.second_scheme)).runs(e));
   }
+  CHECK(references == 1);  // one default reference and one second engine, each stated on its row
+  CHECK(seconds == 1);
+  CHECK(referenceEngine() != secondEngine());
+  CHECK(info(referenceMethod()).engine == referenceEngine());
   // One name, one scheme: MuJoCo's rk4 is the in-house row.
   CHECK(info(Integrator::RK4).runs(test::engine("mujoco")));
   CHECK(integratorNames(test::engine("mujoco")) == std::vector<std::string>{"rk4", "euler", "implicit"});
@@ -69,7 +78,7 @@ TEST_CASE("every engine that gives equations gives the in-house A, B and u' at t
   const std::vector<Engine> engines = enginesWithEquations();
   CHECK(engines.front() == Engine::InHouse);
   size_t with_model = 0;
-  for (const EngineRow& r : engineRows()) with_model += r.model != nullptr;
+  for (const EngineRow& r : engineRows()) with_model += r.code.model != nullptr;
   CHECK(engines.size() == 1 + with_model);
   CHECK(with_model >= 3);  // Simbody, MuJoCo and DART at least
   for (Engine e : engines) {

@@ -1,6 +1,6 @@
-#include "reference/simbody_reference.hpp"
+#include "engines/simbody.hpp"
 
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -102,7 +102,7 @@ struct DissipationMeasure : SimTK::Measure {
 
 }  // namespace
 
-struct SimbodyReference::Impl {
+struct SimbodySystem::Impl {
   explicit Impl(const Model& m) : model(m), matter(system), forces(system) {
     for (const Body& b : m.bodies) {
       MobilizedBody& parent = b.parent < 0 ? matter.updGround() : mobods[b.parent];
@@ -205,13 +205,13 @@ struct SimbodyReference::Impl {
   std::vector<int> q_index, u_index;  // Simbody index of in-house q[i], u[i]
 };
 
-SimbodyReference::SimbodyReference(const Model& m) : impl_(std::make_unique<Impl>(m)) {}
-SimbodyReference::~SimbodyReference() = default;
+SimbodySystem::SimbodySystem(const Model& m) : impl_(std::make_unique<Impl>(m)) {}
+SimbodySystem::~SimbodySystem() = default;
 
-void SimbodyReference::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) { impl_->setState(q, u); }
-void SimbodyReference::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const { impl_->getState(q, u); }
+void SimbodySystem::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) { impl_->setState(q, u); }
+void SimbodySystem::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const { impl_->getState(q, u); }
 
-Eigen::MatrixXd SimbodyReference::massMatrix() {
+Eigen::MatrixXd SimbodySystem::massMatrix() {
   impl_->system.realize(impl_->state, SimTK::Stage::Position);
   SimTK::Matrix M;
   impl_->matter.calcM(impl_->state, M);
@@ -223,7 +223,7 @@ Eigen::MatrixXd SimbodyReference::massMatrix() {
   return A;
 }
 
-Eigen::VectorXd SimbodyReference::rhs() {
+Eigen::VectorXd SimbodySystem::rhs() {
   auto& I = *impl_;
   I.system.realize(I.state, SimTK::Stage::Dynamics);
   const Vector& f_mob = I.system.getMobilityForces(I.state, SimTK::Stage::Dynamics);
@@ -233,15 +233,15 @@ Eigen::VectorXd SimbodyReference::rhs() {
   return -I.toInhouse(residual);
 }
 
-Eigen::VectorXd SimbodyReference::udot() {
+Eigen::VectorXd SimbodySystem::udot() {
   impl_->system.realize(impl_->state, SimTK::Stage::Acceleration);
   return impl_->toInhouse(impl_->state.getUDot());
 }
 
-double SimbodyReference::kineticEnergy() { return impl_->kineticEnergy(); }
-double SimbodyReference::potentialEnergy() { return impl_->potentialEnergy(); }
+double SimbodySystem::kineticEnergy() { return impl_->kineticEnergy(); }
+double SimbodySystem::potentialEnergy() { return impl_->potentialEnergy(); }
 
-std::vector<Pose> SimbodyReference::poses() { return impl_->poses(); }
+std::vector<Pose> SimbodySystem::poses() { return impl_->poses(); }
 
 namespace {
 
@@ -256,7 +256,7 @@ std::unique_ptr<SimTK::Integrator> makeIntegrator(Integrator i, const SimTK::Mul
 
 }  // namespace
 
-void SimbodyReference::Impl::sample(Trajectory& tr, double t, const State& s) {
+void SimbodySystem::Impl::sample(Trajectory& tr, double t, const State& s) {
   state = s;
   Eigen::VectorXd q, u;
   getState(q, u);
@@ -265,7 +265,7 @@ void SimbodyReference::Impl::sample(Trajectory& tr, double t, const State& s) {
   appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
 }
 
-Trajectory SimbodyReference::simulate(const RunSpec& spec, const SampleObserver& observe) {
+Trajectory SimbodySystem::simulate(const RunSpec& spec, const SampleObserver& observe) {
   checkRunSpec(spec);
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   auto& I = *impl_;
@@ -313,27 +313,29 @@ class SimbodyModel : public EngineModel {
   }
 
  private:
-  SimbodyReference ref_;
+  SimbodySystem ref_;
 };
 
 }  // namespace
 
 EngineRow simbodyEngine() {
-  return {"simbody",
-          "Simbody's own O(n) recursive dynamics: the independent engine",
-          {{"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive", "v"},
-           {"rk3", false, "Simbody Runge-Kutta 3, adaptive", "<"},
-           {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive", ">"}},
-          "rkmerson",
-          "rkmerson",
-          1.0,  // Simbody asserts (SIGABRT) on an accuracy >= 1
-          "tab:gray",
-          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) { return SimbodyReference(m).simulate(spec, observe); },
-          [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); },
-          nullptr,
-          [] { return std::string(EM_SIMBODY_VERSION); },
-          nullptr,
-          {}};
+  EngineRow r;
+  r.info.name = "simbody";
+  r.info.summary = "Simbody's own O(n) recursive dynamics: the independent engine";
+  r.info.schemes = {{"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive", "v"},
+                    {"rk3", false, "Simbody Runge-Kutta 3, adaptive", "<"},
+                    {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive", ">"}};
+  r.info.fixed_scheme = "rkmerson";
+  r.info.adaptive_scheme = "rkmerson";
+  r.info.max_tol = 1.0;  // Simbody asserts (SIGABRT) on an accuracy >= 1
+  r.info.colour = "tab:gray";
+  r.info.roles.reference = true;  // the reference of every comparison of a tree, when none is named
+  r.code.simulate = [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+    return SimbodySystem(m).simulate(spec, observe);
+  };
+  r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); };
+  r.code.version = [] { return std::string(EM_SIMBODY_VERSION); };
+  return r;
 }
 
 }  // namespace em

@@ -1,4 +1,4 @@
-#include "reference/mujoco_engine.hpp"
+#include "engines/mujoco.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -6,9 +6,9 @@
 
 #include <mujoco/mujoco.h>
 
-#include "reference/engine.hpp"
-#include "reference/fixed_step.hpp"
-#include "reference/mujoco_peer.hpp"
+#include "engines/engine.hpp"
+#include "engines/fixed_step.hpp"
+#include "engines/mujoco_system.hpp"
 
 namespace em {
 
@@ -28,7 +28,7 @@ int scheme(Integrator i) {
 thread_local long g_evaluations = 0;
 void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
 
-// MuJoCo stepped by the one fixed-step loop (reference/fixed_step.hpp).
+// MuJoCo stepped by the one fixed-step loop (engines/fixed_step.hpp).
 class MujocoStepper : public FixedStepEngine {
  public:
   MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
@@ -60,7 +60,7 @@ class MujocoStepper : public FixedStepEngine {
   }
 
  private:
-  MujocoPeer peer_;
+  MujocoSystem peer_;
   long evaluations_ = 0;
 };
 
@@ -75,7 +75,7 @@ namespace {
 // MuJoCo's equations at any state (mj_forward), for crosscheck and `equations`.
 class MujocoModel : public EngineModel {
  public:
-  explicit MujocoModel(std::unique_ptr<MujocoPeer> peer) : peer_(std::move(peer)) {
+  explicit MujocoModel(std::unique_ptr<MujocoSystem> peer) : peer_(std::move(peer)) {
     peer_->configure(mjINT_RK4, 1e-3);  // energies on: kinetic and potential at every forward
   }
   EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
@@ -86,7 +86,7 @@ class MujocoModel : public EngineModel {
   std::vector<CompiledMass> compiledMass() override { return peer_->compiledMass(); }
 
  private:
-  std::unique_ptr<MujocoPeer> peer_;
+  std::unique_ptr<MujocoSystem> peer_;
 };
 
 }  // namespace
@@ -108,29 +108,32 @@ std::string fullInertiaNote(const Model& m) {
 }  // namespace
 
 EngineRow mujocoEngine() {
-  return {"mujoco",
-          "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step",
-          {{"rk4", true, "MuJoCo's RK4, the in-house tableau", "o"},
-           {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step", "P"},
-           {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step", "X"}},
-          "rk4",
-          "rk4",  // MuJoCo 2.2 has no adaptive scheme
-          HUGE_VAL,
-          "tab:red",
-          simulateMujoco,
-          [](const Model& m) -> std::unique_ptr<EngineModel> {
-            return std::make_unique<MujocoModel>(std::make_unique<MujocoPeer>(m));
-          },
-          [](const Model& m, const UrdfSource& u) -> std::unique_ptr<EngineModel> {
-            return std::make_unique<MujocoModel>(std::make_unique<MujocoPeer>(m, u.text, u.joints, u.locked,
-                                                                               u.balance_inertia, u.floating_joint));
-          },
-          [] { return std::string(mj_versionString()); },
-          "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
-          " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md",
-          {},
-          nullptr,
-          fullInertiaNote};
+  EngineRow r;
+  r.info.name = "mujoco";
+  r.info.summary = "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step";
+  r.info.schemes = {
+      {"rk4", true, "MuJoCo's RK4, the in-house tableau", "o"},
+      {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step", "P"},
+      {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step", "X"}};
+  r.info.fixed_scheme = "rk4";
+  r.info.adaptive_scheme = "rk4";  // MuJoCo 2.2 has no adaptive scheme
+  r.info.colour = "tab:red";
+  // Beside the reference: rk4 at 1e-4 s, fine enough that its own error (~dt^4) is below the reference's tolerance.
+  r.info.roles.second_scheme = "rk4";
+  r.info.roles.second_dt = 1e-4;
+  r.code.simulate = simulateMujoco;
+  r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> {
+    return std::make_unique<MujocoModel>(std::make_unique<MujocoSystem>(m));
+  };
+  r.code.urdf = [](const Model& m, const UrdfSource& u) -> std::unique_ptr<EngineModel> {
+    return std::make_unique<MujocoModel>(std::make_unique<MujocoSystem>(m, u.text, u.joints, u.locked, u.balance_inertia, u.floating_joint));
+  };
+  r.code.version = [] { return std::string(mj_versionString()); };
+  r.code.mass_note =
+      "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
+      " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md";
+  r.code.scene_note = fullInertiaNote;
+  return r;
 }
 
 }  // namespace em

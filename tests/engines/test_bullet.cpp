@@ -1,4 +1,4 @@
-// Bullet as an engine (reference/bullet_engine.cpp): its u' under the
+// Bullet as an engine (engines/bullet.cpp): its u' under the
 // in-house rk4 integrates the same ODE as classical rk4, so the two agree to
 // round-off until chaos amplifies it, on every joint kind (a free joint as
 // the floating base and inside a tree); stepSimulation's semi-implicit Euler

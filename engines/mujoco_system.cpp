@@ -1,6 +1,6 @@
-#include "reference/mujoco_peer.hpp"
+#include "engines/mujoco_system.hpp"
 
-#include "reference/urdf_text.hpp"
+#include "engines/urdf_text.hpp"
 
 #include <cstdio>
 #include <set>
@@ -189,7 +189,7 @@ mjModel* compile(const std::vector<std::pair<std::string, std::string>>& files) 
 
 }  // namespace
 
-struct MujocoPeer::Impl {
+struct MujocoSystem::Impl {
   mjModel* mm = nullptr;
   mjData* d = nullptr;
   std::vector<int> qadr, dof;  // MuJoCo qpos index of in-house q[i] (nq), dof index of u[i] (nu)
@@ -256,7 +256,7 @@ const char* mjTypeOfUrdf(JointType t) {
 }
 }  // namespace
 
-MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>()) {
+MujocoSystem::MujocoSystem(const Model& m) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
   I.mm = compile(toMjcf(m));
   I.d = mj_makeData(I.mm);
@@ -272,7 +272,7 @@ MujocoPeer::MujocoPeer(const Model& m) : impl_(std::make_unique<Impl>()) {
   }
 }
 
-MujocoPeer::MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
+MujocoSystem::MujocoSystem(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
                        const std::vector<std::string>& locked, bool balance_inertia, const std::string& floating_joint)
     : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
@@ -298,9 +298,9 @@ MujocoPeer::MujocoPeer(const Model& m, const std::string& urdf_text, const std::
   }
 }
 
-MujocoPeer::~MujocoPeer() = default;
+MujocoSystem::~MujocoSystem() = default;
 
-void MujocoPeer::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+void MujocoSystem::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Impl& I = *impl_;
   for (size_t i = 0; i < I.qadr.size(); ++i) I.d->qpos[I.qadr[i]] = q[i] + I.qoff[i];
   Eigen::VectorXd v = u;
@@ -313,9 +313,9 @@ void MujocoPeer::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   for (size_t i = 0; i < I.dof.size(); ++i) I.d->qvel[I.dof[i]] = v[i];
 }
 
-void MujocoPeer::forward() { mj_forward(impl_->mm, impl_->d); }
+void MujocoSystem::forward() { mj_forward(impl_->mm, impl_->d); }
 
-Eigen::MatrixXd MujocoPeer::massMatrix() const {
+Eigen::MatrixXd MujocoSystem::massMatrix() const {
   const int nv = impl_->mm->nv;
   std::vector<mjtNum> M(nv * nv);
   mj_fullM(impl_->mm, M.data(), impl_->d->qM);
@@ -330,7 +330,7 @@ Eigen::MatrixXd MujocoPeer::massMatrix() const {
   return A;
 }
 
-std::vector<CompiledMass> MujocoPeer::compiledMass() {
+std::vector<CompiledMass> MujocoSystem::compiledMass() {
   const mjModel* mm = impl_->mm;
   mjData* d = impl_->d;
   mju_copy(d->qpos, mm->qpos0, mm->nq);  // the zero configuration (a quaternion's is 1 0 0 0)
@@ -344,14 +344,14 @@ std::vector<CompiledMass> MujocoPeer::compiledMass() {
   return out;
 }
 
-Eigen::VectorXd MujocoPeer::acceleration() const {
+Eigen::VectorXd MujocoSystem::acceleration() const {
   Eigen::VectorXd a(impl_->mm->nv);
   for (int i = 0; i < a.size(); ++i) a[i] = impl_->d->qacc[impl_->dof[i]];
   impl_->toInhouse(a);  // u' = G u_mj' (G' u_mj = w x w = 0)
   return a;
 }
 
-Eigen::VectorXd MujocoPeer::rhs() const {
+Eigen::VectorXd MujocoSystem::rhs() const {
   Eigen::VectorXd B(impl_->mm->nv);
   // MuJoCo's passive forces are the scene's springs and dampers (none from a URDF: disabled).
   for (int i = 0; i < B.size(); ++i) B[i] = impl_->d->qfrc_passive[impl_->dof[i]] - impl_->d->qfrc_bias[impl_->dof[i]];
@@ -363,7 +363,7 @@ Eigen::VectorXd MujocoPeer::rhs() const {
 
 namespace em {
 
-void MujocoPeer::configure(int scheme, double dt) {
+void MujocoSystem::configure(int scheme, double dt) {
   mjModel* mm = impl_->mm;
   mm->opt.integrator = scheme;
   mm->opt.timestep = dt;
@@ -371,9 +371,9 @@ void MujocoPeer::configure(int scheme, double dt) {
   mj_resetData(mm, impl_->d);
 }
 
-void MujocoPeer::step() { mj_step(impl_->mm, impl_->d); }
+void MujocoSystem::step() { mj_step(impl_->mm, impl_->d); }
 
-void MujocoPeer::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
+void MujocoSystem::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
   const Impl& I = *impl_;
   q.resize(static_cast<Eigen::Index>(I.qadr.size()));
   u.resize(static_cast<Eigen::Index>(I.dof.size()));
@@ -387,7 +387,7 @@ void MujocoPeer::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const {
   }
 }
 
-std::vector<Pose> MujocoPeer::poses() const {
+std::vector<Pose> MujocoSystem::poses() const {
   const Impl& I = *impl_;
   std::vector<Pose> out(I.body.size());
   for (size_t i = 0; i < I.body.size(); ++i) {  // the MJCF body frame is the in-house one, at the CM
@@ -398,24 +398,24 @@ std::vector<Pose> MujocoPeer::poses() const {
   return out;
 }
 
-double MujocoPeer::kineticEnergy() const { return impl_->d->energy[1]; }
-double MujocoPeer::potentialEnergy() const { return impl_->d->energy[0]; }
+double MujocoSystem::kineticEnergy() const { return impl_->d->energy[1]; }
+double MujocoSystem::potentialEnergy() const { return impl_->d->energy[0]; }
 
-double MujocoPeer::dissipationRate() const {
+double MujocoSystem::dissipationRate() const {
   const mjModel* mm = impl_->mm;
   double P = 0;
   for (int i = 0; i < mm->nv; ++i) P += mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qvel[i];
   return P;
 }
 
-double MujocoPeer::dissipationRateDerivative() const {
+double MujocoSystem::dissipationRateDerivative() const {
   const mjModel* mm = impl_->mm;
   double dP = 0;
   for (int i = 0; i < mm->nv; ++i) dP += 2 * mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qacc[i];
   return dP;
 }
 
-std::string MujocoPeer::warnings() const {
+std::string MujocoSystem::warnings() const {
   std::string out;
   for (int i = 0; i < mjNWARNING; ++i)
     if (impl_->d->warning[i].number > 0)

@@ -29,8 +29,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "reference/engine.hpp"
-#include "reference/fixed_step.hpp"
+#include "engines/engine.hpp"
+#include "engines/fixed_step.hpp"
 #include "solver/formation.hpp"
 #include "solver/joint.hpp"
 
@@ -294,22 +294,20 @@ class OdeStepper : public FixedStepEngine {
 }  // namespace
 
 EngineRow odeEngine() {
-  return {"ode",
-          "ODE 0.16's bodies and joints in maximal coordinates (constraint forces, ERP 0.2 and CFM 1e-10, its "
-          "defaults; springs and dampers as joint torques held over a step), fixed step (Gazebo Classic's default)",
-          {{"ode-step", true, "ODE's dWorldStep: constraint forces by a direct solve, then semi-implicit Euler", "v"},
-           {"ode-quickstep", true, "ODE's dWorldQuickStep: 20 projected Gauss-Seidel iterations in place of the solve",
-            "^"}},
-          "ode-step",
-          "ode-step",  // ODE has no adaptive scheme
-          HUGE_VAL,
-          "navy",
-          simulateFixedStep<OdeStepper>,
-          nullptr,  // ODE gives no accelerations at a state
-          nullptr,
-          [] { return std::string(dODE_VERSION); },
-          nullptr,
-          {}};
+  EngineRow r;
+  r.info.name = "ode";
+  r.info.summary = "ODE 0.16's bodies and joints in maximal coordinates (constraint forces, ERP 0.2 and CFM 1e-10, its "
+                   "defaults; springs and dampers as joint torques held over a step), fixed step (Gazebo Classic's default)";
+  r.info.schemes = {
+      {"ode-step", true, "ODE's dWorldStep: constraint forces by a direct solve, then semi-implicit Euler", "v"},
+      {"ode-quickstep", true, "ODE's dWorldQuickStep: 20 projected Gauss-Seidel iterations in place of the solve", "^"}};
+  r.info.fixed_scheme = "ode-step";
+  r.info.adaptive_scheme = "ode-step";  // ODE has no adaptive scheme
+  r.info.colour = "navy";
+  r.code.simulate = simulateFixedStep<OdeStepper>;
+  // no model: ODE gives no accelerations at a state
+  r.code.version = [] { return std::string(dODE_VERSION); };
+  return r;
 }
 
 }  // namespace em

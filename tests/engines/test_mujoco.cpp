@@ -1,4 +1,4 @@
-// MuJoCo as a trajectory engine (reference/mujoco_engine.cpp): the same
+// MuJoCo as a trajectory engine (engines/mujoco.cpp): the same
 // scheme (rk4) at the same step integrates the same ODE as the in-house
 // classical rk4, so the two agree to round-off until chaos amplifies it; at
 // a small step MuJoCo agrees with Simbody; its energies and poses are ours.
@@ -6,8 +6,8 @@
 
 #include <random>
 
-#include "reference/mujoco_engine.hpp"
-#include "reference/simbody_reference.hpp"
+#include "engines/mujoco.hpp"
+#include "engines/simbody.hpp"
 #include "solver/integrate.hpp"
 #include "engines.hpp"
 #include "support.hpp"
@@ -45,7 +45,7 @@ TEST_CASE("ball joints: MuJoCo 2.2's RK4 is second order on a quaternion, the in
   // MuJoCo 2.44e-8 at dt 1e-3 and 6.10e-9 at 5e-4 (ratio 4.0: second
   // order), in-house 1.6e-11 and 2.2e-12 (ratio 7.4, at Simbody's own floor).
   const Model m = test::loadData("pendulum5_ball.json");
-  const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 0.1, 1e-12));
+  const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 0.1, 1e-12));
   double mj_err[2], in_err[2];
   for (int i = 0; i < 2; ++i) {
     const double dt = i == 0 ? 1e-3 : 5e-4;
@@ -66,7 +66,7 @@ TEST_CASE("MuJoCo at a small step agrees with the Simbody reference", "[crossche
   for (const char* s : {"pendulum5.json", "cartpole.json", "floating_arm.json", "spring_damper.json"}) {
     const Model m = test::loadData(s);
     const Trajectory mj = simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 1.0, 1e-4));
-    const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
+    const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
     REQUIRE_FALSE(mj.failed());
     REQUIRE_FALSE(sb.failed());
     INFO(s << ": pose difference " << test::maxPoseDiff(mj, sb));
@@ -79,7 +79,7 @@ TEST_CASE("MuJoCo's Euler and implicit schemes run, first order, and a damped sc
   // the Simbody reference (a ratio above 1.6 asserted). The dampers' work is
   // summed per step (c u^2 dt), so E + W_diss stays within O(dt) of E(0).
   const Model m = test::loadData("spring_damper.json");
-  const Trajectory sb = SimbodyReference(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
+  const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
   for (Integrator scheme : {em::test::scheme("euler"), em::test::scheme("implicit")}) {
     double err[2];
     for (int i = 0; i < 2; ++i) {

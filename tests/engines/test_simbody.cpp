@@ -2,7 +2,7 @@
 // independent Simbody model of the same scene, state by state and over time.
 #include <catch2/catch.hpp>
 
-#include "reference/simbody_reference.hpp"
+#include "engines/simbody.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
 #include "momenta.hpp"
@@ -32,7 +32,7 @@ RunSpec simbodyRun(Integrator integrator, double tol, double t_end) {
 
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
   Trajectory in = simulate(m, rk8pd(tol_inhouse, t_end));
-  Trajectory sb = SimbodyReference(m).simulate(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end));
+  Trajectory sb = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end));
   REQUIRE(in.status() == "ok");
   REQUIRE(sb.status() == "ok");
   REQUIRE(in.size() == sb.size());
@@ -45,7 +45,7 @@ TEST_CASE("A B udot energies and poses agree with Simbody at random states of ev
   std::mt19937 rng(3);
   for (const auto& name : test::dataScenes()) {
     const Model m = test::loadData(name);
-    SimbodyReference ref(m);
+    SimbodySystem ref(m);
     Workspace ws(m);
     Eigen::VectorXd q = m.q0(), u = m.u0();
     for (int k = 0; k <= kStates; ++k) {
@@ -72,7 +72,7 @@ TEST_CASE("A B udot energies and poses agree with Simbody at random states of ev
 
 TEST_CASE("state mapping round-trips for every joint kind (quaternion order - ball speeds)", "[crosscheck]") {
   const Model m = test::loadData("tree_mixed.json");
-  SimbodyReference ref(m);
+  SimbodySystem ref(m);
   std::mt19937 rng(5);
   Eigen::VectorXd q, u, q2, u2;
   test::randomState(m, rng, q, u);
@@ -86,7 +86,7 @@ TEST_CASE("a balls u is the angular velocity in the parent frame in Simbody too"
   // One asymmetric body on a ball at the origin: its kinetic energy is
   // 1/2 w^T (R J R^T + pivot terms) w with w = u only if u is in the parent frame.
   const Model m = test::loadData("pendulum5_ball.json");
-  SimbodyReference ref(m);
+  SimbodySystem ref(m);
   Workspace ws(m);
   Eigen::VectorXd q = m.q0(), u = Eigen::VectorXd::Zero(m.nu);
   u.head<3>() = Vec3(0.3, -1.1, 0.7);
@@ -107,8 +107,8 @@ TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12
 
 TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
   const Model g = test::loadData("pendulum5.json"), b = test::loadData("pendulum5_ball.json");
-  const Trajectory sg = SimbodyReference(g).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
-  const Trajectory sball = SimbodyReference(b).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
+  const Trajectory sg = SimbodySystem(g).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
+  const Trajectory sball = SimbodySystem(b).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
   const Trajectory ib = simulate(b, rk8pd(1e-13, 5.0));
   CHECK(test::maxPoseDiff(sg, sball) <= 1e-8);
   CHECK(test::maxPoseDiff(ib, sball) <= 1e-8);
@@ -150,7 +150,7 @@ TEST_CASE("dampers: both engines close the energy balance and agree on the dissi
 
 TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5 over 1 s", "[crosscheck]") {
   const Model m = test::loadData("pendulum5.json");
-  SimbodyReference ref(m);
+  SimbodySystem ref(m);
   const Trajectory a = ref.simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 1.0));
   for (Integrator integ : {em::test::scheme("rk3"), em::test::scheme("cpodes")}) {
     const Trajectory b = ref.simulate(simbodyRun(integ, 1e-10, 1.0));
@@ -168,7 +168,7 @@ TEST_CASE("a Simbody failure is a one-line cause with its time - not an exceptio
   SceneSpec s = test::chainSpec(2);
   s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
   const Model m = buildModel(s);
-  const Trajectory t = SimbodyReference(m).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1));
+  const Trajectory t = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1));
   CHECK(t.status() == "failed");
   CHECK(t.failure_time == 0.0);
   CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));

@@ -1,4 +1,4 @@
-// DART as an engine (reference/dart_engine.cpp): its u' under the in-house
+// DART as an engine (engines/dart.cpp): its u' under the in-house
 // rk4 integrates the same ODE as classical rk4, so the two agree to
 // round-off until chaos amplifies it; World::step is first order; on a free
 // body in zero gravity its stepping keeps momenta as measured here (Erez,

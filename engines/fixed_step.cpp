@@ -1,4 +1,4 @@
-#include "reference/fixed_step.hpp"
+#include "engines/fixed_step.hpp"
 
 #include <cmath>
 #include <ctime>

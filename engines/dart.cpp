@@ -35,9 +35,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "reference/engine.hpp"
-#include "reference/fixed_step.hpp"
-#include "reference/urdf_text.hpp"
+#include "engines/engine.hpp"
+#include "engines/fixed_step.hpp"
+#include "engines/urdf_text.hpp"
 #include "solver/method.hpp"
 
 namespace em {
@@ -457,28 +457,27 @@ std::unique_ptr<MethodImpl> makeDartUdot(const Model& m, const MethodInfo&, cons
 }  // namespace
 
 EngineRow dartEngine() {
-  return {"dart",
-          "DART 6.12's World::step: its articulated-body dynamics and semi-implicit Euler, springs and dampers implicit, "
-          "fixed step (what Gazebo runs)",
-          {{"dart-euler", true, "DART's semi-implicit Euler (World::step: velocities, then positions from them)", "*"}},
-          "dart-euler",
-          "dart-euler",  // DART has no adaptive scheme
-          HUGE_VAL,
-          "tab:pink",
-          [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-            checkRunSpec(spec);
-            QuietDart quiet;
-            DartStepper stepper(m, spec);
-            return runFixedStep(m, spec, stepper, observe);
-          },
-          [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<DartModel>(m); },
-          [](const Model& m, const UrdfSource& source) -> std::unique_ptr<EngineModel> {
-            return std::make_unique<DartUrdfModel>(m, source);
-          },
-          [] { return std::string(DART_VERSION); },
-          nullptr,
-          {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
-                        "formulation apart from its integrator", "#ad4a8c", makeDartUdot}};
+  EngineRow r;
+  r.info.name = "dart";
+  r.info.summary = "DART 6.12's World::step: its articulated-body dynamics and semi-implicit Euler, springs and dampers "
+                   "implicit, fixed step (what Gazebo runs)";
+  r.info.schemes = {{"dart-euler", true, "DART's semi-implicit Euler (World::step: velocities, then positions from them)", "*"}};
+  r.info.fixed_scheme = "dart-euler";
+  r.info.adaptive_scheme = "dart-euler";  // DART has no adaptive scheme
+  r.info.colour = "tab:pink";
+  r.code.simulate = [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+    QuietDart quiet;
+    DartStepper stepper(m, spec);
+    return runFixedStep(m, spec, stepper, observe);
+  };
+  r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<DartModel>(m); };
+  r.code.urdf = [](const Model& m, const UrdfSource& source) -> std::unique_ptr<EngineModel> {
+    return std::make_unique<DartUrdfModel>(m, source);
+  };
+  r.code.version = [] { return std::string(DART_VERSION); };
+  r.code.udot_method = {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
+                                     "formulation apart from its integrator", "#ad4a8c", makeDartUdot};
+  return r;
 }
 
 }  // namespace em

@@ -23,7 +23,7 @@
 #include <utility>
 #include <vector>
 
-#include "reference/engine.hpp"
+#include "engines/engine.hpp"
 #include "solver/model.hpp"
 #include "solver/trajectory.hpp"
 
@@ -33,20 +33,20 @@ namespace em {
 /// includes (MuJoCo's parser allows 100 nested elements per file).
 std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m);
 
-class MujocoPeer {
+class MujocoSystem {
  public:
   /// Throws std::runtime_error with MuJoCo's message if the model does not compile.
-  explicit MujocoPeer(const Model& m);
+  explicit MujocoSystem(const Model& m);
   /// MuJoCo's reading of `urdf_text`; `joints` names the URDF joint of each
   /// body of `m` in source (file) order (Scene::source_joints). `locked`
   /// joints become fixed; `balance_inertia` sets MuJoCo's balanceinertia;
   /// a `floating_joint` name frees the root link by a URDF floating joint
   /// of that name, which MuJoCo reads as its free joint.
-  MujocoPeer(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
+  MujocoSystem(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
              const std::vector<std::string>& locked, bool balance_inertia, const std::string& floating_joint = "");
-  ~MujocoPeer();
-  MujocoPeer(const MujocoPeer&) = delete;
-  MujocoPeer& operator=(const MujocoPeer&) = delete;
+  ~MujocoSystem();
+  MujocoSystem(const MujocoSystem&) = delete;
+  MujocoSystem& operator=(const MujocoSystem&) = delete;
   /// qpos, qvel from in-house q, u (internal order).  // q: (nq), u: (nu)
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u);
   /// mj_forward: everything up to the accelerations.
@@ -59,7 +59,7 @@ class MujocoPeer {
   /// at the zero configuration (leaves the state at zero).
   std::vector<CompiledMass> compiledMass();
 
-  // Stepping (reference/mujoco_engine.cpp): the peer as a trajectory engine.
+  // Stepping (engines/mujoco.cpp): the peer as a trajectory engine.
   /// Fixed step dt with MuJoCo's integrator `scheme` (mjINT_EULER, mjINT_RK4,
   /// mjINT_IMPLICIT); energies computed by every forward.
   void configure(int scheme, double dt);

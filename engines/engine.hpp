@@ -2,8 +2,8 @@
 /// The engine seam: every independent engine (Simbody, MuJoCo, ...) is one
 /// row of engineRows(), naming what it can do; nothing outside an engine's
 /// row and its own files asks which engine it is. Adding an engine is its
-/// row (reference/engine_table.cpp), its own file(s) under reference/ and
-/// their CMake lines. useEngines() adds every row to the registry
+/// row (its own file under engines/, listed in engines/table.cpp) and its
+/// CMake lines. useEngines() adds every row to the registry
 /// (solver/registry.hpp: the engine, its method and its schemes).
 #include <memory>
 #include <string>
@@ -61,29 +61,23 @@ struct EngineUdotMethod {
   MethodFactory* make = nullptr;
 };
 
-/// One engine's row.
-struct EngineRow {
-  const char* name;
-  const char* summary;               ///< its method's one line (--help, docs)
-  std::vector<EngineScheme> schemes; ///< its integrators (rk4: the in-house tableau)
-  const char* fixed_default;         ///< when nothing is asked
-  const char* adaptive_default;      ///< a tolerance alone, and as a reference
-  double max_tol;                    ///< a tolerance must be below it (HUGE_VAL: any)
-  const char* colour;                ///< its method's colour in every figure (matplotlib name)
+/// An engine's own code (solver/registry.hpp's EngineCode): how it runs and
+/// what it gives at a state. Its fields are named where it is written.
+struct EngineCode {
   /// Integrate from the model's initial state as `spec` says (the engine's
   /// method, one of its schemes), sampled on the output grid; a numerical
   /// failure ends the run with its time and cause; bad settings throw.
-  Trajectory (*simulate)(const Model& m, const RunSpec& spec, const SampleObserver& observe);
+  Trajectory (*simulate)(const Model& m, const RunSpec& spec, const SampleObserver& observe) = nullptr;
   /// Its model of `m` (throws std::runtime_error with the engine's message
   /// when it cannot take the scene), or nullptr: it gives no equations at a state.
-  std::unique_ptr<EngineModel> (*model)(const Model& m);
+  std::unique_ptr<EngineModel> (*model)(const Model& m) = nullptr;
   /// Its own reading of a URDF robot whose Model is `m`, or nullptr: it has
   /// no URDF reader (crosscheck then uses `model`).
-  std::unique_ptr<EngineModel> (*urdf)(const Model& m, const UrdfSource& source);
+  std::unique_ptr<EngineModel> (*urdf)(const Model& m, const UrdfSource& source) = nullptr;
   /// Its library's version, for provenance and --version.
-  std::string (*version)();
+  std::string (*version)() = nullptr;
   /// One line on what crosscheck's "<name>-mass" rows are (engines with compiled masses), else nullptr.
-  const char* mass_note;
+  const char* mass_note = nullptr;
   /// Its u' as a method under the in-house integrators, where it offers one.
   EngineUdotMethod udot_method;
   /// One line on how its A and B are had where it exposes no mass matrix
@@ -96,12 +90,19 @@ struct EngineRow {
   std::string (*scene_note)(const Model& m) = nullptr;
 };
 
+/// One engine: its registry row and its code, written in its own file
+/// (engines/<name>.cpp) with named fields.
+struct EngineRow {
+  EngineInfo info;
+  EngineCode code;
+};
+
 /// Every engine, in the order every listing uses.
 const std::vector<EngineRow>& engineRows();
 /// Add every row to the registry (once; later calls do nothing). The
 /// engines' dispatch below calls it; programs call it before reading the tables.
 void useEngines();
-/// The row of engine `e` (not the in-house one).
-const EngineRow& engineRow(Engine e);
+/// The code of engine `e` (not the in-house one), found by its id.
+const EngineCode& engineCode(Engine e);
 
 }  // namespace em

@@ -1,4 +1,4 @@
-#include "reference/urdf_text.hpp"
+#include "engines/urdf_text.hpp"
 
 #include <stdexcept>
 

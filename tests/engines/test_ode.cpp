@@ -1,4 +1,4 @@
-// ODE as an engine (reference/ode_engine.cpp): maximal coordinates read back
+// ODE as an engine (engines/ode.cpp): maximal coordinates read back
 // into ours give the initial state back to round-off on every joint kind;
 // dWorldStep is first order, and its constraint violation (the joints' two
 // points apart) shrinks with dt; on a free body in zero gravity its stepping

@@ -1,0 +1,61 @@
+#include <mutex>
+#include <stdexcept>
+
+#include "engines/engine.hpp"
+
+namespace em {
+
+// Each engine's row, defined in its own file (engines/<name>.cpp).
+EngineRow simbodyEngine();
+EngineRow mujocoEngine();
+EngineRow dartEngine();
+EngineRow bulletEngine();
+EngineRow odeEngine();
+
+const std::vector<EngineRow>& engineRows() {
+  static const std::vector<EngineRow> rows = {simbodyEngine(), mujocoEngine(), dartEngine(), bulletEngine(), odeEngine()};
+  return rows;
+}
+
+namespace {
+
+// An engine's u' under the in-house integrators, as a method of the in-house engine.
+void addUdotMethod(const EngineUdotMethod& u) {
+  MethodInfo m;
+  m.name = u.name;
+  m.make = u.make;
+  m.summary = u.summary;
+  m.colour = u.colour;
+  addMethod(m);
+}
+
+}  // namespace
+
+void useEngines() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (const EngineRow& r : engineRows()) {
+      EngineInfo info = r.info;
+      info.code = &r.code;  // the row's own code, found by the id addEngine gives
+      addEngine(info);
+      if (r.code.udot_method.name) addUdotMethod(r.code.udot_method);
+    }
+  });
+}
+
+const EngineCode& engineCode(Engine e) {
+  useEngines();
+  const EngineInfo& row = info(e);
+  if (!row.code) throw std::logic_error(std::string("engineCode: '") + row.name + "' runs no code of engines/");
+  return *row.code;
+}
+
+namespace {
+
+// The tables hold every engine before any program reads them: this unit is
+// linked wherever an engine can run (engineCode is the one dispatch point).
+const bool registered = (useEngines(), true);
+
+}  // namespace
+
+}  // namespace em
