@@ -64,10 +64,11 @@ void refuseUnreadInHouseSettings(const CLI::App& cmd, const CompareOptions& o) {
 }
 
 // The options as given on the command line, resolved against the registry.
-CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const std::vector<std::string>& outside) {
+CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& model, const std::vector<std::string>& outside) {
   CompareOptions o = a.opt;
   o.methods.clear();
   for (const std::string& name : a.methods) o.methods.push_back(parseMethod(name));
+  if (!cmd.count("--methods")) o.leaveOutRefused(model);  // named methods are refused instead, in one line
   for (const std::string& name : outside) o.methods.push_back(parseMethod(name));
   const double reference_tol = o.reference.tol;
   o.reference = defaultReferenceSpec(parseMethod(a.reference));
@@ -149,7 +150,7 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   for (const std::string& f : a.outside.files()) inputs.push_back(f);
   const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;
   prepareOutput("--out", out, inputs);
-  const CompareOptions options = resolve(a, cmd, a.outside.load(scene));
+  const CompareOptions options = resolve(a, cmd, scene.model, a.outside.load(scene));
   if (!a.csv_dir.empty()) {
     prepareFolder("--csv-dir", a.csv_dir);
     const std::vector<std::string> csvs = csvFiles(a.csv_dir, options.methods);

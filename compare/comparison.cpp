@@ -37,6 +37,16 @@ std::vector<RunSpec*> CompareOptions::allSpecs() {
 
 bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
 
+void CompareOptions::leaveOutRefused(const Model& m) {
+  std::vector<Method> kept;
+  for (Method method : methods) {
+    const std::string why = engineRefusal(info(method).engine, m);
+    if (why.empty()) kept.push_back(method);
+    else left_out.emplace_back(method, why);
+  }
+  methods = kept;
+}
+
 void CompareOptions::enginesFollowInHouse() {
   for (auto& [e, s] : engines) {
     if (!followsInHouse(e)) continue;
@@ -75,8 +85,9 @@ std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
 }
 
 // Everything that can be refused is refused here, before the reference runs.
-void checkComparison(const CompareOptions& opt, const std::vector<RunSpec>& specs) {
+void checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
+  for (const RunSpec& s : specs) requireEngineTakes(s.engine(), m);  // a joint kind it lacks: named, before any run
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
   for (size_t i = 0; i < opt.methods.size(); ++i)
@@ -135,12 +146,12 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
 }  // namespace
 
 void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) {
-  checkComparison(opt, comparisonSpecs(scene, opt));
+  checkComparison(scene.model, opt, comparisonSpecs(scene, opt));
 }
 
 ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
   const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
-  checkComparison(opt, specs);
+  checkComparison(scene.model, opt, specs);
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
                     runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}};
   LyapunovOptions lo;
@@ -161,7 +172,7 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, vo
 ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, const ReferenceRuns& reference,
                                void (*progress)(const std::string&)) {
   const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
-  checkComparison(opt, specs);
+  checkComparison(scene.model, opt, specs);
   std::vector<Trajectory> runs;
   for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i].method), progress));
   ComparisonResult r = compareTrajectories(reference.reference, reference.tight, std::move(runs), opt);
@@ -283,6 +294,7 @@ std::string summaryTable(const ComparisonResult& r) {
   for (const MethodMetrics& m : r.metrics)
     if (m.failed())
       o << m.name() << " failed at t = " << gnum(m.failure_time) << " s: " << m.failure << "\n";
+  for (const auto& [method, why] : r.options.left_out) o << methodName(method) << ": not run: " << why << "\n";
   o << "outcome: ok; wrong = completed but beyond " << gnum(kWrongRad)
     << " rad of the reference before the reference horizon (only the comparison shows it); failed = stopped.\n";
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"

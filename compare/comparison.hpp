@@ -21,6 +21,12 @@ bool followsInHouse(Engine e);
 
 struct CompareOptions {
   std::vector<Method> methods;  ///< default: every method of the registry, in table order
+  /// Methods of the default list left out because their engine cannot take
+  /// the scene (engineRefusal: "engine: why"), each said in the table and the report.
+  std::vector<std::pair<Method, std::string>> left_out;
+  /// Leave out of `methods` those whose engine cannot take `m` (a default
+  /// list: a method named by the user is refused instead), into left_out.
+  void leaveOutRefused(const Model& m);
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
   /// Every other engine as a compared method, one spec each: its default
   /// integrator, dt 1e-3, tolerance kEngineTol (Simbody: rkmerson at 1e-6;

@@ -37,7 +37,18 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
   return tolerance_given ? adaptiveIntegrator(engine) : defaultIntegrator(engine);
 }
 
+std::string engineRefusal(Engine e, const Model& m) {
+  if (e == Engine::InHouse) return "";
+  const EngineCode& code = engineCode(e);
+  return code.refusal ? code.refusal(m) : "";
+}
+
+void requireEngineTakes(Engine e, const Model& m) {
+  if (const std::string why = engineRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
+}
+
 Trajectory runTrajectory(const Model& m, const RunSpec& spec) {
+  requireEngineTakes(spec.engine(), m);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
   if (recordedRun(spec.method)) return recordedTrajectory(m, spec);  // a run made elsewhere: nothing runs

@@ -43,6 +43,11 @@ Trajectory runTrajectory(const Model& m, const RunSpec& spec);
 /// What engine `e` does to this scene that bounds its agreement with the
 /// exact equations (its row's scene_note), or "" (the in-house engine: none).
 std::string engineSceneNote(Engine e, const Model& m);
+/// Why engine `e` cannot take this scene at all (its row's refusal: a joint
+/// kind it has no mapping for), or "" when it can.
+std::string engineRefusal(Engine e, const Model& m);
+/// Throws std::invalid_argument "engine: why" when engine `e` cannot take `m`.
+void requireEngineTakes(Engine e, const Model& m);
 
 /// Equations at the initial state, in the source's order.
 struct Equations {

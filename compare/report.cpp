@@ -232,6 +232,11 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
                   {"energy_scale_J", r.energy_scale},
                   {"energy_scale_definition", "largest kinetic energy of the reference run"}};
   for (const auto& [e, spec] : o.engines) options[engineName(e)] = runSpec(spec);  // one spec per engine
+  if (!o.left_out.empty()) {  // engines that cannot take the scene, left out of the default methods
+    json left = json::array();
+    for (const auto& [method, why] : o.left_out) left.push_back({{"method", methodName(method)}, {"why", why}});
+    options["methods_left_out"] = left;
+  }
   return {{"format", "eigenmass-report/1"},
           {"scene", scene},
           {"options", options},

@@ -77,10 +77,11 @@ Principal principal(const Mat3& J) {
 }
 
 // A spherical link's speed map at (q, w) (ball, gimbal, a free joint's
-// turning): u_B = G w, g = G' w, w the joint's rotational speeds.
-void sphericalMap(const Joint& j, const Mat3& P, const double* q, const double* w, Mat3& G, Vec3& g) {
+// turning): u_B = G w, g = G' w, w the joint's rotational speeds: the
+// angular velocity, or, with `angle_rates`, the rates of its angles (gimbal).
+void sphericalMap(const Joint& j, bool angle_rates, const Mat3& P, const double* q, const double* w, Mat3& G, Vec3& g) {
   const Mat3 Rt = relativeRotation(j, q).transpose();
-  if (j.type != JointType::Gimbal) {  // w is the angular velocity, parent frame
+  if (!angle_rates) {  // w is the angular velocity, parent frame
     G = P.transpose() * Rt;
     g.setZero();
     return;
@@ -93,15 +94,42 @@ void sphericalMap(const Joint& j, const Mat3& P, const double* q, const double* 
   g = P.transpose() * Rt * (Edot * wi);  // (R^T)' (E w) = -R^T [E w]x E w = 0
 }
 
-// Body i in the btMultiBody: `scalars` one-speed links carrying its first
-// speeds as they are (revolute, prismatic, universal, a free joint's slide),
-// then a spherical link for the rest when `spherical` (ball, gimbal, a free
-// joint's turning), or the floating base.
+// A joint kind in Bullet, the one mapping of kinds: the one-speed links
+// that carry its first speeds as they are (an axis each, in the parent's
+// frame at zero coordinates, sliding or turning; massless but the last), then
+// a spherical link for the rest (ball, gimbal, a free joint's turning), whose
+// speeds are the angular velocity or, with `angle_rates`, Cardan angle rates.
+struct BulletJoint {
+  struct Scalar {
+    Vec3 axis;
+    bool slides;
+  };
+  std::vector<Scalar> scalars;
+  bool spherical = false, angle_rates = false;
+  bool floats = false;  ///< as the only root, it is the floating base instead
+};
+
+BulletJoint bulletJoint(const Joint& j) {
+  const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
+  switch (j.type) {
+    case JointType::Revolute: return {{{j.axis[0], false}}};
+    case JointType::Prismatic: return {{{j.axis[0], true}}};
+    case JointType::Universal: return {{{j.axis[0], false}, {j.axis[1], false}}};  // through a massless link (exact)
+    case JointType::Planar: return {{{j.axis[0], true}, {j.axis[1], true}, {j.axis[0].cross(j.axis[1]), false}}};
+    case JointType::Ball: return {{}, true};
+    case JointType::Gimbal: return {{}, true, true};
+    case JointType::Free: return {{{x, true}, {y, true}, {z, true}}, true, false, true};
+  }
+  throw std::logic_error("Bullet: a joint kind without a mapping");
+}
+
+// Body i in the btMultiBody: its joint's links (bulletJoint), or the floating base.
 struct BulletLink {
   int first = -1, link = -1;  // its first and its own (last) Bullet link; -1: the floating base
   int dof = 0;                // its first speed in Bullet's order: [base w, v_CM] (6), then the links'
-  int scalars = 0;
-  bool spherical = false;
+  int scalars = 0;            // one-speed links, the first of its speeds as they are
+  bool spherical = false;     // then a spherical link for the rest
+  BulletJoint joint;
   Principal frame;
 };
 
@@ -158,22 +186,17 @@ class BulletChain {
 BulletLink bulletLink(const Body& b, bool base) {
   BulletLink l;
   l.frame = principal(b.J);
+  l.joint = bulletJoint(b.joint);
   if (base) return l;
-  switch (b.joint.type) {
-    case JointType::Revolute:
-    case JointType::Prismatic:
-    case JointType::Universal: l.scalars = b.nu(); break;
-    case JointType::Ball:
-    case JointType::Gimbal: l.spherical = true; break;
-    case JointType::Free: l.scalars = 3, l.spherical = true; break;
-  }
+  l.scalars = static_cast<int>(l.joint.scalars.size());
+  l.spherical = l.joint.spherical;
   return l;
 }
 
 BulletChain::BulletChain(const Model& m) : m_(m), links_(m.n()), last_q_(m.q0()) {
   int roots = 0, nlinks = 0;
   for (const Body& b : m.bodies) roots += b.parent < 0;
-  floating_ = roots == 1 && m.bodies[0].joint.type == JointType::Free;
+  floating_ = roots == 1 && bulletJoint(m.bodies[0].joint).floats;
   for (int i = 0; i < m.n(); ++i) {
     BulletLink& l = links_[i];
     l = bulletLink(m.bodies[i], floating_ && i == 0);
@@ -210,11 +233,11 @@ void BulletChain::addLinks(const Body& b, const BulletLink& me) {
   auto own = [&](int k) { return k == me.link - me.first; };
   for (int k = 0; k < me.scalars; ++k) {
     const int l = me.first + k;
-    const Vec3 axis = j.type == JointType::Free ? Vec3::Unit(k) : j.axis[j.type == JointType::Universal ? k : 0];
+    const Vec3& axis = me.joint.scalars[k].axis;
     const bool mine = own(k);
     const btQuaternion r = mine ? btQuat(P.transpose()) * rot : rot;
     const btVector3 a = bt(mine ? P.transpose() * axis : axis);
-    if (j.type == JointType::Prismatic || (j.type == JointType::Free && k < 3))
+    if (me.joint.scalars[k].slides)
       mb_->setupPrismatic(l, mine ? b.mass : 0, mine ? I : zero, parent, r, a, e, mine ? d : zero, true);
     else
       mb_->setupRevolute(l, mine ? b.mass : 0, mine ? I : zero, parent, r, a, e, mine ? d : zero, true);
@@ -252,7 +275,7 @@ void BulletChain::setState(const double* q, const double* u) {
     mb_->setJointPosMultiDof(l.link, pos);
     Mat3 G;
     Vec3 g;
-    sphericalMap(b.joint, P, qi, ui + l.scalars, G, g);
+    sphericalMap(b.joint, l.joint.angle_rates, P, qi, ui + l.scalars, G, g);
     const Vec3 w = G * Vec3(ui + l.scalars);
     mb_->setJointVelMultiDof(l.link, w.data());
   }
@@ -285,7 +308,7 @@ void BulletChain::getState(Eigen::VectorXd& q, Eigen::VectorXd& u) {
     jointCoordinates(b.joint, R, slideOffset(b.joint, qi), last_q_.data() + b.iq, qi);  // a free joint's slide as read
     Mat3 G;
     Vec3 g;
-    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, G, g);  // G depends on q alone
+    sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui + l.scalars, G, g);  // G depends on q alone
     Eigen::Map<Vec3>{ui + l.scalars} = G.partialPivLu().solve(Vec3(mb_->getJointVelMultiDof(l.link)));
   }
   last_q_ = q;
@@ -310,7 +333,7 @@ void BulletChain::addSpringTorques(const double* q, const double* u) {
     if (l.spherical) {  // a gimbal's: Q = G^T tau
       Mat3 G;
       Vec3 g;
-      sphericalMap(b.joint, l.frame.P, qi, ui, G, g);
+      sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui, G, g);
       const Vec3 tau = G.transpose().partialPivLu().solve(Q);
       mb_->addJointTorqueMultiDof(l.link, tau.data());
     }
@@ -346,7 +369,7 @@ void BulletChain::ours(const double* q, const double* u, const double* a, double
     if (!l.spherical) continue;
     Mat3 G;
     Vec3 g;
-    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, G, g);
+    sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui + l.scalars, G, g);
     Eigen::Map<Vec3>{ud + l.scalars} = G.partialPivLu().solve(Vec3(a + l.dof + l.scalars) - g);
   }
 }
@@ -400,7 +423,7 @@ void BulletChain::speedMap(const double* q, const double* u, Eigen::MatrixXd& G,
     if (!l.spherical) continue;
     Mat3 Gi;
     Vec3 gi;
-    sphericalMap(b.joint, l.frame.P, qi, ui + l.scalars, Gi, gi);
+    sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui + l.scalars, Gi, gi);
     G.block<3, 3>(r + l.scalars, b.iu + l.scalars) = Gi;
     g.segment<3>(r + l.scalars) = gi;
   }

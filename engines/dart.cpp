@@ -4,7 +4,8 @@
 // frame at the CM and parallel to ours (local COM 0, the full inertia
 // tensor), the joint at the joint point on both sides (T_ParentBodyToJoint =
 // translation a, T_ChildBodyToJoint = translation c). Every joint kind maps
-// exactly: revolute, prismatic and universal to DART's, the gimbal to
+// exactly: revolute, prismatic, universal and planar to DART's (PlanarJoint
+// on the arbitrary plane of e1, e2: the same coordinates), the gimbal to
 // EulerJoint XYZ (Rx Ry Rz, as ours), ball to BallJoint and free to
 // FreeJoint; springs and dampers to the joints' stiffness, rest position and
 // damping. Coordinates are ours except where DART's differ:
@@ -24,6 +25,7 @@
 #include <dart/dynamics/BodyNode.hpp>
 #include <dart/dynamics/EulerJoint.hpp>
 #include <dart/dynamics/FreeJoint.hpp>
+#include <dart/dynamics/PlanarJoint.hpp>
 #include <dart/dynamics/PrismaticJoint.hpp>
 #include <dart/dynamics/RevoluteJoint.hpp>
 #include <dart/dynamics/Skeleton.hpp>
@@ -91,6 +93,10 @@ typename J::Properties jointProperties(const Body& b) {
   p.mT_ParentBodyToJoint.translation() = b.joint.in_parent;
   p.mT_ChildBodyToJoint = Eigen::Isometry3d::Identity();
   p.mT_ChildBodyToJoint.translation() = b.joint.in_body;
+  for (size_t k = 0; k < p.mDofNames.size(); ++k) {  // our coordinates' names: unique, and DART has nothing to rename
+    p.mDofNames[k] = b.joint.prefix(b.name) + ".q" + std::to_string(k);
+    p.mPreserveDofNames[k] = true;
+  }
   if (b.joint.has_spring) {  // ball and free joints carry none (io/scene_json.cpp)
     p.mSpringStiffnesses = b.joint.spring.k;
     p.mRestPositions = b.joint.spring.q_rest;
@@ -99,36 +105,57 @@ typename J::Properties jointProperties(const Body& b) {
   return p;
 }
 
-dd::BodyNode* addBody(const dd::SkeletonPtr& skel, dd::BodyNode* parent, const Body& b) {
+// How DART keeps a joint's coordinates and speeds: as ours; or as a ball's,
+// the rotation vector log(R) and the angular velocity in the child frame
+// R^T w; or as a free joint's, [log(R), x] and [R^T w, R^T v].
+enum class DartCoordinates { Ours, Ball, Free };
+
+template <class J>
+dd::BodyNode* create(const dd::SkeletonPtr& skel, dd::BodyNode* parent, const typename J::Properties& p,
+                     const dd::BodyNode::Properties& bp) {
+  return skel->createJointAndBodyNodePair<J>(parent, p, bp).second;
+}
+
+// Body b on its joint in the skeleton, the one mapping of kinds: the DART
+// joint each kind is, and how its coordinates read (`coordinates`).
+dd::BodyNode* addBody(const dd::SkeletonPtr& skel, dd::BodyNode* parent, const Body& b, DartCoordinates& coordinates) {
   dd::BodyNode::Properties bp;
   bp.mName = b.name;
   bp.mInertia = dd::Inertia(b.mass, Vec3::Zero(), b.J);
   const Joint& j = b.joint;
+  coordinates = DartCoordinates::Ours;
   switch (j.type) {
     case JointType::Revolute: {
       auto p = jointProperties<dd::RevoluteJoint>(b);
       p.mAxis = j.axis[0];
-      return skel->createJointAndBodyNodePair<dd::RevoluteJoint>(parent, p, bp).second;
+      return create<dd::RevoluteJoint>(skel, parent, p, bp);
     }
     case JointType::Prismatic: {
       auto p = jointProperties<dd::PrismaticJoint>(b);
       p.mAxis = j.axis[0];
-      return skel->createJointAndBodyNodePair<dd::PrismaticJoint>(parent, p, bp).second;
+      return create<dd::PrismaticJoint>(skel, parent, p, bp);
     }
     case JointType::Universal: {
       auto p = jointProperties<dd::UniversalJoint>(b);
       p.mAxis = {j.axis[0], j.axis[1]};
-      return skel->createJointAndBodyNodePair<dd::UniversalJoint>(parent, p, bp).second;
+      return create<dd::UniversalJoint>(skel, parent, p, bp);
     }
-    case JointType::Gimbal: {
+    case JointType::Gimbal: {  // EulerJoint XYZ is Rx Ry Rz, as ours
       auto p = jointProperties<dd::EulerJoint>(b);
       p.mAxisOrder = dd::EulerJoint::AxisOrder::XYZ;
-      return skel->createJointAndBodyNodePair<dd::EulerJoint>(parent, p, bp).second;
+      return create<dd::EulerJoint>(skel, parent, p, bp);
+    }
+    case JointType::Planar: {  // translation q0 e1 + q1 e2, then the turn q2 about e1 x e2: ours
+      auto p = jointProperties<dd::PlanarJoint>(b);
+      p.setArbitraryPlane(j.axis[0], j.axis[1]);
+      return create<dd::PlanarJoint>(skel, parent, p, bp);
     }
     case JointType::Ball:
-      return skel->createJointAndBodyNodePair<dd::BallJoint>(parent, jointProperties<dd::BallJoint>(b), bp).second;
+      coordinates = DartCoordinates::Ball;
+      return create<dd::BallJoint>(skel, parent, jointProperties<dd::BallJoint>(b), bp);
     case JointType::Free:
-      return skel->createJointAndBodyNodePair<dd::FreeJoint>(parent, jointProperties<dd::FreeJoint>(b), bp).second;
+      coordinates = DartCoordinates::Free;
+      return create<dd::FreeJoint>(skel, parent, jointProperties<dd::FreeJoint>(b), bp);
   }
   throw std::logic_error("DART: a joint kind without a mapping");
 }
@@ -136,11 +163,11 @@ dd::BodyNode* addBody(const dd::SkeletonPtr& skel, dd::BodyNode* parent, const B
 // The Model as a DART skeleton, and the map between our state and DART's.
 class DartSkeleton {
  public:
-  explicit DartSkeleton(const Model& m) : m_(m), skel_(dd::Skeleton::create(m.name)), dof_(m.n()) {
+  explicit DartSkeleton(const Model& m) : m_(m), skel_(dd::Skeleton::create(m.name)), dof_(m.n()), coordinates_(m.n()) {
     std::vector<dd::BodyNode*> node(m.n());
     for (int i = 0; i < m.n(); ++i) {  // parents first
       const Body& b = m.bodies[i];
-      node[i] = addBody(skel_, b.parent < 0 ? nullptr : node[b.parent], b);
+      node[i] = addBody(skel_, b.parent < 0 ? nullptr : node[b.parent], b, coordinates_[i]);
       dof_[i] = static_cast<int>(node[i]->getParentJoint()->getIndexInSkeleton(0));
     }
     nodes_ = node;
@@ -158,14 +185,14 @@ class DartSkeleton {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
       const double *qi = q + b.iq, *ui = u + b.iu;
-      switch (b.joint.type) {
-        case JointType::Ball: {
+      switch (coordinates_[i]) {
+        case DartCoordinates::Ball: {
           const Mat3 R = quatToMatrix(Vec4(qi[0], qi[1], qi[2], qi[3]).normalized());
           pos_.segment<3>(d) = dd::BallJoint::convertToPositions(R);
           vel_.segment<3>(d) = R.transpose() * Vec3(ui);
           break;
         }
-        case JointType::Free: {
+        case DartCoordinates::Free: {
           const Mat3 R = quatToMatrix(Vec4(qi[3], qi[4], qi[5], qi[6]).normalized());
           pos_.segment<3>(d) = dd::BallJoint::convertToPositions(R);
           pos_.segment<3>(d + 3) = Vec3(qi);
@@ -173,10 +200,7 @@ class DartSkeleton {
           vel_.segment<3>(d + 3) = R.transpose() * Vec3(ui);
           break;
         }
-        case JointType::Revolute:  // DART's coordinates and speeds are ours
-        case JointType::Universal:
-        case JointType::Gimbal:
-        case JointType::Prismatic:
+        case DartCoordinates::Ours:
           for (int k = 0; k < b.nq(); ++k) pos_[d + k] = qi[k];
           for (int k = 0; k < b.nu(); ++k) vel_[d + k] = ui[k];
       }
@@ -193,14 +217,14 @@ class DartSkeleton {
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
-      switch (b.joint.type) {
-        case JointType::Ball: {
+      switch (coordinates_[i]) {
+        case DartCoordinates::Ball: {
           const Mat3 R = dd::BallJoint::convertToRotation(pos.segment<3>(d));
           q.segment<4>(b.iq) = matrixToQuat(R);
           u.segment<3>(b.iu) = R * vel.segment<3>(d);
           break;
         }
-        case JointType::Free: {
+        case DartCoordinates::Free: {
           const Mat3 R = dd::BallJoint::convertToRotation(pos.segment<3>(d));
           q.segment<3>(b.iq) = pos.segment<3>(d + 3);
           q.segment<4>(b.iq + 3) = matrixToQuat(R);
@@ -208,10 +232,7 @@ class DartSkeleton {
           u.segment<3>(b.iu + 3) = R * vel.segment<3>(d);
           break;
         }
-        case JointType::Revolute:  // DART's coordinates and speeds are ours
-        case JointType::Universal:
-        case JointType::Gimbal:
-        case JointType::Prismatic:
+        case DartCoordinates::Ours:
           q.segment(b.iq, b.nq()) = pos.segment(d, b.nq());
           u.segment(b.iu, b.nu()) = vel.segment(d, b.nu());
       }
@@ -226,19 +247,16 @@ class DartSkeleton {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
       double* ud = udot + b.iu;
-      switch (b.joint.type) {
-        case JointType::Ball: Eigen::Map<Vec3>{ud} = rotation(i) * a.segment<3>(d); break;
-        case JointType::Free: {
+      switch (coordinates_[i]) {
+        case DartCoordinates::Ball: Eigen::Map<Vec3>{ud} = rotation(i) * a.segment<3>(d); break;
+        case DartCoordinates::Free: {
           const Mat3 R = rotation(i);
           const Vec3 w(u + b.iu + 3), v(u + b.iu);
           Eigen::Map<Vec3>{ud} = R * a.segment<3>(d + 3) + w.cross(v);  // u'_D = R^T (v' - w x v)
           Eigen::Map<Vec3>{ud + 3} = R * a.segment<3>(d);
           break;
         }
-        case JointType::Revolute:  // DART's coordinates and speeds are ours
-        case JointType::Universal:
-        case JointType::Gimbal:
-        case JointType::Prismatic:
+        case DartCoordinates::Ours:
           for (int k = 0; k < b.nu(); ++k) ud[k] = a[d + k];
       }
     }
@@ -252,19 +270,16 @@ class DartSkeleton {
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
       const int d = dof_[i];
-      switch (b.joint.type) {
-        case JointType::Ball: G.block<3, 3>(d, b.iu) = rotation(i).transpose(); break;
-        case JointType::Free: {
+      switch (coordinates_[i]) {
+        case DartCoordinates::Ball: G.block<3, 3>(d, b.iu) = rotation(i).transpose(); break;
+        case DartCoordinates::Free: {
           const Mat3 Rt = rotation(i).transpose();
           G.block<3, 3>(d, b.iu + 3) = Rt;
           G.block<3, 3>(d + 3, b.iu) = Rt;
           g.segment<3>(d + 3) = -Rt * Vec3(u + b.iu + 3).cross(Vec3(u + b.iu));
           break;
         }
-        case JointType::Revolute:  // DART's coordinates and speeds are ours
-        case JointType::Universal:
-        case JointType::Gimbal:
-        case JointType::Prismatic:
+        case DartCoordinates::Ours:
           for (int k = 0; k < b.nu(); ++k) G(d + k, b.iu + k) = 1;
       }
     }
@@ -287,6 +302,7 @@ class DartSkeleton {
   dd::SkeletonPtr skel_;
   std::vector<dd::BodyNode*> nodes_;  // internal order
   std::vector<int> dof_;              // DART index of body i's first speed
+  std::vector<DartCoordinates> coordinates_;  // how DART keeps body i's joint coordinates
   Eigen::VectorXd pos_, vel_;         // (nu): DART's positions and speeds (nq_D = nu)
   Eigen::VectorXd accel_;             // (nu): DART's accelerations, read by accelerations()
 };

@@ -88,6 +88,9 @@ struct EngineCode {
   /// can agree with the exact equations (MuJoCo: full inertia tensors rounded),
   /// or "" (also when nullptr): compare reports print and record it.
   std::string (*scene_note)(const Model& m) = nullptr;
+  /// Why it cannot take `m` (a joint kind it has no mapping for), or "" (also
+  /// when nullptr): such a run is refused in one line before any run starts.
+  std::string (*refusal)(const Model& m) = nullptr;
 };
 
 /// One engine: its registry row and its code, written in its own file

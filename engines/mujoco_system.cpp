@@ -50,24 +50,37 @@ void mjJoint(std::ostream& o, const Body& b, int k, const char* type, const Vec3
   o << "/>";
 }
 
-// The in-house joint as MuJoCo joints, applied in order: a gimbal three
-// hinges x, y, z; a free joint three slides x, y, z and a ball (MuJoCo's
-// free joint must hang from the world; the slides and ball are its motion
-// anywhere).
-void joints(std::ostream& o, const Body& b) {
-  const Joint& j = b.joint;
+// A joint kind as MuJoCo joints, the one mapping of kinds: the joints it
+// becomes in one MJCF body, applied in order about the turned axes (type and
+// axis each, the axis in the parent's frame at zero coordinates), and the
+// type MuJoCo's own URDF reader makes of a URDF joint of this kind (nullptr:
+// a URDF has no such joint, or MuJoCo's reading is not matched to ours).
+struct MjJoints {
+  std::vector<std::pair<const char*, Vec3>> joints;
+  const char* from_urdf = nullptr;
+};
+
+MjJoints mjJoints(const Joint& j) {
+  const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
   switch (j.type) {
-    case JointType::Revolute: mjJoint(o, b, 0, "hinge", j.axis[0]); break;
-    case JointType::Universal: mjJoint(o, b, 0, "hinge", j.axis[0]); mjJoint(o, b, 1, "hinge", j.axis[1]); break;
-    case JointType::Gimbal:
-      for (int k = 0; k < 3; ++k) mjJoint(o, b, k, "hinge", Vec3::Unit(k));
-      break;
-    case JointType::Ball: mjJoint(o, b, 0, "ball", Vec3::UnitZ()); break;
-    case JointType::Prismatic: mjJoint(o, b, 0, "slide", j.axis[0]); break;
-    case JointType::Free:
-      for (int k = 0; k < 3; ++k) mjJoint(o, b, k, "slide", Vec3::Unit(k));
-      mjJoint(o, b, 3, "ball", Vec3::UnitZ());
-      break;
+    case JointType::Revolute: return {{{"hinge", j.axis[0]}}, "hinge"};
+    case JointType::Universal: return {{{"hinge", j.axis[0]}, {"hinge", j.axis[1]}}};
+    case JointType::Gimbal: return {{{"hinge", x}, {"hinge", y}, {"hinge", z}}};  // Rx Ry Rz
+    case JointType::Ball: return {{{"ball", z}}};
+    case JointType::Prismatic: return {{{"slide", j.axis[0]}}, "slide"};
+    // Three slides and a ball: MuJoCo's free joint must hang from the world (from a URDF it does).
+    case JointType::Free: return {{{"slide", x}, {"slide", y}, {"slide", z}, {"ball", z}}, "free"};
+    case JointType::Planar: return {{{"slide", j.axis[0]}, {"slide", j.axis[1]}, {"hinge", j.axis[0].cross(j.axis[1])}}};
+  }
+  throw std::logic_error("MuJoCo: a joint kind without a mapping");
+}
+
+// The in-house joint as MuJoCo joints, named after its first in-house coordinate each.
+void joints(std::ostream& o, const Body& b) {
+  int k = 0;
+  for (const auto& [type, axis] : mjJoints(b.joint).joints) {
+    mjJoint(o, b, k, type, axis);
+    k += std::string(type) == "ball" ? 4 : 1;  // our coordinates: a ball's quaternion takes four
   }
 }
 
@@ -242,17 +255,11 @@ const char* mjTypeName(int t) {
     default: return "hinge";
   }
 }
-// The MuJoCo joint type a URDF-read body's kind becomes (a URDF has these three kinds).
-const char* mjTypeOfUrdf(JointType t) {
-  switch (t) {
-    case JointType::Free: return "free";
-    case JointType::Prismatic: return "slide";
-    case JointType::Revolute: return "hinge";
-    case JointType::Universal:
-    case JointType::Gimbal:
-    case JointType::Ball: break;
-  }
-  throw std::logic_error(std::string("MuJoCo peer: a URDF has no ") + jointTypeName(t) + " joint");
+// The MuJoCo joint type a URDF-read body's kind becomes (its mapping's from_urdf).
+const char* mjTypeOfUrdf(const Joint& j) {
+  if (const char* t = mjJoints(j).from_urdf) return t;
+  throw std::runtime_error(std::string("MuJoCo peer: its reading of a URDF ") + jointTypeName(j.type) +
+                           " joint is not matched to ours");
 }
 }  // namespace
 
@@ -285,7 +292,7 @@ MujocoSystem::MujocoSystem(const Model& m, const std::string& urdf_text, const s
   for (const Body& b : m.bodies) {
     const std::string& name = joints.at(b.file_index);
     const int id = mj_name2id(I.mm, mjOBJ_JOINT, name.c_str());
-    const char* want = mjTypeOfUrdf(b.joint.type);
+    const char* want = mjTypeOfUrdf(b.joint);
     if (id < 0 || std::string(mjTypeName(I.mm->jnt_type[id])) != want)
       throw std::runtime_error("MuJoCo peer: no " + std::string(want) + " joint named '" + name + "' in MuJoCo's model");
     I.body.push_back(I.mm->jnt_bodyid[id]);

@@ -73,6 +73,34 @@ Eigen::VectorXd zeroConfiguration(const Model& m) {
   return q;
 }
 
+// A joint kind in ODE, the one mapping of kinds: the ODE joint between a
+// body and its parent (none for a free joint), or Missing where ODE 0.16 has
+// none (its plane-2D joint holds a body to the world's z = 0 plane only, not
+// to a parent's plane): such a scene is refused for ODE before any run.
+enum class OdeJoint { Hinge, Slider, Universal, Ball, None, Missing };
+
+OdeJoint odeJoint(JointType t) {
+  switch (t) {
+    case JointType::Revolute: return OdeJoint::Hinge;
+    case JointType::Prismatic: return OdeJoint::Slider;
+    case JointType::Universal: return OdeJoint::Universal;
+    case JointType::Ball:
+    case JointType::Gimbal: return OdeJoint::Ball;  // a gimbal's angles are read back from the relative rotation
+    case JointType::Free: return OdeJoint::None;
+    case JointType::Planar: return OdeJoint::Missing;
+  }
+  return OdeJoint::Missing;
+}
+
+// Why ODE cannot take `m` (a joint kind it has no joint for), or "".
+std::string odeRefusal(const Model& m) {
+  for (const Body& b : m.bodies)
+    if (odeJoint(b.joint.type) == OdeJoint::Missing)
+      return std::string("ODE 0.16 has no ") + jointTypeName(b.joint.type) + " joint between two bodies (body '" + b.name +
+             "')";
+  return "";
+}
+
 // A body's frame and motion as ODE keeps them, world frame.
 struct BodyState {
   Mat3 R = Mat3::Identity();
@@ -192,34 +220,34 @@ class OdeSystem {
     const Mat3 Rp = b.parent < 0 ? Mat3::Identity() : rotationOf(parent);
     const Vec3 a0 = Rp * b.joint.axis[0], a1 = s.R * b.joint.axis[1];  // world frame
     dJointID j = nullptr;
-    switch (b.joint.type) {
-      case JointType::Revolute:
+    switch (odeJoint(b.joint.type)) {
+      case OdeJoint::Hinge:
         j = dJointCreateHinge(world_, nullptr);
         dJointAttach(j, parent, me);
         dJointSetHingeAnchor(j, o.x(), o.y(), o.z());
         dJointSetHingeAxis(j, a0.x(), a0.y(), a0.z());
         return j;
-      case JointType::Prismatic:
+      case OdeJoint::Slider:
         j = dJointCreateSlider(world_, nullptr);
         dJointAttach(j, parent, me);
         dJointSetSliderAxis(j, a0.x(), a0.y(), a0.z());
         return j;
-      case JointType::Universal:  // axis 1 fixed in body 1 (the parent), axis 2 in body 2
+      case OdeJoint::Universal:  // axis 1 fixed in body 1 (the parent), axis 2 in body 2
         j = dJointCreateUniversal(world_, nullptr);
         dJointAttach(j, parent, me);
         dJointSetUniversalAnchor(j, o.x(), o.y(), o.z());
         dJointSetUniversalAxis1(j, a0.x(), a0.y(), a0.z());
         dJointSetUniversalAxis2(j, a1.x(), a1.y(), a1.z());
         return j;
-      case JointType::Ball:
-      case JointType::Gimbal:
+      case OdeJoint::Ball:
         j = dJointCreateBall(world_, nullptr);
         dJointAttach(j, parent, me);
         dJointSetBallAnchor(j, o.x(), o.y(), o.z());
         return j;
-      case JointType::Free: return nullptr;
+      case OdeJoint::None: return nullptr;
+      case OdeJoint::Missing: break;
     }
-    throw std::logic_error("ODE: a joint kind without a joint");
+    throw std::invalid_argument("ode: " + odeRefusal(m_));  // refused before any run (EngineCode::refusal)
   }
 
   // f on body i and -f on its parent: torques, or forces at the joint point (slides).
@@ -305,6 +333,7 @@ EngineRow odeEngine() {
   r.info.adaptive_scheme = "ode-step";  // ODE has no adaptive scheme
   r.info.colour = "navy";
   r.code.simulate = simulateFixedStep<OdeStepper>;
+  r.code.refusal = odeRefusal;
   // no model: ODE gives no accelerations at a state
   r.code.version = [] { return std::string(dODE_VERSION); };
   return r;

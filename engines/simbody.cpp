@@ -53,22 +53,47 @@ SimTK::Inertia toInertia(const em::Mat3& J) {
   return SimTK::Inertia(M);
 }
 
-// Orientation of the joint frames F (in the parent) and M (in the body): the
-// same for both, so at zero coordinates the body frame is parallel to the parent's.
-Rotation jointFrame(const Joint& j) {
+// A joint kind as a Simbody mobilizer, the one mapping of kinds: the
+// orientation of its frames F (in the parent) and M (in the body), the same
+// for both so that at zero coordinates the body frame is parallel to the
+// parent's; the mobilizer; and where Simbody keeps our coordinate k and speed
+// k: at (k + shift) mod their number.
+struct Mobilizer {
+  Rotation frame;
+  MobilizedBody (*make)(MobilizedBody& parent, const Transform& X_PF, const SimTK::Body& body, const Transform& X_BM);
+  int q_shift = 0, u_shift = 0;
+};
+
+template <class M>
+MobilizedBody made(MobilizedBody& parent, const Transform& X_PF, const SimTK::Body& body, const Transform& X_BM) {
+  return M(parent, X_PF, body, X_BM);
+}
+
+Mobilizer mobilizer(const Joint& j) {
+  using SimTK::UnitVec3;
   switch (j.type) {
     case JointType::Revolute:  // Pin turns about its frames' common z: put z on the axis.
-      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::ZAxis);
+      return {Rotation(UnitVec3(toSimTK(j.axis[0])), SimTK::ZAxis), made<MobilizedBody::Pin>};
     case JointType::Universal:  // Universal: about x, then the new y.
-      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis);
+      return {Rotation(UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis),
+              made<MobilizedBody::Universal>};
     case JointType::Prismatic:  // Slider slides along its frames' common x: put x on the axis.
-      return Rotation(SimTK::UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis);
-    case JointType::Gimbal:  // Gimbal (x-y-z body-fixed), Ball and Free act in the parent's axes.
-    case JointType::Ball:
-    case JointType::Free: return Rotation();
+      return {Rotation(UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis), made<MobilizedBody::Slider>};
+    case JointType::Gimbal:  // Gimbal (x-y-z body-fixed) and Ball act in the parent's axes, as ours.
+      return {Rotation(), made<MobilizedBody::Gimbal>};
+    case JointType::Ball:  // [w,x,y,z] as ours, w_FM in F = parent axes
+      return {Rotation(), made<MobilizedBody::Ball>};
+    case JointType::Free:  // q = [quaternion, p_FM], u = [w_FM, v_FM] (in F); ours [x, quaternion], [v, w]
+      return {Rotation(), made<MobilizedBody::Free>, 4, 3};
+    case JointType::Planar:  // q = [angle about F's z, x, y along F's x, y]: F = (e1, e2, e1 x e2); ours [s1, s2, angle]
+      return {Rotation(UnitVec3(toSimTK(j.axis[0])), SimTK::XAxis, toSimTK(j.axis[1]), SimTK::YAxis),
+              made<MobilizedBody::Planar>, 1, 1};
   }
-  return Rotation();
+  throw std::logic_error("Simbody: a joint kind without a mobilizer");
 }
+
+// Where Simbody keeps our k-th of n (a coordinate or a speed) of a joint whose mapping shifts them.
+int shifted(int k, int shift, int n) { return (k + shift) % n; }
 
 // One damped mobility: its body, which of its speeds, and c.
 struct Damper {
@@ -107,17 +132,10 @@ struct SimbodySystem::Impl {
     for (const Body& b : m.bodies) {
       MobilizedBody& parent = b.parent < 0 ? matter.updGround() : mobods[b.parent];
       const SimTK::Body::Rigid body(SimTK::MassProperties(b.mass, SimTK::Vec3(0), toInertia(b.J)));
-      const Rotation R_F = jointFrame(b.joint);
-      const Transform X_PF(R_F, toSimTK(b.joint.in_parent)), X_BM(R_F, toSimTK(b.joint.in_body));
-      switch (b.joint.type) {
-        case JointType::Revolute: mobods.push_back(MobilizedBody::Pin(parent, X_PF, body, X_BM)); break;
-        case JointType::Universal: mobods.push_back(MobilizedBody::Universal(parent, X_PF, body, X_BM)); break;
-        case JointType::Gimbal: mobods.push_back(MobilizedBody::Gimbal(parent, X_PF, body, X_BM)); break;
-        case JointType::Ball: mobods.push_back(MobilizedBody::Ball(parent, X_PF, body, X_BM)); break;
-        case JointType::Prismatic: mobods.push_back(MobilizedBody::Slider(parent, X_PF, body, X_BM)); break;
-        case JointType::Free: mobods.push_back(MobilizedBody::Free(parent, X_PF, body, X_BM)); break;
-      }
-      addSpring(b, mobods.back());
+      const Mobilizer mob = mobilizer(b.joint);
+      const Transform X_PF(mob.frame, toSimTK(b.joint.in_parent)), X_BM(mob.frame, toSimTK(b.joint.in_body));
+      mobods.push_back(mob.make(parent, X_PF, body, X_BM));
+      addSpring(b, mob.u_shift, mobods.back());
     }
     // Only what the scene declares (docs/theory.md §5).
     if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
@@ -130,23 +148,23 @@ struct SimbodySystem::Impl {
     // Simbody's q and u index of each in-house coordinate and speed, fixed from here on.
     for (const Body& b : m.bodies) {
       const MobilizedBody& mb = mobods[&b - m.bodies.data()];
-      // Ball: [w,x,y,z] as ours, w_FM in F = parent axes. Free: Simbody's
-      // q = [quaternion, p_FM], u = [w_FM, v_FM] (in F), ours [x, quaternion], [v, w].
-      const bool free = b.joint.type == JointType::Free;
-      for (int k = 0; k < b.nq(); ++k) q_index.push_back(mb.getFirstQIndex(state) + (free ? (k + 4) % 7 : k));
-      for (int k = 0; k < b.nu(); ++k) u_index.push_back(mb.getFirstUIndex(state) + (free ? (k + 3) % 6 : k));
+      const Mobilizer mob = mobilizer(b.joint);
+      for (int k = 0; k < b.nq(); ++k) q_index.push_back(mb.getFirstQIndex(state) + shifted(k, mob.q_shift, b.nq()));
+      for (int k = 0; k < b.nu(); ++k) u_index.push_back(mb.getFirstUIndex(state) + shifted(k, mob.u_shift, b.nu()));
     }
     setState(m.q0(), m.u0());
   }
 
-  void addSpring(const Body& b, MobilizedBody& mb) {
+  // Our coordinate k's spring on Simbody's mobility (k + shift) mod nu (a spring's kind has q = u).
+  void addSpring(const Body& b, int shift, MobilizedBody& mb) {
     if (!b.joint.has_spring) return;
     const Spring& s = b.joint.spring;
     for (int k = 0; k < b.nu(); ++k) {
-      if (s.k[k] != 0) SimTK::Force::MobilityLinearSpring(forces, mb, k, s.k[k], s.q_rest[k]);
+      const int at = shifted(k, shift, b.nu());
+      if (s.k[k] != 0) SimTK::Force::MobilityLinearSpring(forces, mb, at, s.k[k], s.q_rest[k]);
       if (s.c[k] == 0) continue;
-      SimTK::Force::MobilityLinearDamper(forces, mb, k, s.c[k]);
-      dampers.push_back({mb, k, s.c[k]});
+      SimTK::Force::MobilityLinearDamper(forces, mb, at, s.c[k]);
+      dampers.push_back({mb, at, s.c[k]});
     }
   }
 

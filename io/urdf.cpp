@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "io/digest.hpp"
@@ -167,22 +168,38 @@ MassPart combine(const std::vector<MassPart>& parts) {
   return s;
 }
 
-// How a URDF joint enters the scene: a moving revolute joint, or merged (held at zero).
+// A URDF joint kind as a scene's, the one mapping of kinds; nothing for a kind
+// a scene has not (a fixed joint is merged, not mapped).
+std::optional<JointType> sceneKind(const urdf::Joint& j) {
+  switch (j.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS: return JointType::Revolute;
+    case urdf::Joint::PRISMATIC: return JointType::Prismatic;
+    case urdf::Joint::PLANAR: return JointType::Planar;
+    case urdf::Joint::FLOATING: return JointType::Free;
+    default: return std::nullopt;
+  }
+}
+
+// How a URDF joint enters the scene: a moving joint, or merged (held at zero).
 bool isMoving(const urdf::Joint& j, const std::set<std::string>& locked) {
   if (locked.count(j.name) || j.type == urdf::Joint::FIXED) return false;
   if (j.mimic)
     throw Err(jointAt(j.name), "mimic joints couple two coordinates, which independent tree joints cannot express "
                                "(--lock-joint " + j.name + " holds it at zero)");
-  switch (j.type) {
-    case urdf::Joint::REVOLUTE:
-    case urdf::Joint::CONTINUOUS:
-    case urdf::Joint::PRISMATIC:
-    case urdf::Joint::FLOATING: return true;
-    default: break;
-  }
-  const char* kind = j.type == urdf::Joint::PLANAR ? "planar" : "unknown";
-  throw Err(jointAt(j.name), std::string(kind) + " joints are not supported: scenes have revolute, prismatic and free "
+  if (sceneKind(j)) return true;
+  throw Err(jointAt(j.name), "unknown joints are not supported: scenes have revolute, prismatic, planar and free "
                              "joints (--lock-joint " + j.name + " holds it at zero)");
+}
+
+// A planar joint's in-plane axes from its plane normal n (carrier frame) and
+// the joint frame's x axis there: e1 along x's part in the plane (y's where x
+// is along n), e2 = n x e1, so that e1 x e2 = n (docs/urdf.md).
+void planarAxes(const Vec3& n, const Mat3& frame, Joint& j) {
+  Vec3 e1 = frame.col(0) - n.dot(frame.col(0)) * n;
+  if (e1.norm() < 1e-6) e1 = frame.col(1) - n.dot(frame.col(1)) * n;
+  j.axis[0] = e1.normalized();
+  j.axis[1] = n.cross(j.axis[0]);
 }
 
 /// The robot at its zero configuration: link frames, which moving link
@@ -315,11 +332,13 @@ BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, M
     setFree(b.joint);
     return b;
   }
-  b.joint.type = j.type == urdf::Joint::PRISMATIC ? JointType::Prismatic : JointType::Revolute;
-  const Vec3 axis = w.frame.at(link).R * vec(j.axis);
+  b.joint.type = *sceneKind(j);
+  const Mat3& frame = w.frame.at(link).R;  // the joint frame, in the carrier's
+  const Vec3 axis = frame * vec(j.axis);
   if (!(axis.stableNorm() > 0)) throw Err(jointAt(j.name), "zero axis");
   b.joint.axis[0] = axis.stableNormalized();
-  b.joint.q0 = b.joint.u0 = Eigen::VectorXd::Zero(1);
+  if (b.joint.type == JointType::Planar) planarAxes(Vec3(b.joint.axis[0]), frame, b.joint);
+  b.joint.q0 = b.joint.u0 = Eigen::VectorXd::Zero(jointNq(b.joint.type));
   return b;
 }
 
@@ -370,7 +389,7 @@ UrdfScene importUrdf(const std::string& text, const std::string& source, const U
     s.notes.push_back(linkAt(root) + ": moves on a free joint '" + joint + "' (--floating-base" +
                       (joint == kFloatingBaseJoint ? "" : std::string("; the URDF has a joint named '") + kFloatingBaseJoint + "'") + ")");
   }
-  if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute, continuous, prismatic or floating joint: nothing moves");
+  if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute, continuous, prismatic, planar or floating joint: nothing moves");
   requireDistinct(s.spec.bodies, s.joint_names);
   s.spec.name = sceneName(u->getName(), "robot name");
   s.spec.extra = {{"x-source", {{"format", "urdf"}, {"file", source}, {"sha256", sha256Hex(text)}, {"robot", u->getName()}}},

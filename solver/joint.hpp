@@ -1,17 +1,18 @@
 #pragma once
-/// Joint kinematics for the six joint kinds (docs/theory.md §1, §3, §12): the
-/// rotational kinds turn about the joint point; prismatic and free slide it.
+/// Joint kinematics of every joint kind (docs/theory.md §1, §3, §12), each
+/// through its kind's row (solver/model.hpp) and its own file
+/// (solver/joints/<kind>.cpp): the rotational part turns about the joint
+/// point; prismatic, planar and free joints also slide it.
 #include "solver/model.hpp"
 
 namespace em {
-
-using Axes = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6>;  ///< up to 6 axis columns (free), no heap
 
 /// R_parent,body of the joint at coordinates q.  // q: (nq)  -> (3x3)
 Mat3 relativeRotation(const Joint& j, const double* q);
 
 /// Displacement x of the joint point from its rest place, parent frame:
-/// prismatic q0 * axis, free (q0, q1, q2), else zero (docs/theory.md §12).  // q: (nq)
+/// prismatic q0 * axis, planar q0 e1 + q1 e2, free (q0, q1, q2), else zero
+/// (docs/theory.md §12).  // q: (nq)
 Vec3 slideOffset(const Joint& j, const double* q);
 
 /// World-frame joint axes p_jk as columns, R_p = parent orientation: the
@@ -44,7 +45,7 @@ void jointCoordinates(const Joint& j, const Mat3& R, const Vec3& x, const double
 void jointSpeeds(const Joint& j, const double* q, const Vec3& w, const Vec3& xdot, double* u);
 
 /// The part of x the joint cannot take: all of it, but a prismatic joint's
-/// slide along its axis and a free joint's (m).
+/// slide along its axis, a planar joint's in its plane and a free joint's (m).
 double jointSeparation(const Joint& j, const Vec3& x);
 
 }  // namespace em

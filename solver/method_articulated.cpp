@@ -6,6 +6,7 @@
 // the shift by the lever d_k (eq. (AB1)) and no rotation ever multiplies a
 // 6x6 block. Symbols as theory.md §14 names them (Featherstone's S, I^A, p^A,
 // U, D, u are Pi, Y, beta, Xi, Delta, eps there).
+#include <iterator>
 #include <stdexcept>
 #include <type_traits>
 
@@ -69,17 +70,17 @@ class Articulated final : public MethodImpl {
   template <int V>
   using Int = std::integral_constant<int, V>;
 
-  // One call of f<NU, NT> for body k's joint: fixed-size blocks for each (nu, nt).
-  template <class F>
+  // One call of f<NU, NT> for body k's joint: fixed-size blocks for the
+  // (nu, nt) of each joint row (solver/model.hpp), found in table order.
+  template <size_t I = 0, class F>
   Status dispatch(int k, F&& f) const {
-    switch (m_.body_nu[k] * 8 + m_.body_nt[k]) {
-      case 1 * 8 + 0: return f(Int<1>{}, Int<0>{});  // revolute
-      case 1 * 8 + 1: return f(Int<1>{}, Int<1>{});  // prismatic
-      case 2 * 8 + 0: return f(Int<2>{}, Int<0>{});  // universal
-      case 3 * 8 + 0: return f(Int<3>{}, Int<0>{});  // gimbal, ball
-      case 6 * 8 + 3: return f(Int<6>{}, Int<3>{});  // free
+    if constexpr (I == std::size(kJointTypes)) {
+      throw std::logic_error("articulated: no joint row of " + std::to_string(m_.body_nu[k]) + " speeds");
+    } else {
+      constexpr int nu = kJointTypes[I].nu, nt = kJointTypes[I].nt;
+      if (m_.body_nu[k] == nu && m_.body_nt[k] == nt) return f(Int<nu>{}, Int<nt>{});
+      return dispatch<I + 1>(k, std::forward<F>(f));
     }
-    throw std::logic_error("articulated: no case for a joint of " + std::to_string(m_.body_nu[k]) + " speeds");
   }
 
   // Outward: each body's own inertia and bias force about its joint point

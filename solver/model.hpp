@@ -12,32 +12,54 @@
 
 namespace em {
 
-enum class JointType { Revolute, Universal, Gimbal, Ball, Prismatic, Free };
+enum class JointType { Revolute, Universal, Gimbal, Ball, Prismatic, Free, Planar };
+
+struct Joint;
+using Axes = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6>;  ///< up to 6 axis columns (free), no heap
+
+/// A kind's kinematics (docs/theory.md §1, §3, §12), one function each,
+/// written in the kind's own file, solver/joints/<kind>.cpp; solver/joint.hpp
+/// says what each computes. The rotational part turns about the joint point,
+/// the sliding part moves it.
+struct JointKinematics {
+  Mat3 (*rotation)(const Joint& j, const double* q);  ///< R_parent,body
+  Vec3 (*slide)(const Joint& j, const double* q);     ///< x, the joint point's displacement (parent frame)
+  void (*axes)(const Joint& j, const Mat3& R_p, const double* q, Axes& P);  ///< world axes, slides first
+  void (*axis_rates)(const Joint& j, const Axes& P, const Vec3& omega_p, const Vec3& omega_b, const double* u, Axes& Pdot);
+  void (*coordinates)(const Joint& j, const Mat3& R, const Vec3& x, const double* near, double* q);  ///< from a pose
+  double (*separation)(const Joint& j, const Vec3& x);  ///< the part of x it cannot take
+};
+extern const JointKinematics kRevoluteKinematics, kUniversalKinematics, kGimbalKinematics, kBallKinematics,
+    kPrismaticKinematics, kFreeKinematics, kPlanarKinematics;
 
 /// One row per joint kind: its name (the scene's `type`), how many coordinates
 /// and speeds it has, how many of them slide, where its quaternion sits, how many
-/// axes a scene gives it, and whether a middle angle can lock (docs/theory.md §1).
-/// The sliding coordinates and speeds come first: q = [x (nt), rotation],
-/// u = [v (nt), angular (nu - nt)]. A new kind is a row here, its kinematics in
-/// solver/joint.cpp and its mapping in each engine's file: every switch over
-/// JointType names each kind (no default:), so -Wswitch points at each place.
+/// axes a scene gives it, whether a middle angle can lock, and its kinematics
+/// (docs/theory.md §1). The sliding coordinates and speeds come first:
+/// q = [x (nt), rotation], u = [v (nt), angular (nu - nt)]. A new kind is its
+/// value above, its row here and its own file solver/joints/<kind>.cpp; each
+/// engine maps it in one place (its mapping table or function), which refuses
+/// a kind it has no mapping for.
 struct JointTypeInfo {
   JointType type;
   const char* name;
   int nq, nu;  ///< ball: nq 4 (a quaternion), nu 3; free: nq 7, nu 6
-  int nt;      ///< translational speeds (prismatic 1, free 3), the first nt of u and of q
+  int nt;      ///< translational speeds (prismatic 1, planar 2, free 3), the first nt of u and of q
   int quat;    ///< offset of the unit quaternion [w,x,y,z] in q, -1 without one
   int naxes;   ///< axes in the scene: 1 (key `axis`), 2 (key `axes`, perpendicular) or 0 (the parent's axes)
   bool middle_locks;  ///< a sequence of three angles whose middle one at +-90 deg makes A singular (gimbal)
+  const JointKinematics* kinematics;
 };
 /// The rows in JointType order: inline, so that the per-evaluation loops read
 /// a joint's sizes without a call.
-inline constexpr JointTypeInfo kJointTypes[] = {{JointType::Revolute, "revolute", 1, 1, 0, -1, 1, false},
-                                                {JointType::Universal, "universal", 2, 2, 0, -1, 2, false},
-                                                {JointType::Gimbal, "gimbal", 3, 3, 0, -1, 0, true},
-                                                {JointType::Ball, "ball", 4, 3, 0, 0, 0, false},
-                                                {JointType::Prismatic, "prismatic", 1, 1, 1, -1, 1, false},
-                                                {JointType::Free, "free", 7, 6, 3, 3, 0, false}};
+inline constexpr JointTypeInfo kJointTypes[] = {
+    {JointType::Revolute, "revolute", 1, 1, 0, -1, 1, false, &kRevoluteKinematics},
+    {JointType::Universal, "universal", 2, 2, 0, -1, 2, false, &kUniversalKinematics},
+    {JointType::Gimbal, "gimbal", 3, 3, 0, -1, 0, true, &kGimbalKinematics},
+    {JointType::Ball, "ball", 4, 3, 0, 0, 0, false, &kBallKinematics},
+    {JointType::Prismatic, "prismatic", 1, 1, 1, -1, 1, false, &kPrismaticKinematics},
+    {JointType::Free, "free", 7, 6, 3, 3, 0, false, &kFreeKinematics},
+    {JointType::Planar, "planar", 3, 3, 2, -1, 2, false, &kPlanarKinematics}};
 inline const JointTypeInfo& jointRow(JointType t) { return kJointTypes[static_cast<int>(t)]; }
 const std::vector<JointTypeInfo>& jointTypeTable();
 inline const char* jointTypeName(JointType t) { return jointRow(t).name; }
@@ -55,7 +77,7 @@ struct Spring {
 /// One joint: the inboard joint of its body.
 struct Joint {
   JointType type = JointType::Revolute;
-  Vec3 axis[2] = {Vec3::UnitX(), Vec3::UnitY()};  ///< unit axes, parent frame (revolute, prismatic: [0]; universal: both)
+  Vec3 axis[2] = {Vec3::UnitX(), Vec3::UnitY()};  ///< unit axes, parent frame (revolute, prismatic: [0]; universal, planar: both)
   Vec3 in_parent = Vec3::Zero();  ///< a: parent CM -> joint point, parent frame (world for roots)
   Vec3 in_body = Vec3::Zero();    ///< c: body CM -> joint point, body frame
   Eigen::VectorXd q0, u0;         ///< initial coordinates (nq) and speeds (nu)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -90,8 +91,10 @@ inline Model randomTree(unsigned seed, int n, bool all_kinds = false, bool revol
   auto unit = [&] { return Vec3(uni(rng), uni(rng), uni(rng)).normalized(); };
   SceneSpec s;
   s.name = "random" + std::to_string(seed);
+  // Without all_kinds: the first four (no quaternion); with it: every row of the table.
   const JointType kinds[] = {JointType::Revolute, JointType::Universal, JointType::Gimbal,
-                             JointType::Prismatic, JointType::Ball,      JointType::Free};
+                             JointType::Prismatic, JointType::Ball,      JointType::Free, JointType::Planar};
+  static_assert(std::size(kinds) == std::size(kJointTypes), "randomTree draws every joint kind");
   for (int i = 0; i < n; ++i) {
     BodySpec b;
     b.name = "b" + std::to_string(i);
@@ -99,7 +102,7 @@ inline Model randomTree(unsigned seed, int n, bool all_kinds = false, bool revol
     b.mass = pos(rng);
     const Vec3 I(pos(rng), pos(rng), pos(rng));
     b.inertia = (0.1 * (I + Vec3::Constant(I.sum()))).asDiagonal();  // within the triangle inequality
-    b.joint.type = kinds[std::uniform_int_distribution<int>(0, all_kinds ? 5 : 3)(rng)];
+    b.joint.type = kinds[std::uniform_int_distribution<int>(0, all_kinds ? int(std::size(kinds)) - 1 : 3)(rng)];
     if (revolute_only) b.joint.type = JointType::Revolute;
     b.joint.axis[0] = unit();
     b.joint.axis[1] = b.joint.axis[0].unitOrthogonal();
@@ -127,7 +130,7 @@ inline const std::vector<std::string>& dataScenes() {
   static const std::vector<std::string> s = {
       "cartpole.json", "chain01.json", "chain02.json", "chain03.json", "chain04.json", "chain05.json", "chain06.json",
       "chain07.json", "chain08.json", "chain09.json", "chain10.json", "chain20.json", "chain50.json", "floating_arm.json", "forest.json", "pendulum5.json",
-      "pendulum5_ball.json", "solo12_tumbling.json", "spring_damper.json", "tree_mixed.json"};
+      "pendulum5_ball.json", "planar_sled.json", "solo12_tumbling.json", "spring_damper.json", "tree_mixed.json"};
   return s;
 }
 
@@ -169,7 +172,8 @@ inline double maxPoseDiff(const Trajectory& a, const Trajectory& b) {
 /// trees of all six kinds with turned full inertias (free joints inside).
 inline std::vector<Model> modelsOfEveryKind() {
   std::vector<Model> models;
-  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json"})
+  for (const char* s : {"pendulum5.json", "pendulum5_ball.json", "floating_arm.json", "tree_mixed.json", "spring_damper.json",
+                        "planar_sled.json"})
     models.push_back(loadData(s));
   for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(randomTree(seed, 6, true));
   return models;

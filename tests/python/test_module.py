@@ -25,6 +25,7 @@ def cli(*args):
 
 
 @pytest.mark.parametrize("path, engine", [(scene("pendulum5.json"), "inhouse"), (scene("tree_mixed.json"), "simbody"),
+                                          (scene("planar_sled.json"), "dart"),
                                           (os.path.join(SRC, "data", "robots", "ur5.urdf"), "mujoco")])
 def test_equations_equal_the_cli_to_the_last_digit(path, engine):
     status, out, _ = cli("equations", path, "--engine", engine)

@@ -115,6 +115,47 @@ TEST_CASE("compound pendulum: A = I + m l2 and udot = -m g l sin q / (I + m l2)"
   CHECK(std::abs(ws.potential - (-m * g * l * std::cos(q))) < kRoundoff);
 }
 
+TEST_CASE("a planar joint: a body slides in its plane under gravity and its springs and turns about the normal", "[closedform][formation]") {
+  // One body on a planar joint with its CM a lever c off the joint point, in the plane:
+  // r = s1 e1 + s2 e2 - R(theta) c, R about n = e1 x e2. Lagrange's equations give
+  //   A = [[m, 0, m e1.k], [0, m, m e2.k], [., ., J_n + m |c|^2]],  k = d(-R c)/dtheta = -n x R c,
+  //   r'' = s'' + theta'' k + theta'^2 R c (the CM's centripetal acceleration points at the joint
+  //   point, -theta'^2 (r - s)), so B_i = e_i.(m g - m theta'^2 R c) - k_i (s_i - rest_i) and
+  //   B_theta = k.(m g) - k3 (theta - rest_3) (R c . k = 0), J_n = n.J_w n (J_w in the world axes).
+  const double m = 1.7, th = 0.8, thd = -1.3;
+  const Vec3 e1 = Vec3(0.6, 0.8, 0), e2 = Vec3(0, 0, 1), n = e1.cross(e2), g(0.2, -9.81, 0.4), c = 0.3 * e1 - 0.1 * e2;
+  SceneSpec s;
+  s.name = "planar_body";
+  s.gravity = g;
+  BodySpec b;
+  b.name = "sled";
+  b.parent = "ground";
+  b.mass = m;
+  b.inertia << 0.05, 0.003, -0.002, 0.003, 0.06, 0.001, -0.002, 0.001, 0.04;
+  b.joint.type = JointType::Planar;
+  b.joint.axis[0] = e1;
+  b.joint.axis[1] = e2;
+  b.joint.in_body = c;  // body frame = world at theta = 0
+  b.joint.q0 = Eigen::Vector3d(0.4, -0.25, th);
+  b.joint.u0 = Eigen::Vector3d(0.7, 0.2, thd);
+  b.joint.has_spring = true;
+  b.joint.spring = {Eigen::Vector3d(20, 5, 2), Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0, 0.3)};
+  s.bodies.push_back(b);
+  const Model model = buildModel(s);
+  const Workspace ws = formAt(model, model.q0(), model.u0());
+  const Mat3 R = rot(n, th);
+  const Vec3 Rc = R * c, k = -n.cross(Rc);
+  const double Jn = n.dot(R * b.inertia * R.transpose() * n);
+  Eigen::Matrix3d A;
+  A << m, 0, m * e1.dot(k), 0, m, m * e2.dot(k), m * e1.dot(k), m * e2.dot(k), Jn + m * c.squaredNorm();
+  const Vec3 f = m * g - m * thd * thd * Rc;  // gravity less the lever's centripetal term, on the joint point's slides
+  const Vec3 B(e1.dot(f) - 20 * (0.4 - 0.1), e2.dot(f) - 5 * (-0.25), k.dot(m * g) - 2 * (th - 0.3));
+  CHECK((ws.A - A).cwiseAbs().maxCoeff() < kRoundoff);
+  CHECK((ws.B - B).cwiseAbs().maxCoeff() < 10 * kRoundoff);
+  const Eigen::Vector3d u = model.u0();
+  CHECK(std::abs(ws.kinetic - 0.5 * u.dot(A * u)) < kRoundoff);
+}
+
 TEST_CASE("a free asymmetric rotor on a ball and on a gimbal obeys Euler's equations J w' = -w x J w", "[closedform][formation]") {
   // One body held at its CM (joint point = CM): gravity has no moment, so u'
   // is the torque-free rotor's. World frame: J_w w' = -w x J_w w with

@@ -37,12 +37,12 @@ Vec3 fdAxis(const Joint& j, Eigen::VectorXd q, int k) {
 
 TEST_CASE("world axes are d(R_rel)/dq_k as angular velocities", "[closedform][joint]") {
   const Mat3 R_p = rot(Vec3(0.2, 1, -0.4).normalized(), 0.8);
-  for (JointType t : {JointType::Revolute, JointType::Universal, JointType::Gimbal}) {
+  for (JointType t : {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Planar}) {
     const Joint j = makeJoint(t);
     const Eigen::VectorXd q = Eigen::Vector3d(0.3, -0.7, 1.1).head(jointNq(t));
     Axes P;
     worldAxes(j, R_p, q.data(), P);
-    for (int k = 0; k < jointNu(t); ++k) {
+    for (int k = jointNt(t); k < jointNu(t); ++k) {  // the turning axes (a slide's are checked below)
       INFO(jointTypeName(t) << " axis " << k);
       CHECK((P.col(k) - R_p * fdAxis(j, q, k)).norm() < kFdTol);
     }
@@ -67,7 +67,8 @@ TEST_CASE("ball: qdot = (0 u) x q / 2 is rotation at angular velocity u in the p
 
 TEST_CASE("axis rates are the time derivatives of the world axes", "[closedform][joint]") {
   // Move the parent and the joint along a straight line in (R_p angle, q) and compare.
-  for (JointType t : {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Ball}) {
+  for (JointType t : {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Ball, JointType::Prismatic,
+                      JointType::Planar}) {
     const Joint j = makeJoint(t);
     const Vec3 a_p = Vec3(0.2, 1, -0.4).normalized();
     const double th_dot = 0.9;  // parent turns about a_p at 0.9 rad/s
@@ -112,9 +113,7 @@ TEST_CASE("joint coordinates and speeds read back from a relative pose invert th
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uni(-1, 1);
   std::vector<Joint> joints;
-  for (JointType t : {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Ball,
-                      JointType::Prismatic, JointType::Free})
-    joints.push_back(makeJoint(t));
+  for (const JointTypeInfo& row : jointTypeTable()) joints.push_back(makeJoint(row.type));  // every kind
   joints.push_back(makeJoint(JointType::Universal));
   joints.back().axis[1] = Vec3(0.3, 0.9, -0.1).normalized();  // not perpendicular to axis[0]
   for (const Joint& j : joints)
