@@ -103,10 +103,10 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"scene", tr.scene},
                          {"method", tr.method()},
                          {"integrator", tr.integrator()},
-                         {r.fixedStep() ? "dt" : "tolerance", r.setting()},
+                         {settingKindName(r.settingKind()), r.setting()},
                          {"t_end", r.t_end},
                          {"output_dt", r.output_dt},
-                         {"status", tr.status()},
+                         {"status", outcomeName(tr.status())},
                          {"failure", tr.failed() ? failureJson(tr.failure_time, tr.failure_kind, tr.failure, tr.failure_cond_A)
                                                  : nlohmann::json(nullptr)},
                          {"steps", tr.steps},

@@ -73,7 +73,7 @@ void printCase(const ExtremeCaseResult& c) {
   for (const ExtremeRun& r : c.runs)
     for (const ExtremeEntry& e : r.entries)
       std::printf("%-22s %-18s %-18s %-7s %s\n", c.name.c_str(), r.setting.label().c_str(), e.method.c_str(),
-                  e.outcome.c_str(),
+                  outcomeName(e.outcome),
                   e.failure_kind == Failure::None
                       ? ""
                       : (std::string(failureName(e.failure_kind)) + " at " + gnum(e.failure_time) + " s").c_str());

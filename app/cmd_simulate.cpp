@@ -25,7 +25,7 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   for (size_t k = 0; k < tr.size(); ++k) drift = std::max(drift, std::abs(tr.energy[k] + tr.dissipated[k] - tr.energy[0]));
   const std::string ended = tr.failed() ? "failed at t = " + gnum(tr.failure_time) + " s (" + tr.failure + "), last sample" : "t";
   std::printf("%s %s/%s: status %s, %s = %.6g s, %ld steps, %ld rhs evaluations, %.3f s CPU\n", tr.scene.c_str(),
-              tr.method().c_str(), tr.integrator().c_str(), tr.status().c_str(), ended.c_str(), tr.t.back(), tr.steps,
+              tr.method().c_str(), tr.integrator().c_str(), outcomeName(tr.status()), ended.c_str(), tr.t.back(), tr.steps,
               tr.rhs_evals, tr.run_time_s);
   std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
               drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));

@@ -70,7 +70,7 @@ ComparisonResult compareTrajectories(const Trajectory& reference, const Trajecto
   for (const Trajectory& t : r.runs) r.metrics.push_back(measureRun(t, reference, opt.thresholds, r.horizon, r.energy_scale));
   const std::optional<double> wrong_horizon = referenceHorizon(reference, tight, {kWrongRad})[0];
   for (MethodMetrics& m : r.metrics) m.outcome = outcomeOf(m, wrong_horizon);
-  r.reference_metrics.outcome = reference.failed() ? "failed" : "ok";
+  r.reference_metrics.outcome = reference.status();
   return r;
 }
 
@@ -223,7 +223,7 @@ void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
 
 void tableRow(std::ostream& o, const MethodMetrics& m) {
   char cell[64];
-  std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), m.outcome.c_str());
+  std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), outcomeName(m.outcome));
   o << cell;
   for (size_t i = 0; i < m.divergence_time_s.size(); ++i) {
     std::snprintf(cell, sizeof cell, " %12s", timeOrDash(m.divergence_time_s[i], m.divergence_meaningful[i]).c_str());

@@ -1,6 +1,7 @@
 #include "compare/gate.hpp"
 
 #include "io/json_input.hpp"
+#include "io/run_spec_json.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -39,10 +40,8 @@ RunSpec inhouseSettings(const json& run, const std::string& path) {
   if (!findIntegrator(name, s.integrator) || !info(s.integrator).runs(Engine::InHouse))
     throw InputError(jsonPath(path, "integrator"),
                      "unknown in-house integrator '" + printable(name, 40) + "' (" + joined(integratorNames(Engine::InHouse)) + ")");
-  const char* key = s.fixedStep() ? "dt" : "tolerance";
-  const char* other = s.fixedStep() ? "tolerance" : "dt";
-  if (run.contains(other)) throw InputError(jsonPath(path, other), "not read with " + name + " (its setting is " + key + ")");
-  s.setSetting(positiveAt(requireKey(run, path, key), jsonPath(path, key)));
+  const std::string key = settingKeyIn(run, path, s.integrator);
+  s.setSetting(positiveAt(requireKey(run, path, key.c_str()), jsonPath(path, key)));
   return s;
 }
 

@@ -113,12 +113,12 @@ MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std
   return m;
 }
 
-std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) {
-  if (m.failed()) return "failed";
+Outcome outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) {
+  if (m.failed()) return Outcome::Failed;
   const ErrorSeries& s = m.series;
   for (size_t k = 0; k < s.t.size() && (!horizon || s.t[k] < *horizon); ++k)
-    if (!(s.pose_rad[k] <= kWrongRad)) return "wrong";  // NaN counts as beyond
-  return "ok";
+    if (!(s.pose_rad[k] <= kWrongRad)) return Outcome::Wrong;  // NaN counts as beyond
+  return Outcome::Ok;
 }
 
 }  // namespace em

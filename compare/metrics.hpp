@@ -34,7 +34,7 @@ constexpr double kWrongRad = 0.1;
 
 struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajectory's, assigned whole
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
-  std::string outcome;  ///< "ok", "wrong" or "failed" (outcomeOf)
+  Outcome outcome = Outcome::Ok;  ///< outcomeOf
   double max_joint_separation = std::numeric_limits<double>::quiet_NaN();  ///< m; maximal-coordinate engines (ODE)
   Peak pose, position, coord, energy;
   bool coords_shared = false;
@@ -72,7 +72,7 @@ MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std
 /// (completed, but beyond kWrongRad of the reference at a sample before
 /// `horizon`, the reference horizon at kWrongRad; anywhere when there is none)
 /// or `ok` (completed and within kWrongRad up to the horizon).
-std::string outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon);
+Outcome outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon);
 
 /// Reference horizon per threshold: when the reference and a tighter run of it part.
 std::vector<std::optional<double>> referenceHorizon(const Trajectory& ref, const Trajectory& tight,

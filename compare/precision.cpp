@@ -84,7 +84,7 @@ std::string precisionTable(const PrecisionResult& r) {
   o << line;
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
-    const std::string status = m.failed() ? m.status() + " at " + gnum(m.failure_time, 3) + " s" : m.status();
+    const std::string status = m.failed() ? std::string(outcomeName(m.status())) + " at " + gnum(m.failure_time, 3) + " s" : outcomeName(m.status());
     std::snprintf(line, sizeof line, "%-18s %-10s %-18s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
                   gnum(m.run.setting()).c_str(), status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
     o << line;
@@ -101,8 +101,8 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
     const MethodMetrics& m = p.metrics;
     points.push_back({{"method", m.name()},
                       {"integrator", integratorName(m.run.integrator)},
-                      {m.run.fixedStep() ? "dt" : "tolerance", m.run.setting()},
-                      {"status", m.status()},
+                      {settingKindName(m.run.settingKind()), m.run.setting()},
+                      {"status", outcomeName(m.status())},
                       {"failure", failureJson(m)},
                       {"max_pose_error_rad", finiteOrNull(m.pose.value)},
                       {"max_position_error_m", finiteOrNull(m.position.value)},

@@ -12,6 +12,7 @@
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
 #include "io/atomic_file.hpp"
+#include "io/run_spec_json.hpp"
 
 namespace em {
 
@@ -48,13 +49,6 @@ json perThreshold(const std::vector<double>& th, const std::vector<std::optional
   return o;
 }
 
-json runSpec(const RunSpec& s) {
-  json j = {{"integrator", integratorName(s.integrator)}};
-  if (s.fixedStep()) j["dt"] = s.dt;
-  else j["tolerance"] = s.tol;
-  return j;
-}
-
 // Where a method from outside came from (outside/): null for ours and the engines'.
 json outsideSource(Method method) {
   json from = pluginSource(method);
@@ -64,8 +58,8 @@ json outsideSource(Method method) {
 json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   json j = {{"name", m.name()},
             {"integrator", integratorName(m.run.integrator)},
-            {"status", m.status()},
-            {"outcome", m.outcome},
+            {"status", outcomeName(m.status())},
+            {"outcome", outcomeName(m.outcome)},
             {"failure", failureJson(m)},
             {"run_time_s", m.run_time_s},
             {"steps", m.steps},
@@ -82,8 +76,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"energy_error_final", finiteOrNull(m.energy_error_final)},
             {"dissipated_final_J", finiteOrNull(m.dissipated_final)},
             {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
-  if (m.run.fixedStep()) j["dt"] = m.run.dt;  // the key runSpec() and every other report part use
-  else j["tolerance"] = m.run.tol;
+  putSetting(j, m.run);
   if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
     j["source"] = from;
     j["colour"] = methodColour(m.run.method);  // plot's process does not know the method
@@ -205,7 +198,7 @@ json secondEngineJson(const ComparisonResult& r) {
   const Trajectory& t = *r.second_engine;
   const MethodMetrics& m = *r.second_engine_metrics;
   return {{"method", t.method()},          {"integrator", t.integrator()},
-          {"dt", t.run.dt},                {"status", t.status()},
+          {"dt", t.run.dt},                {"status", outcomeName(t.status())},
           {"failure", failureJson(m)},     {"max_pose_error_rad", finiteOrNull(m.pose.value)},
           {"max_position_error_m", finiteOrNull(m.position.value)},
           {"energy_error_max", finiteOrNull(m.energy.value)}, {"run_time_s", t.run_time_s}};
@@ -225,13 +218,13 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
   json scene = {{"name", r.scene_name}, {"bodies", r.bodies}, {"nq", r.nq}, {"nu", r.nu}};
   scene.update(sceneSourceJson(r.scene_source));
   json options = {{"methods", names},
-                  {"inhouse", runSpec(o.inhouse)},
+                  {"inhouse", runSpecJson(o.inhouse)},
                   {"t_end", r.t_end},
                   {"output_dt", r.output_dt},
                   {"thresholds_rad", o.thresholds},
                   {"energy_scale_J", r.energy_scale},
                   {"energy_scale_definition", "largest kinetic energy of the reference run"}};
-  for (const auto& [e, spec] : o.engines) options[engineName(e)] = runSpec(spec);  // one spec per engine
+  for (const auto& [e, spec] : o.engines) options[engineName(e)] = runSpecJson(spec);  // one spec per engine
   if (!o.left_out.empty()) {  // engines that cannot take the scene, left out of the default methods
     json left = json::array();
     for (const auto& [method, why] : o.left_out) left.push_back({{"method", methodName(method)}, {"why", why}});
@@ -247,7 +240,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"tolerance", ref.tol},
             {"horizon_tolerance", r.tight.run.tol},
             {"horizon_s", horizon},
-            {"status", r.reference.status()},
+            {"status", outcomeName(r.reference.status())},
             {"failure", r.reference.failed() ? failureJson(r.reference_metrics) : json(nullptr)},
             {"run_time_s", r.reference.run_time_s},
             {"steps", r.reference.steps},

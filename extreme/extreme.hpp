@@ -44,7 +44,8 @@ constexpr double kDivergedRad = 1e-3;
 
 /// What one method did in one case under one setting.
 struct ExtremeEntry : RunEnd {  ///< how the run ended and its cost: its metrics', assigned whole
-  std::string method, outcome;
+  std::string method;
+  Outcome outcome = Outcome::Ok;
   std::optional<double> diverged_at;   ///< first time beyond kDivergedRad (pose)
   std::optional<double> wrong_at;      ///< first time beyond kWrongRad (pose)
   double max_pose = 0, max_energy = 0;
@@ -61,7 +62,8 @@ constexpr double kDriftBound = 1e-6;
 struct ExtremeRun {
   ExtremeSetting setting;
   double reference_tol = 0, t_end = 0;
-  std::string reference_status, reference_failure;
+  Outcome reference_status = Outcome::Ok;
+  std::string reference_failure;
   std::optional<double> horizon_wrong;  ///< reference horizon at kWrongRad
   std::string report;                   ///< the full report's file
   std::vector<ExtremeEntry> entries;

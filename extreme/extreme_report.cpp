@@ -9,6 +9,7 @@
 #include "extreme/extreme.hpp"
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
+#include "io/json_input.hpp"
 
 namespace em {
 
@@ -31,8 +32,8 @@ json eigenJson(const ExtremeEntry& e) {
 }
 
 json entryJson(const ExtremeEntry& e) {
-  return {{"name", e.method},           {"outcome", e.outcome},
-          {"failure", e.outcome == "failed" ? failureJson(e.failedAt(), e.failure_kind, e.failure, e.failure_cond_A) : json(nullptr)},         {"diverged_" + thresholdKey(kDivergedRad) + "_s", orNull(e.diverged_at)},
+  return {{"name", e.method},           {"outcome", outcomeName(e.outcome)},
+          {"failure", e.outcome == Outcome::Failed ? failureJson(e.failedAt(), e.failure_kind, e.failure, e.failure_cond_A) : json(nullptr)},         {"diverged_" + thresholdKey(kDivergedRad) + "_s", orNull(e.diverged_at)},
           {"wrong_at_s", orNull(e.wrong_at)}, {"max_pose_error_rad", finiteOrNull(e.max_pose)},
           {"energy_error_max", finiteOrNull(e.max_energy)}, {"run_time_s", e.run_time_s},
           {"steps", e.steps},           {"rhs_evals", e.rhs_evals},
@@ -144,13 +145,13 @@ std::string reasonOf(const ExtremeEntry& e, const ExtremeCaseResult& c) {
 }  // namespace
 
 std::string diagnosis(const ExtremeEntry& e, const ExtremeCaseResult& c, const ExtremeRun& run) {
-  if (e.outcome == "ok") {
+  if (e.outcome == Outcome::Ok) {
     if (!(e.max_energy > kEnergyNote)) return "";
     return "ok by the pose, but its energy error reached " + sci(e.max_energy) + " of the energy scale" +
            (eigenFacts(e, c).empty() ? "." : "; " + eigenFacts(e, c) + ".");
   }
   std::string s;
-  if (e.outcome == "wrong") {
+  if (e.outcome == Outcome::Wrong) {
     s = "completed, but was " + gnum(kWrongRad) + " rad from the reference at " + secs(e.wrong_at.value_or(0)) +
         (run.horizon_wrong ? ", before the reference horizon " + secs(*run.horizon_wrong) : " (the reference horizon is beyond t_end)");
   } else {
@@ -167,7 +168,7 @@ std::string cell(const std::optional<double>& t) { return t ? secs(*t) : "-"; }
 
 void tableRow(std::ostream& o, const ExtremeCaseResult& c, const ExtremeRun& r, const ExtremeEntry& e) {
   const std::string stop = e.failure_kind == Failure::None ? "-" : std::string(failureName(e.failure_kind)) + " " + cell(e.failedAt());
-  o << "| " << c.name << " | " << r.setting.label() << " | " << e.method << " | " << e.outcome << " | " << stop << " | "
+  o << "| " << c.name << " | " << r.setting.label() << " | " << e.method << " | " << outcomeName(e.outcome) << " | " << stop << " | "
     << cell(e.diverged_at) << " | " << sci(e.max_pose) << " | " << sci(e.max_energy) << " | " << sci(e.run_time_s)
     << " | " << e.steps << " | " << (e.eigenfactor ? sci(e.eigen.min_gap) : "") << " | "
     << (e.eigenfactor ? sci(e.eigen.max_abs_Omega) : "") << " | " << (e.eigenfactor ? std::to_string(e.eigen.jacobi_sweeps) : "")
@@ -180,11 +181,11 @@ void casePart(std::ostream& o, const ExtremeCaseResult& c) {
     << sci(c.lambda_max0) << ", cond(A) = " << sci(c.cond_A0) << ".\n";
   for (const ExtremeRun& r : c.runs) {
     o << "\n- **" << r.setting.label() << "** (t_end " << gnum(r.t_end) << " s; reference tol " << gnum(r.reference_tol)
-      << (r.reference_status == "ok" ? "" : ", reference FAILED: " + r.reference_failure) << "; horizon at "
+      << (r.reference_status == Outcome::Ok ? "" : ", reference FAILED: " + r.reference_failure) << "; horizon at "
       << gnum(kWrongRad) << " rad: " << (r.horizon_wrong ? secs(*r.horizon_wrong) : "beyond t_end") << ").";
     std::string ok;
     for (const ExtremeEntry& e : r.entries)
-      if (e.outcome == "ok") ok += (ok.empty() ? " " : ", ") + e.method;
+      if (e.outcome == Outcome::Ok) ok += (ok.empty() ? " " : ", ") + e.method;
     o << (ok.empty() ? " No method was ok." : " ok:" + ok + ".") << "\n";
     for (const ExtremeEntry& e : r.entries) {
       const std::string d = diagnosis(e, c, r);
@@ -221,7 +222,8 @@ namespace {
 
 // What the expected file (a snapshot of an earlier run) says of one method.
 struct ExpectedMethod {
-  std::string outcome, kind;
+  Outcome outcome = Outcome::Ok;
+  std::string kind;
   double max_pose = 0;
   std::optional<double> failure_t;
 };
@@ -260,7 +262,8 @@ std::map<std::string, Expected> expectedRuns(const json& expected) {
       e.t_end = r.at("t_end").get<double>();
       for (const json& m : r.at("methods")) {
         ExpectedMethod& x = e.methods[m.at("name").get<std::string>()];
-        x.outcome = m.at("outcome").get<std::string>();
+        const std::string outcome = m.at("outcome").get<std::string>();
+        if (!findOutcome(outcome, x.outcome)) throw std::invalid_argument("not an extreme summary (unknown outcome '" + printable(outcome, 40) + "')");
         x.kind = m.at("failure").is_null() ? "none" : m.at("failure").at("kind").get<std::string>();
         x.max_pose = numberFrom(m.at("max_pose_error_rad"));
         if (!m.at("failure").is_null()) x.failure_t = optionalFrom(m.at("failure").at("t"));
@@ -302,7 +305,7 @@ std::vector<std::string> checkExpected(const std::vector<ExtremeCaseResult>& cas
         if (m == it->second.methods.end())
           diff.push_back(key + " " + e.method + ": not in the expected file");
         else if (m->second.outcome != e.outcome || m->second.kind != kind)
-          diff.push_back(key + " " + e.method + ": " + e.outcome + " (" + kind + "), expected " + m->second.outcome + " (" +
+          diff.push_back(key + " " + e.method + ": " + outcomeName(e.outcome) + " (" + kind + "), expected " + outcomeName(m->second.outcome) + " (" +
                          m->second.kind + ")");
         else if (const std::string d = numbersDiffer(e, m->second); !d.empty())
           diff.push_back(key + " " + e.method + ": " + d);

@@ -48,7 +48,7 @@ json trajectoryJson(const Trajectory& tr) {
           {"angle_coordinates", tr.angle_coords},
           {"body_names", tr.body_names}, {"t", tr.t},               {"q", q},
           {"u", u},                      {"energy", tr.energy},     {"kinetic", tr.kinetic},
-          {"dissipated", tr.dissipated}, {"poses", poses},          {"status", tr.status()},
+          {"dissipated", tr.dissipated}, {"poses", poses},          {"status", outcomeName(tr.status())},
           {"failure", tr.failure},       {"failure_kind", failureName(tr.failure_kind)},
           {"failure_time", tr.failure_time}, {"run_time_s", tr.run_time_s},
           {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries}};
@@ -82,7 +82,7 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     const std::string kind = j.at("failure_kind").get<std::string>();
     for (const FailureInfo& f : failureTable())
       if (kind == f.name) tr.failure_kind = f.id;
-    if (status != tr.status()) throw std::runtime_error("status " + status + " against failure_kind " + kind);
+    if (status != outcomeName(tr.status())) throw std::runtime_error("status " + status + " against failure_kind " + kind);
   } catch (const std::exception& e) {
     throw std::runtime_error(source + ": not a trajectory this version wrote (" + e.what() + ")");
   }

@@ -194,7 +194,7 @@ py::dict trajectoryDict(const Trajectory& tr) {
                                {"kinetic", &tr.kinetic}, {"dissipated", &tr.dissipated}})
     d[key] = vec(Eigen::Map<const Eigen::VectorXd>(v->data(), static_cast<Eigen::Index>(v->size())));
   d["q_names"] = tr.q_names, d["u_names"] = tr.u_names;
-  d["status"] = tr.status();
+  d["status"] = outcomeName(tr.status());
   d["failure"] = tr.failed() ? py::object(py::dict(py::arg("t") = tr.failure_time, py::arg("kind") = failureName(tr.failure_kind),
                                                    py::arg("cause") = tr.failure))
                              : py::object(py::none());

@@ -133,6 +133,11 @@ const std::vector<FailureInfo>& failureTable() {
   return table;
 }
 
+const std::vector<OutcomeInfo>& outcomeTable() {
+  static const std::vector<OutcomeInfo> table = {{Outcome::Ok, "ok"}, {Outcome::Wrong, "wrong"}, {Outcome::Failed, "failed"}};
+  return table;
+}
+
 namespace {
 
 template <class Table, class Id>
@@ -168,10 +173,12 @@ const char* engineName(Engine e) { return info(e).name; }
 const char* methodName(Method m) { return info(m).name; }
 const char* integratorName(Integrator i) { return info(i).name; }
 const char* failureName(Failure f) { return row(failureTable(), f).name; }
+const char* outcomeName(Outcome o) { return row(outcomeTable(), o).name; }
 
 bool findMethod(const std::string& name, Method& out) { return find(methodTable(), name, out); }
 bool findIntegrator(const std::string& name, Integrator& out) { return find(integratorTable(), name, out); }
 bool findEngine(const std::string& name, Engine& out) { return find(engineTable(), name, out); }
+bool findOutcome(const std::string& name, Outcome& out) { return find(outcomeTable(), name, out); }
 
 bool hasAdaptiveScheme(Engine e) {
   for (const IntegratorInfo& i : integratorTable())

@@ -164,6 +164,17 @@ enum class Failure {
   EndedEarly,             ///< a recorded run's samples end before the grid does (outside/recorded.hpp)
 };
 
+/// How a run came out, as every report, CSV and table writes it: completed
+/// (ok), completed but beyond compare's kWrongRad of the reference before its
+/// horizon (wrong: only a comparison can tell), or stopped (failed). A run on
+/// its own is ok or failed (RunEnd::status()).
+enum class Outcome { Ok, Wrong, Failed };
+
+struct OutcomeInfo {
+  Outcome id;
+  const char* name;
+};
+
 struct FailureInfo {
   Failure id;
   const char* name;
@@ -176,6 +187,7 @@ const std::deque<EngineInfo>& engineTable();
 const std::deque<MethodInfo>& methodTable();
 const std::deque<IntegratorInfo>& integratorTable();
 const std::vector<FailureInfo>& failureTable();
+const std::vector<OutcomeInfo>& outcomeTable();
 
 /// Another engine, its method (named as the engine) and its schemes, added
 /// to the tables; its row's fixed_scheme and adaptive_scheme name two of its
@@ -199,6 +211,7 @@ const char* engineName(Engine e);
 const char* methodName(Method m);
 const char* integratorName(Integrator i);
 const char* failureName(Failure f);
+const char* outcomeName(Outcome o);
 
 /// The method, integrator or engine of that name; throws std::invalid_argument
 /// naming every known one ("unknown method 'x' (classical, ...)").
@@ -209,6 +222,7 @@ Engine parseEngine(const std::string& name);
 bool findMethod(const std::string& name, Method& out);
 bool findIntegrator(const std::string& name, Integrator& out);
 bool findEngine(const std::string& name, Engine& out);
+bool findOutcome(const std::string& name, Outcome& out);
 /// Whether engine `e` runs a scheme that takes a tolerance.
 bool hasAdaptiveScheme(Engine e);
 /// Every engine but the in-house code, in table order.

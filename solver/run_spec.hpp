@@ -11,6 +11,12 @@
 
 namespace em {
 
+/// What a scheme's one setting is: a fixed step dt (s) or a tolerance.
+enum class SettingKind { Dt, Tolerance };
+/// Its key in every file: "dt" or "tolerance".
+inline const char* settingKindName(SettingKind k) { return k == SettingKind::Dt ? "dt" : "tolerance"; }
+inline SettingKind settingKindOf(Integrator i) { return info(i).fixed_step ? SettingKind::Dt : SettingKind::Tolerance; }
+
 /// One run, fully resolved (no "0 means the scene's"): what made a trajectory.
 struct RunSpec {
   Method method = Method::Classical;
@@ -24,6 +30,7 @@ struct RunSpec {
 
   Engine engine() const { return info(method).engine; }
   bool fixedStep() const { return info(integrator).fixed_step; }
+  SettingKind settingKind() const { return settingKindOf(integrator); }
   /// dt or tol, whichever the integrator uses.
   double setting() const { return fixedStep() ? dt : tol; }
   /// Set dt or tol, whichever the integrator uses (the one writer of "a setting").

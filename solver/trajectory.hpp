@@ -54,8 +54,8 @@ struct RunEnd {
   long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
 
   bool failed() const { return failure_kind != Failure::None; }
-  /// "ok" or "failed", as every output writes it.
-  std::string status() const { return failed() ? "failed" : "ok"; }
+  /// Ok or Failed (outcomeName writes it).
+  Outcome status() const { return failed() ? Outcome::Failed : Outcome::Ok; }
   /// The failure time, or nothing for a run that completed.
   std::optional<double> failedAt() const { return failed() ? std::optional<double>(failure_time) : std::nullopt; }
 };

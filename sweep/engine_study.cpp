@@ -27,7 +27,7 @@ std::string when(const std::optional<double>& t) { return t ? gnum(*t, 4) : std:
 double perSimulatedSecond(const CaseRecord& r, double t_end) { return cpuPerSimulatedSecond(r, t_end); }
 
 bool within(const CaseRecord& r, double accuracy) {
-  return r.status == "ok" && r.has_error && std::isfinite(r.max_pose) && r.max_pose <= accuracy;
+  return r.status == Outcome::Ok && r.has_error && std::isfinite(r.max_pose) && r.max_pose <= accuracy;
 }
 
 // A route: one method under one scheme on one scene, its runs coarse to fine.
@@ -56,7 +56,7 @@ std::vector<Route> routesOf(const std::vector<CaseRecord>& rs, const std::string
   return out;
 }
 
-std::string settingText(const CaseRecord& r) { return (r.setting_kind == "dt" ? "dt " : "tol ") + gnum(r.setting); }
+std::string settingText(const CaseRecord& r) { return (r.setting_kind == SettingKind::Dt ? "dt " : "tol ") + gnum(r.setting); }
 
 // One owner's fastest route to each accuracy.
 struct Fastest {
@@ -89,7 +89,7 @@ std::string routeTable(const std::vector<Route>& routes, double t_end) {
     << "|---|---|---|---|---|---|---|---|\n";
   for (const Route& x : routes) {
     int ok = 0;
-    for (const CaseRecord* r : x.runs) ok += r->status == "ok";
+    for (const CaseRecord* r : x.runs) ok += r->status == Outcome::Ok;
     o << "| " << x.owner << " | " << x.method << " | " << x.integrator << " | " << ok << " / " << x.runs.size() << " |";
     for (double a : kAccuracies) {
       const CaseRecord* r = x.cheapest(a, t_end);
@@ -135,10 +135,10 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
   for (const Route& x : routes)
     for (const CaseRecord* r : x.runs) {
       // A run that stopped at t = 0 has no sample to measure: dashes, not zeros.
-      const bool none = r->status != "ok" && r->failure_time.value_or(1) <= 0;
+      const bool none = r->status != Outcome::Ok && r->failure_time.value_or(1) <= 0;
       auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
       o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
-        << (r->status == "ok" ? "ok" : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
         << cell(r->max_pose) << " | " << when(r->pose_beyond[0]) << " | " << when(r->pose_beyond[1]) << " | " << cell(r->max_energy) << " |";
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
       if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";

@@ -15,7 +15,7 @@ namespace em {
 
 namespace {
 
-using GroupKey = std::tuple<std::string, std::string, std::string, std::string, double>;  // scene, method, integrator, kind, setting
+using GroupKey = std::tuple<std::string, std::string, std::string, SettingKind, double>;  // scene, method, integrator, kind, setting
 
 struct Metric {
   const char* name;
@@ -34,7 +34,7 @@ Distribution distributionOf(const std::vector<const CaseRecord*>& members, const
   std::vector<double> times;
   for (const CaseRecord* r : members) {
     ++d.members;
-    if (r->status != "ok") ++d.failed;
+    if (r->status != Outcome::Ok) ++d.failed;
     if (const std::optional<double>& t = (r->*metric.times)[metric.threshold]) times.push_back(*t);
   }
   d.diverged = static_cast<int>(times.size());
@@ -77,7 +77,7 @@ std::string ensembleCsv(const std::vector<EnsembleRow>& rows) {
   o << "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   for (const EnsembleRow& r : rows)
-    o << r.scene << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ',' << gnum(r.setting, 17) << ','
+    o << r.scene << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ',' << gnum(r.setting, 17) << ','
       << r.metric << ',' << gnum(r.threshold) << ',' << r.d.members << ',' << r.d.diverged << ',' << r.d.failed << ','
       << opt(r.d.median) << ',' << opt(r.d.q1) << ',' << opt(r.d.q3) << ',' << opt(r.d.min) << ',' << opt(r.d.max) << '\n';
   return o.str();
@@ -145,7 +145,7 @@ std::string predictionCsv(const std::vector<Prediction>& rows) {
     const CaseRecord& r = *p.record;
     o << r.scene << ',' << r.member << ',' << r.method << ',' << r.integrator << ',' << gnum(r.setting, 17) << ','
       << gnum(p.threshold) << ',' << opt(r.t0) << ',' << gnum(p.e0, 17) << ',' << gnum(p.chi, 17) << ','
-      << opt(p.predicted) << ',' << opt(p.measured) << ',' << r.status << '\n';
+      << opt(p.predicted) << ',' << opt(p.measured) << ',' << outcomeName(r.status) << '\n';
   }
   return o.str();
 }

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "io/json_input.hpp"
+#include "io/run_spec_json.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json.hpp"
 #include "solver/text.hpp"
@@ -61,9 +62,7 @@ RunSpec runAt(const json& v, const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw InputError(jsonPath(path, "integrator"), e.what());
   }
-  const char* key = s.fixedStep() ? "dt" : "tolerance";
-  const char* other = s.fixedStep() ? "tolerance" : "dt";
-  if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(s.integrator)) + " takes " + key + ", not " + other);
+  const std::string key = settingKeyIn(v, path, s.integrator);
   if (!v.contains(key)) throw InputError(jsonPath(path, key), std::string("missing (") + integratorName(s.integrator) + " takes a " + key + ")");
   s.setSetting(positiveAt(v[key], jsonPath(path, key)));
   return s;
@@ -84,9 +83,7 @@ PlanLine lineAt(const json& v, const std::string& path) {
       throw InputError(jsonPath(mpath, i), e.what());
     }
   }
-  const std::string key = info(line.integrator).fixed_step ? "dt" : "tolerance";
-  const std::string other = key == "dt" ? "tolerance" : "dt";
-  if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(line.integrator)) + " takes " + key);
+  const std::string key = settingKeyIn(v, path, line.integrator);
   const std::string spath = jsonPath(path, key);
   const json settings = nonEmptyArrayAt(v.contains(key) ? v[key] : json(), spath);
   for (size_t i = 0; i < settings.size(); ++i) line.settings.push_back(positiveAt(settings[i], jsonPath(spath, i)));

@@ -108,7 +108,7 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
   rec.scene = c.scene_name;
   rec.method = methodName(c.spec.method);
   rec.integrator = integratorName(c.spec.integrator);
-  rec.setting_kind = c.spec.fixedStep() ? "dt" : "tolerance";
+  rec.setting_kind = c.spec.settingKind();
   rec.setting = c.spec.setting();
   rec.nu = scene.model.nu;
   rec.member = c.member;
@@ -280,7 +280,7 @@ std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus)
            strsignal(WTERMSIG(wstatus)) + ")";
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (its error above)";
   const CaseRecord r = readCaseRecord(readCaseFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
-  if (r.status == "ok") return "";
+  if (r.status == Outcome::Ok) return "";
   return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";
 }
 

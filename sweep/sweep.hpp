@@ -24,10 +24,11 @@ using FirstTimes = std::array<std::optional<double>, kCaseThresholds.size()>;  /
 struct CaseRecord {
   std::string name, role, scene, method, integrator;
   int member = 0;            ///< ensemble member (0: the scene itself)
-  std::string setting_kind;  ///< "dt" or "tolerance"
+  SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;
   int nu = 0;
-  std::string status = "ok", failure_kind, failure;
+  Outcome status = Outcome::Ok;  ///< Ok or Failed
+  std::string failure_kind, failure;
   std::optional<double> failure_time;
   bool has_error = false;  ///< errors against the plan's reference
   double max_pose = 0, max_coord = 0, max_energy = 0;
@@ -93,7 +94,8 @@ struct Distribution {
 };
 /// One row of `<plan>-ensemble.csv`: scene x method x integrator x setting x metric (pose, joint) x threshold.
 struct EnsembleRow {
-  std::string scene, method, integrator, setting_kind;  ///< method "reference-horizon": the check
+  std::string scene, method, integrator;  ///< method "reference-horizon": the check
+  SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;
   std::string metric;  ///< "pose" or "joint"
   double threshold = 0;

@@ -66,9 +66,9 @@ json caseRecordJson(const CaseRecord& r) {
   json j = {{"name", r.name},         {"role", r.role},         {"member", r.member},
           {"scene", r.scene},       {"nu", r.nu},
           {"method", r.method},     {"integrator", r.integrator},
-          {r.setting_kind, r.setting},
-          {"status", r.status},
-          {"failure", r.status == "ok" ? json() : json{{"t", orNull(r.failure_time)}, {"kind", r.failure_kind}, {"cause", r.failure}}},
+          {settingKindName(r.setting_kind), r.setting},
+          {"status", outcomeName(r.status)},
+          {"failure", r.status == Outcome::Ok ? json() : json{{"t", orNull(r.failure_time)}, {"kind", r.failure_kind}, {"cause", r.failure}}},
           {"errors_against_reference", r.has_error},
           {"max_pose_error_rad", finiteOrNull(r.max_pose)},
           {"max_coord_error_rad", finiteOrNull(r.max_coord)},
@@ -101,11 +101,12 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.nu = j.at("nu").get<int>();
     r.method = j.at("method").get<std::string>();
     r.integrator = j.at("integrator").get<std::string>();
-    r.setting_kind = j.contains("dt") ? "dt" : "tolerance";
-    r.setting = j.at(r.setting_kind).get<double>();
-    r.status = j.at("status").get<std::string>();
+    r.setting_kind = j.contains("dt") ? SettingKind::Dt : SettingKind::Tolerance;
+    r.setting = j.at(settingKindName(r.setting_kind)).get<double>();
+    const std::string status = j.at("status").get<std::string>();
+    if (!findOutcome(status, r.status) || r.status == Outcome::Wrong) throw std::invalid_argument("status '" + status + "'");
     r.failure_kind = failureName(Failure::None);
-    if (r.status != "ok") {
+    if (r.status != Outcome::Ok) {
       const json& f = j.at("failure");
       r.failure_kind = f.at("kind").get<std::string>();
       r.failure = f.at("cause").get<std::string>();
@@ -165,8 +166,8 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   for (const CaseRecord& r : records) {
     o << r.scene << ',';
     if (with_member) o << r.member << ',';
-    o << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << r.setting_kind << ','
-      << gnum(r.setting, 17) << ',' << r.status << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
+    o << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ','
+      << gnum(r.setting, 17) << ',' << outcomeName(r.status) << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
       << ',';
     for (const FirstTimes* times : {&r.pose_beyond, &r.coord_beyond})

@@ -34,7 +34,7 @@ std::vector<std::string> scenesOf(const std::vector<CaseRecord>& rs) {
 struct Line {
   std::string method, integrator;
   std::vector<const CaseRecord*> points;
-  bool fixed() const { return !points.empty() && points[0]->setting_kind == "dt"; }
+  bool fixed() const { return !points.empty() && points[0]->setting_kind == SettingKind::Dt; }
 };
 
 std::vector<Line> linesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
@@ -57,11 +57,11 @@ std::string referenceLine(const std::vector<CaseRecord>& rs, const std::string& 
   floor = 0;
   const CaseRecord* ref = findRole(rs, scene, "reference");
   if (!ref) return "";
-  o << "Reference: " << ref->method << " " << ref->integrator << " " << ref->setting_kind << " " << gnum(ref->setting) << ", "
-    << ref->status << (ref->status == "ok" ? "" : " (" + ref->failure + ")") << ", " << ref->steps << " steps.";
+  o << "Reference: " << ref->method << " " << ref->integrator << " " << settingKindName(ref->setting_kind) << " " << gnum(ref->setting) << ", "
+    << outcomeName(ref->status) << (ref->status == Outcome::Ok ? "" : " (" + ref->failure + ")") << ", " << ref->steps << " steps.";
   if (const CaseRecord* chk = findRole(rs, scene, "check")) {
     floor = std::max(chk->max_pose, std::isfinite(chk->max_coord) ? chk->max_coord : 0.0);
-    o << " Its check, " << chk->method << " " << chk->integrator << " " << chk->setting_kind << " " << gnum(chk->setting)
+    o << " Its check, " << chk->method << " " << chk->integrator << " " << settingKindName(chk->setting_kind) << " " << gnum(chk->setting)
       << ": max pose difference " << sci(chk->max_pose) << " rad, max coordinate difference " << sci(chk->max_coord)
       << " rad: the floor of every error below.";
     const FirstTimes& part = chk->pose_beyond;
@@ -79,7 +79,7 @@ std::string observedOrder(const Line& l, double floor, bool coord) {
   std::vector<double> dt, err;
   for (const CaseRecord* p : l.points) {
     const double e = coord ? p->max_coord : p->max_pose;
-    if (p->status == "ok" && std::isfinite(e) && e > 10 * floor && e < 0.1) dt.push_back(p->setting), err.push_back(e);
+    if (p->status == Outcome::Ok && std::isfinite(e) && e > 10 * floor && e < 0.1) dt.push_back(p->setting), err.push_back(e);
   }
   const std::optional<double> s = logSlope(dt, err);
   return s ? gnum(*s, 3) + " (" + std::to_string(dt.size()) + " pts)" : "-";
@@ -89,7 +89,7 @@ std::string reachCell(const Line& l, double target) {
   std::vector<double> cpu, err;
   for (const CaseRecord* p : l.points) {
     cpu.push_back(p->cpuMedian());
-    err.push_back(p->status == "ok" ? p->max_pose : INFINITY);
+    err.push_back(p->status == Outcome::Ok ? p->max_pose : INFINITY);
   }
   bool at_first = false;
   const std::optional<double> t = timeToReach(cpu, err, target, at_first);
@@ -107,7 +107,7 @@ std::string workPrecisionTable(const std::vector<CaseRecord>& rs, const std::str
     int ok = 0;
     double best = INFINITY;
     for (const CaseRecord* p : l.points)
-      if (p->status == "ok") ++ok, best = std::min(best, p->max_pose);
+      if (p->status == Outcome::Ok) ++ok, best = std::min(best, p->max_pose);
     o << "| " << l.method << " | " << l.integrator << " | " << ok << " / " << l.points.size() << " | " << sci(best) << " | "
       << reachCell(l, 1e-3) << " | " << reachCell(l, 1e-6) << " | " << observedOrder(l, floor, true) << " | "
       << observedOrder(l, floor, false) << " |\n";
@@ -155,7 +155,7 @@ std::string costTable(const std::vector<CaseRecord>& rs, double t_end, const cha
     o << "| " << s << " | " << n << " |";
     for (const CostColumn& c : cols) {
       auto it = c.by_scene.find(s);
-      o << " " << (it == c.by_scene.end() ? "" : gnum(value(*it->second, t_end) / unit, 3) + (it->second->status == "ok" ? "" : "†")) << " |";
+      o << " " << (it == c.by_scene.end() ? "" : gnum(value(*it->second, t_end) / unit, 3) + (it->second->status == Outcome::Ok ? "" : "†")) << " |";
     }
     o << "\n";
   }
@@ -188,7 +188,7 @@ std::string runsTable(const std::vector<CaseRecord>& rs) {
   for (const CaseRecord& r : rs) {
     if (r.role != "run") continue;
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
-      << (r.status == "ok" ? "ok" : r.failure_kind + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
+      << (r.status == Outcome::Ok ? std::string(outcomeName(r.status)) : r.failure_kind + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
       << when(r.pose_beyond[0]) << " | " << when(r.pose_beyond[1]) << " | " << when(r.coord_beyond[1]) << " | " << sci(r.max_pose) << " | "
       << sci(r.max_energy) << " | " << gnum(r.steps ? r.cpuMedian() / r.steps * 1e6 : NAN, 3) << " | "
       << (r.eigen ? sci(r.eigen->min_gap) + " | " + sci(r.eigen->max_abs_Omega) + " | " +

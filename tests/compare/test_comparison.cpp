@@ -16,7 +16,7 @@ TEST_CASE("runComparison runs every method on the reference grid", "[comparison]
   for (size_t i = 0; i < r.metrics.size(); ++i) {
     CHECK(r.metrics[i].run.method == o.methods[i]);
     CHECK(r.runs[i].t == r.reference.t);
-    CHECK(r.metrics[i].status() == "ok");
+    CHECK(r.metrics[i].status() == Outcome::Ok);
   }
   CHECK(r.reference.t.size() == 51);
   CHECK(r.tight.integrator() == "rkmerson");

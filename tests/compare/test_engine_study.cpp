@@ -68,7 +68,7 @@ TEST_CASE("Erez et al. 1: a conservative chain's energy at the step users run, p
   for (const std::string& e : engines()) {
     const Trajectory tr = runTrajectory(m, userRun(e, 5.0, 0.01));
     const double d = energyDrift(tr);
-    std::printf("erez-energy %s/%s: %s, max |dE|/E_scale %.3g\n", e.c_str(), tr.integrator().c_str(), tr.status().c_str(), d);
+    std::printf("erez-energy %s/%s: %s, max |dE|/E_scale %.3g\n", e.c_str(), tr.integrator().c_str(), outcomeName(tr.status()), d);
     INFO(e << ": " << tr.failure);
     CHECK_FALSE(tr.failed());
     CHECK(d <= bound[e]);
@@ -90,7 +90,7 @@ TEST_CASE("Erez et al. 2: a free-floating robot's momenta in zero gravity, per e
     const Trajectory tr = runTrajectory(m, userRun(e, 5.0, 0.01));
     const auto [dp, dH] = test::momentumDrift(m, tr);
     std::printf("erez-momentum %s/%s: %s, |dp|/|p| %.3g, |dH|/|H| %.3g\n", e.c_str(), tr.integrator().c_str(),
-                tr.status().c_str(), dp, dH);
+                outcomeName(tr.status()), dp, dH);
     INFO(e << ": " << tr.failure);
     CHECK_FALSE(tr.failed());
     CHECK(dp <= bound_p[e]);

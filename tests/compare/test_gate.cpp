@@ -95,7 +95,7 @@ TEST_CASE("a malformed tolerance file names the file and the key", "[gate]") {
   // A setting the integrator does not read, a duplicate key (the file is read strictly), a key of nobody's.
   j = tolerances(1);
   j["scenes"]["synthetic"]["inhouse"]["tolerance"] = 1e-10;
-  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad5.json", j)), Catch::Contains("synthetic.inhouse.tolerance: not read with rk4"));
+  CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad5.json", j)), Catch::Contains("synthetic.inhouse.tolerance: rk4 takes dt, not tolerance"));
   const std::string dup = std::string(EM_BINARY_DIR) + "/tol_bad6.json";
   std::ofstream(dup) << R"({"format": "eigenmass-tolerances/1", "format": "eigenmass-tolerances/1", "scenes": {}})";
   CHECK_THROWS_WITH(loadTolerances(dup), Catch::Contains("tol_bad6.json") && Catch::Contains("format") && Catch::Contains("duplicate"));

@@ -40,7 +40,7 @@ TEST_CASE("a run that never crosses a threshold has no divergence time", "[compa
   const MethodMetrics m = measureRun(run, ref, {1e-3}, {std::nullopt}, 2.0);
   CHECK_FALSE(m.divergence_time_s[0]);
   CHECK_FALSE(m.divergence_meaningful[0]);
-  CHECK(m.status() == "ok");
+  CHECK(m.status() == Outcome::Ok);
 }
 
 TEST_CASE("a failed run diverges at its failure time and keeps its cause", "[comparator]") {
@@ -83,13 +83,13 @@ TEST_CASE("outcome: ok, wrong only before the reference horizon, failed", "[comp
   const Trajectory ref = test::turning(em::test::method("simbody"), 0, 0);
   // Error kSlope t: beyond kWrongRad = 0.1 rad from t = 4.77 s on.
   const MethodMetrics drifting = measureRun(test::turning(Method::Eigen, kSlope, 0), ref, {1e-3}, {std::nullopt}, 2.0);
-  REQUIRE(drifting.status() == "ok");
-  CHECK(outcomeOf(drifting, std::nullopt) == "wrong");  // no horizon: the whole run counts
-  CHECK(outcomeOf(drifting, 6.0) == "wrong");
-  CHECK(outcomeOf(drifting, 3.0) == "ok");  // beyond 0.1 rad only where the reference itself is uncertain
+  REQUIRE(drifting.status() == Outcome::Ok);
+  CHECK(outcomeOf(drifting, std::nullopt) == Outcome::Wrong);  // no horizon: the whole run counts
+  CHECK(outcomeOf(drifting, 6.0) == Outcome::Wrong);
+  CHECK(outcomeOf(drifting, 3.0) == Outcome::Ok);  // beyond 0.1 rad only where the reference itself is uncertain
   const MethodMetrics close = measureRun(test::turning(Method::Classical, 0.001, 0), ref, {1e-3}, {std::nullopt}, 2.0);
-  CHECK(outcomeOf(close, std::nullopt) == "ok");  // 0.01 rad at most
+  CHECK(outcomeOf(close, std::nullopt) == Outcome::Ok);  // 0.01 rad at most
   Trajectory stopped = test::turning(Method::Eigen, 0, 0, 3.0);
   markFailed(stopped, 3.0, Failure::NonPositiveEigenvalue, "eigenvalue lambda_0 <= 0");
-  CHECK(outcomeOf(measureRun(stopped, ref, {1e-3}, {std::nullopt}, 2.0), std::nullopt) == "failed");
+  CHECK(outcomeOf(measureRun(stopped, ref, {1e-3}, {std::nullopt}, 2.0), std::nullopt) == Outcome::Failed);
 }

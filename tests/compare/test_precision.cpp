@@ -18,7 +18,7 @@ TEST_CASE("a precision sweep: rk4 error falls ~16x per halving and cost doubles"
   for (int k : {0, 2}) {
     const MethodMetrics &coarse = r.points[k].metrics, &fine = r.points[k + 1].metrics;
     INFO(coarse.name());
-    CHECK(coarse.status() == "ok");
+    CHECK(coarse.status() == Outcome::Ok);
     // Fourth order: 16x; allow 8x to 32x (pose error is a max over time, not one final value).
     CHECK(coarse.pose.value / fine.pose.value > 8);
     CHECK(coarse.pose.value / fine.pose.value < 32);

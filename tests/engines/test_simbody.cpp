@@ -33,8 +33,8 @@ RunSpec simbodyRun(Integrator integrator, double tol, double t_end) {
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
   Trajectory in = simulate(m, rk8pd(tol_inhouse, t_end));
   Trajectory sb = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end));
-  REQUIRE(in.status() == "ok");
-  REQUIRE(sb.status() == "ok");
+  REQUIRE(in.status() == Outcome::Ok);
+  REQUIRE(sb.status() == Outcome::Ok);
   REQUIRE(in.size() == sb.size());
   return {std::move(in), std::move(sb)};
 }
@@ -155,7 +155,7 @@ TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5
   for (Integrator integ : {em::test::scheme("rk3"), em::test::scheme("cpodes")}) {
     const Trajectory b = ref.simulate(simbodyRun(integ, 1e-10, 1.0));
     INFO(integratorName(integ));
-    REQUIRE(b.status() == "ok");
+    REQUIRE(b.status() == Outcome::Ok);
     CHECK(b.run.integrator == integ);
     CHECK(test::maxPoseDiff(a, b) < 1e-6);  // both at accuracy 1e-10 over 1 s; measured ~1e-8
   }
@@ -169,7 +169,7 @@ TEST_CASE("a Simbody failure is a one-line cause with its time - not an exceptio
   s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
   const Model m = buildModel(s);
   const Trajectory t = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1));
-  CHECK(t.status() == "failed");
+  CHECK(t.status() == Outcome::Failed);
   CHECK(t.failure_time == 0.0);
   CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));
   CHECK(t.failure.find('\n') == std::string::npos);

@@ -58,7 +58,7 @@ TEST_CASE("every engine runs a scene on the grid through the one dispatch point,
     INFO(engineName(e));
     const RunSpec spec = test::runSpec(info(e).method, defaultIntegrator(e), 0.1, info(defaultIntegrator(e)).fixed_step ? 1e-4 : 1e-8);
     const Trajectory tr = runTrajectory(scene.model, spec);
-    REQUIRE(tr.status() == "ok");
+    REQUIRE(tr.status() == Outcome::Ok);
     REQUIRE(tr.size() == truth.size());
     CHECK(tr.q_names == truth.q_names);
     CHECK(tr.steps > 0);

@@ -49,7 +49,7 @@ double minGap(const Model& m, double a, double b) {
 ExtremeEntry failedEntry(Failure kind) {
   ExtremeEntry e;
   e.method = "eigen";
-  e.outcome = "failed";
+  e.outcome = Outcome::Failed;
   e.failure_kind = kind;
   e.failure_time = 0.5;
   e.eigenfactor = true;
@@ -165,12 +165,12 @@ TEST_CASE("the diagnosis of a failure follows its kind and its diagnostics", "[e
   CHECK_THAT(diagnosis(e, c, run), Catch::Contains("step was too large"));
   CHECK_THAT(diagnosis(failedEntry(Failure::JacobiNotConverged), c, run), Catch::Contains("orthogonal"));
   ExtremeEntry wrong = failedEntry(Failure::None);
-  wrong.outcome = "wrong";
+  wrong.outcome = Outcome::Wrong;
   wrong.wrong_at = 1.9;
   run.horizon_wrong = 4.0;
   CHECK_THAT(diagnosis(wrong, c, run), Catch::Contains("at 1.9 s, before the reference horizon 4 s"));
   ExtremeEntry ok = failedEntry(Failure::None);
-  ok.outcome = "ok";
+  ok.outcome = Outcome::Ok;
   CHECK(diagnosis(ok, c, run).empty());
 }
 

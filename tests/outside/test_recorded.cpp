@@ -84,7 +84,7 @@ TEST_CASE("a run written out and read back gives the run's own metrics", "[outsi
     CHECK(b.coord.value == a.coord.value);
     CHECK(b.energy.value == a.energy.value);
     CHECK(b.divergence_time_s == a.divergence_time_s);
-    CHECK(b.status() == "ok");
+    CHECK(b.status() == Outcome::Ok);
     CHECK(recordedSource(rec)["grid"] == "every grid time is a sample");
     CHECK(recordedSource(rec)["speeds"] == "file");
   }

@@ -121,7 +121,7 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
   for (Method meth : {Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
     const Trajectory t = simulate(m, rk4(meth, 1.0));
     INFO(methodName(meth));
-    CHECK(t.status() == "ok");
+    CHECK(t.status() == Outcome::Ok);
     CHECK(maxAngleDiff(t, c) <= 1e-6);
   }
 }
@@ -129,7 +129,7 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
 TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classical runs", "[dynamics][failure]") {
   const Model m = sphereOnBall();
   const Trajectory e = simulate(m, rk4(Method::Eigen, 0.5));
-  CHECK(e.status() == "failed");
+  CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
   CHECK(e.failure_kind == Failure::EigenGap);
@@ -137,7 +137,7 @@ TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classic
   CHECK(e.failure_cond_A >= 1.0);
   CHECK(e.failure_cond_A < 100);
   const Trajectory c = simulate(m, rk4(Method::Classical, 0.5));
-  CHECK(c.status() == "ok");
+  CHECK(c.status() == Outcome::Ok);
   CHECK(c.size() == 51);
 }
 
@@ -205,7 +205,7 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
     RunSpec s = rk4(Method::Classical, 2.0);
     s.options.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
     const Trajectory t = simulate(m, s);
-    CHECK(t.status() == "failed");
+    CHECK(t.status() == Outcome::Failed);
     CHECK_THAT(t.failure, Catch::Contains("blow-up"));
     CHECK(t.failure_kind == Failure::BlowUp);
     CHECK(std::isfinite(t.failure_cond_A));
@@ -219,11 +219,11 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
   // 2.1 s (C no longer orthogonal, Jacobi cannot converge); classical runs on.
   const Model m = test::loadData("chain20.json");
   const Trajectory c = simulate(m, rk4(Method::Classical, 2.5));
-  CHECK(c.status() == "ok");
+  CHECK(c.status() == Outcome::Ok);
   for (Method meth : {Method::Eigen, Method::EigenJacobi}) {
     const Trajectory t = simulate(m, rk4(meth, 2.5));
     INFO(methodName(meth) << ": " << t.failure);
-    CHECK(t.status() == "failed");
+    CHECK(t.status() == Outcome::Failed);
     CHECK_FALSE(t.failure.empty());
     CHECK(t.failure_time > 0.5);
     CHECK(t.failure_time < 2.5);
@@ -241,11 +241,11 @@ TEST_CASE("adaptive runs retry a step whose trial stage fails, while a failure a
   const Model stiff = loadScene(test::sourcePath("data/scenes/extreme/stiff_springs_damped.json")).model;
   RunSpec s = test::runSpec(Method::Eigen, Integrator::RK8PD, 0.05, 1e-10);
   const Trajectory retried = simulate(stiff, s);
-  CHECK(retried.status() == "ok");
+  CHECK(retried.status() == Outcome::Ok);
   CHECK(retried.step_retries >= 1);
   s.options.retry_failed_steps = false;
   const Trajectory stopped = simulate(stiff, s);
-  CHECK(stopped.status() == "failed");
+  CHECK(stopped.status() == Outcome::Failed);
   CHECK(stopped.failure_kind == Failure::NonPositiveEigenvalue);
   CHECK(stopped.step_retries == 0);
   // Equal eigenvalues at t = 0: no smaller step helps, the cause is kept.

@@ -157,7 +157,7 @@ TEST_CASE("with no clusters eigen-block is eigen: pendulum5 over 1 s", "[identit
   const Model m = test::loadData("pendulum5.json");
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 1e-9));
-  REQUIRE(b.status() == "ok");
+  REQUIRE(b.status() == Outcome::Ok);
   double dq = 0;
   for (size_t k = 0; k < e.size(); ++k) dq = std::max(dq, (e.q[k] - b.q[k]).cwiseAbs().maxCoeff());
   CHECK(dq <= 1e-14);
@@ -173,9 +173,9 @@ TEST_CASE("through tree_mixed's near-crossing eigen-block's Omega stays bounded 
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 3.0, 3e-2));
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
-  CHECK(e.status() == "failed");
+  CHECK(e.status() == Outcome::Failed);
   CHECK(e.eigen.max_abs_Omega > 1e5);
-  REQUIRE(b.status() == "ok");
+  REQUIRE(b.status() == Outcome::Ok);
   CHECK(b.eigen.max_abs_Omega < 100);
   CHECK(b.eigen.block_merges > 0);
   CHECK(maxPoseDiff(b, c) < 1e-6);
@@ -193,12 +193,12 @@ TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-
   // links 1 m long: finished, not accurate. The bounds sit a factor 2 above.
   const Model m = test::loadData("chain20.json");
   const Trajectory c = simulate(m, blockRun(Method::Classical, 10.0, 3e-2));
-  REQUIRE(c.status() == "ok");
+  REQUIRE(c.status() == Outcome::Ok);
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
     const Trajectory b = simulate(m, blockRun(method, 10.0, 3e-2));
     const double off = maxPoseDiff(b, c);
     INFO(methodName(method) << " " << off << " m from classical");
-    CHECK(b.status() == "ok");
+    CHECK(b.status() == Outcome::Ok);
     CHECK(off < (method == Method::EigenBlock ? 0.15 : 0.2));
   }
 }
@@ -213,10 +213,10 @@ TEST_CASE("a published quadruped whose identical legs repeat eigenvalues stops e
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
   const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 3e-2));
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
-  CHECK(e.status() == "failed");
+  CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("gap"));
-  REQUIRE(b.status() == "ok");
+  REQUIRE(b.status() == Outcome::Ok);
   CHECK(maxPoseDiff(b, c) < 1e-9);
 }
 
@@ -241,7 +241,7 @@ TEST_CASE("with two residual corrections eigen-block follows classical on chain2
     refined.options.params["refine"] = 2;
     const Trajectory b = simulate(m, refined);
     INFO(methodName(method) << ": " << maxQDiff(b) << " rad against " << d0 << " unrefined");
-    REQUIRE(b.status() == "ok");
+    REQUIRE(b.status() == Outcome::Ok);
     CHECK(maxQDiff(b) <= kRefinedRad);
     CHECK(maxQDiff(b) <= 1e-3 * d0);
   }
@@ -257,7 +257,7 @@ TEST_CASE("residual corrections do not carry eigen through tree_mixed's crossing
   RunSpec e = test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3);
   e.options.params["refine"] = 2;
   const Trajectory te = simulate(m, e);
-  CHECK(te.status() == "failed");
+  CHECK(te.status() == Outcome::Failed);
   CHECK(te.failure_kind == Failure::RefinementNotConverged);
   e.options.params["refine_tol"] = 1;
   const Trajectory tl = simulate(m, e);
@@ -265,7 +265,7 @@ TEST_CASE("residual corrections do not carry eigen through tree_mixed's crossing
   CHECK(tl.failure_time > te.failure_time);
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
   b.options.params["refine"] = 2;
-  CHECK(simulate(m, b).status() == "ok");
+  CHECK(simulate(m, b).status() == Outcome::Ok);
 }
 
 TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-block with two corrections follows classical", "[eigenblock][refine][urdf]") {
@@ -279,14 +279,14 @@ TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-b
   urdf.balance_inertia = true;
   const Model m = loadScene(test::sourcePath("data/robots/allegro_right_hand.urdf"), urdf).model;
   const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
-  CHECK(e.status() == "failed");
+  CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
   const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
   const double plain = maxPoseDiff(simulate(m, b), c);
   b.options.params["refine"] = 2;
   const Trajectory refined = simulate(m, b);
-  REQUIRE(refined.status() == "ok");
+  REQUIRE(refined.status() == Outcome::Ok);
   INFO("max pose difference to classical: " << maxPoseDiff(refined, c) << " refined, " << plain << " plain");
   CHECK(maxPoseDiff(refined, c) < kWithClassical);
   CHECK(plain > 100 * kWithClassical);
@@ -318,7 +318,7 @@ TEST_CASE("refine N proves its u' per evaluation: the fast top fails as refineme
   // (Cholesky of the same A) at rk8pd 1e-12; classical's own rk4 error sets the bar.
   const Model m = fastTop();
   const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12));
-  REQUIRE(ref.status() == "ok");
+  REQUIRE(ref.status() == Outcome::Ok);
   const double classical = maxAngleDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)), ref);
   for (int refine : {1, 2}) {
     RunSpec e = test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3);
@@ -326,7 +326,7 @@ TEST_CASE("refine N proves its u' per evaluation: the fast top fails as refineme
     const Trajectory te = simulate(m, e);
     const double err = maxAngleDiff(te, ref);
     std::printf("fast_top eigen refine %d: %s%s, %.3g rad from the reference (classical rk4: %.3g)\n", refine,
-                te.status().c_str(), te.failed() ? (" at " + gnum(te.failure_time) + " s: " + te.failure).c_str() : "", err, classical);
+                outcomeName(te.status()), te.failed() ? (" at " + gnum(te.failure_time) + " s: " + te.failure).c_str() : "", err, classical);
     INFO("refine " << refine << ": " << te.failure);
     if (te.failed()) CHECK(te.failure_kind == Failure::RefinementNotConverged);
     else CHECK(err <= 10 * classical);
@@ -337,7 +337,7 @@ TEST_CASE("refine N proves its u' per evaluation: the fast top fails as refineme
   loose.options.params["refine"] = 2;
   loose.options.params["refine_tol"] = 1;
   const Trajectory tl = simulate(m, loose);
-  std::printf("fast_top eigen refine 2, refine_tol 1: %s, %.3g rad from the reference\n", tl.status().c_str(), maxAngleDiff(tl, ref));
+  std::printf("fast_top eigen refine 2, refine_tol 1: %s, %.3g rad from the reference\n", outcomeName(tl.status()), maxAngleDiff(tl, ref));
   REQUIRE_FALSE(tl.failed());
   CHECK(maxAngleDiff(tl, ref) > 10 * classical);
 }

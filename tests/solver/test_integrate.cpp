@@ -70,7 +70,7 @@ TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[i
 TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10", "[integrate][energy]") {
   const Model m = test::loadData("pendulum5.json");
   const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-12));
-  REQUIRE(t.status() == "ok");
+  REQUIRE(t.status() == Outcome::Ok);
   REQUIRE(t.size() == 1001);
   CHECK(maxRelEnergyError(t) < 1e-10);
 }
@@ -78,7 +78,7 @@ TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10",
 TEST_CASE("with dampers the energy never increases", "[integrate][energy]") {
   const Model m = test::loadData("spring_damper.json");
   const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 5.0, 1e-12));
-  REQUIRE(t.status() == "ok");
+  REQUIRE(t.status() == Outcome::Ok);
   // Allowance per sample: the integration error of a tol-1e-12 run, far below
   // the dissipation per sample (~1e-3 J here).
   const double kAllowance = 1e-9 * std::abs(t.energy[0]);
@@ -106,7 +106,7 @@ TEST_CASE("a damped rotor: u and W_diss follow their closed forms", "[closedform
   const Model m = buildModel(s);
   REQUIRE(m.has_dampers);
   const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 4.0, 1e-12, 0.5));
-  REQUIRE(t.status() == "ok");
+  REQUIRE(t.status() == Outcome::Ok);
   const double E0 = 0.5 * I * u0 * u0;  // 9 J
   for (size_t k = 0; k < t.size(); ++k) {
     const double decay = std::exp(-2 * c * t.t[k] / I);
@@ -127,7 +127,7 @@ TEST_CASE("without dampers no W_diss state is integrated", "[integrate][energy]"
 TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum", "[integrate][identity]") {
   const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
   const Trajectory g = simulate(test::loadData("pendulum5.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
-  REQUIRE(b.status() == "ok");
+  REQUIRE(b.status() == Outcome::Ok);
   double pose = 0;
   for (size_t k = 0; k < b.size(); ++k) {
     CHECK(std::abs(b.q[k].head<4>().norm() - 1) < 1e-15);
@@ -143,7 +143,7 @@ TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity
                              std::tuple{Integrator::BSIMP, 1e-10, 1e-7}}) {
     const Trajectory t = simulate(m, test::runSpec(Method::Classical, i, 1.0, p));
     INFO(integratorName(i));
-    REQUIRE(t.status() == "ok");
+    REQUIRE(t.status() == Outcome::Ok);
     CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < bound);
   }
 }
@@ -155,7 +155,7 @@ TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[in
     for (Integrator i : {Integrator::RKF45, Integrator::RK8PD}) {
       const Trajectory t = simulate(m, test::runSpec(meth, i, 1.0, 1e-10));
       INFO(methodName(meth) << " " << integratorName(i));
-      REQUIRE(t.status() == "ok");
+      REQUIRE(t.status() == Outcome::Ok);
       CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < 1e-6);
     }
 }

@@ -18,11 +18,11 @@ namespace fs = std::filesystem;
 namespace {
 
 CaseRecord run(const std::string& method, const std::string& integrator, double dt, double err, double cpu,
-               const std::string& status = "ok") {
+               Outcome status = Outcome::Ok) {
   CaseRecord r;
   r.role = "run", r.scene = "s", r.method = method, r.integrator = integrator;
-  r.setting_kind = "dt", r.setting = dt, r.status = status;
-  if (status != "ok") r.failure_kind = "blow-up", r.failure_time = 1.0;
+  r.setting_kind = SettingKind::Dt, r.setting = dt, r.status = status;
+  if (status != Outcome::Ok) r.failure_kind = "blow-up", r.failure_time = 1.0;
   r.has_error = true, r.max_pose = err, r.cpu_s = {cpu, cpu, cpu};
   return r;
 }
@@ -44,7 +44,7 @@ TEST_CASE("the engine study picks each route's cheapest run within an accuracy a
       run("classical", "rk4", 1e-2, 1e-2, 0.01), run("classical", "rk4", 1e-3, 1e-4, 0.1), run("classical", "rk4", 1e-4, 1e-7, 1.0),
       run("mujoco", "euler", 1e-3, 5e-4, 0.05), run("mujoco", "euler", 1e-4, 5e-5, 0.5),
       // within both accuracies, but failed: never counted
-      run("dart", "dart-euler", 1e-3, 1e-9, 0.001, "failed")};
+      run("dart", "dart-euler", 1e-3, 1e-9, 0.001, Outcome::Failed)};
   const std::string md = engineStudyScene(rs, "s", t_end, 1e-9);
   // classical: dt 1e-3 is its cheapest within 1e-3 rad (0.1 CPU s over 2 s), dt 1e-4 within 1e-6.
   CHECK(lineOf(md, "| eigenmass | classical | rk4 |") == "| eigenmass | classical | rk4 | 3 / 3 | dt 0.001 | 5.00e-02 | dt 0.0001 | 5.00e-01 |");

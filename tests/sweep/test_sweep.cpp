@@ -101,7 +101,7 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: lines[1].methods[0]:"));
   p = smallPlan();
   p["lines"][0]["tolerance"] = {1e-6};
-  CHECK_THAT(planError(p), Catch::Contains("lines[0].tolerance: rk4 takes dt"));
+  CHECK_THAT(planError(p), Catch::Contains("lines[0].tolerance: rk4 takes dt, not tolerance"));
   p = smallPlan();
   p["repeats"] = 2;
   CHECK_THAT(planError(p), Catch::Contains("repeats: must be a whole number from 3"));
