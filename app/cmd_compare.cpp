@@ -77,9 +77,8 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
   // --tol alone selects an adaptive integrator for the in-house methods.
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
                                                                           : parseIntegrator(a.integrator);
-  o.enginesFollowInHouse();  // a fixed-step engine's --<engine>-integrator runs at --dt (its help)
-  for (const auto& [e, ea] : a.engines) {
-    if (!ea.integrator.empty()) o.engines[e].integrator = parseIntegrator(ea.integrator);
+  for (const auto& [e, ea] : a.engines) {  // a fixed-step engine's --<engine>-integrator runs at --dt (its help; specFor)
+    if (!ea.integrator.empty()) o.chooseIntegrator(e, parseIntegrator(ea.integrator));
     o.engines[e].tol = ea.tol;
   }
   refuseUnreadSetting(cmd, o.inhouse.integrator, "--dt", "--tol");

@@ -33,6 +33,15 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
 }
 
+// The run's settings checked once, a refusal told as the option the user typed.
+CheckedRunSpec checkedOption(const RunSpec& spec) {
+  try {
+    return checked(spec);
+  } catch (const SettingError& e) {
+    throw e.as(e.option());
+  }
+}
+
 int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
@@ -53,13 +62,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
   refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
   refuseUnreadRunOptions(cmd, {s.method}, s.engine() == Engine::InHouse && !s.fixedStep());
-  const RunSpec spec = onGrid(s, scene, a.run.asked(cmd));
-  try {  // here, to name the option: the run checks it again
-    checkRunSpec(spec);
-  } catch (const SettingError& e) {
-    throw e.as(e.option());
-  }
-  const Trajectory tr = runTrajectory(scene.model, spec);
+  const Trajectory tr = runTrajectory(scene.model, checkedOption(onGrid(s, scene, a.run.asked(cmd))));
   writeTrajectory(tr, path);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;

@@ -12,19 +12,26 @@ CompareOptions::CompareOptions() : reference(defaultReferenceSpec()) {
   for (const MethodInfo& m : methodTable()) methods.push_back(m.id);
   inhouse.method = Method::Classical;
   inhouse.integrator = defaultIntegrator(Engine::InHouse);
-  inhouse.dt = 1e-3;
   for (Engine e : otherEngines()) {
     RunSpec& s = engines[e];
     s.method = info(e).method;
     s.integrator = defaultIntegrator(e);
-    s.dt = 1e-3;
     s.tol = kEngineTol;
   }
+}
+
+void CompareOptions::chooseIntegrator(Engine e, Integrator i) {
+  engines.at(e).integrator = i;
+  chosen.insert(e);
 }
 
 RunSpec CompareOptions::specFor(Method method) const {
   const Engine e = info(method).engine;
   RunSpec s = e == Engine::InHouse ? inhouse : engines.at(e);
+  if (e != Engine::InHouse && followsInHouse(e)) {  // the in-house step, and its scheme where the engine has it
+    if (!chosen.count(e)) s.integrator = info(inhouse.integrator).runs(e) ? inhouse.integrator : defaultIntegrator(e);
+    s.dt = inhouse.dt;
+  }
   s.method = method;
   return s;
 }
@@ -45,14 +52,6 @@ void CompareOptions::leaveOutRefused(const Model& m) {
     else left_out.emplace_back(method, why);
   }
   methods = kept;
-}
-
-void CompareOptions::enginesFollowInHouse() {
-  for (auto& [e, s] : engines) {
-    if (!followsInHouse(e)) continue;
-    s.integrator = info(inhouse.integrator).runs(e) ? inhouse.integrator : defaultIntegrator(e);
-    s.dt = inhouse.dt;
-  }
 }
 
 ComparisonResult compareTrajectories(const Trajectory& reference, const Trajectory& tight, std::vector<Trajectory> runs,
@@ -84,8 +83,9 @@ std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
   return e.option(s.engine() != Engine::InHouse && e.field == "tol" ? std::string(engineName(s.engine())) + "-" : "");
 }
 
-// Everything that can be refused is refused here, before the reference runs.
-void checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
+// Everything that can be refused is refused here, before the reference runs:
+// the specs come back checked, the only form a run takes.
+std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
   for (const RunSpec& s : specs) requireEngineTakes(s.engine(), m);  // a joint kind it lacks: named, before any run
   for (double th : opt.thresholds)
@@ -93,13 +93,15 @@ void checkComparison(const Model& m, const CompareOptions& opt, const std::vecto
   for (size_t i = 0; i < opt.methods.size(); ++i)
     if (std::count(opt.methods.begin(), opt.methods.begin() + i, opt.methods[i]))
       throw std::invalid_argument(std::string("method '") + methodName(opt.methods[i]) + "' is listed twice");
+  std::vector<CheckedRunSpec> runs;
   for (size_t i = 0; i < specs.size(); ++i) {
     try {
-      checkRunSpec(specs[i]);
+      runs.push_back(checked(specs[i]));
     } catch (const SettingError& e) {
       throw e.as(settingOption(e, i, specs[i]));
     }
   }
+  return runs;
 }
 
 }  // namespace
@@ -117,7 +119,7 @@ std::vector<RunSpec> comparisonSpecs(const Scene& scene, const CompareOptions& o
   return specs;
 }
 
-Trajectory runLabelled(const Scene& scene, const RunSpec& s, const std::string& label,
+Trajectory runLabelled(const Scene& scene, const CheckedRunSpec& s, const std::string& label,
                        void (*progress)(const std::string&)) {
   if (progress) progress(label);
   return runTrajectory(scene.model, s);
@@ -137,25 +139,19 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
   s.options.max_steps = HUGE_VAL;  // its cost is the floor's, asked for by the comparison
   const std::string label = std::string(second.name) + "/" + second.roles.second_scheme;
   try {
-    out.second_engine = runLabelled(scene, s, "second engine " + label + " dt " + gnum(s.dt), progress);
+    out.second_engine = runLabelled(scene, checked(s), "second engine " + label + " dt " + gnum(s.dt), progress);
   } catch (const std::exception& e) {
     out.second_engine_skipped = std::string(second.name) + ": " + e.what();
   }
 }
 
-}  // namespace
-
-void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) {
-  checkComparison(scene.model, opt, comparisonSpecs(scene, opt));
-}
-
-ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
-  const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
-  checkComparison(scene.model, opt, specs);
-  ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0].method), progress),
+// The reference runs of checked specs (reference, its twin: specs[0], specs[1]).
+ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
+                          void (*progress)(const std::string&)) {
+  ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0]->method), progress),
                     runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}};
   LyapunovOptions lo;
-  lo.t_end = specs[0].t_end;  // the grid's horizon
+  lo.t_end = specs[0]->t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
   if (opt.lyapunov_long_s > 0) {
     if (progress) progress("long-run Lyapunov exponent over " + gnum(opt.lyapunov_long_s) + " s");
@@ -165,16 +161,11 @@ ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (
   return out;
 }
 
-ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
-  return runComparison(scene, opt, runReference(scene, opt, progress), progress);
-}
-
-ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, const ReferenceRuns& reference,
-                               void (*progress)(const std::string&)) {
-  const std::vector<RunSpec> specs = comparisonSpecs(scene, opt);
-  checkComparison(scene.model, opt, specs);
+// The methods' runs of checked specs (specs[2...]) against the reference runs.
+ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
+                                const ReferenceRuns& reference, void (*progress)(const std::string&)) {
   std::vector<Trajectory> runs;
-  for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i].method), progress));
+  for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i]->method), progress));
   ComparisonResult r = compareTrajectories(reference.reference, reference.tight, std::move(runs), opt);
   const Model& m = scene.model;
   r.scene_name = m.name;
@@ -197,6 +188,29 @@ ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, co
     if (!note.empty() && !known) r.engine_notes.emplace_back(name, note);
   }
   return r;
+}
+
+// Every run of the comparison on the scene's grid, checked once.
+std::vector<CheckedRunSpec> checkedSpecs(const Scene& scene, const CompareOptions& opt) {
+  return checkComparison(scene.model, opt, comparisonSpecs(scene, opt));
+}
+
+}  // namespace
+
+void checkComparisonOptions(const Scene& scene, const CompareOptions& opt) { checkedSpecs(scene, opt); }
+
+ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+  return referenceOf(scene, opt, checkedSpecs(scene, opt), progress);
+}
+
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&)) {
+  const std::vector<CheckedRunSpec> specs = checkedSpecs(scene, opt);
+  return compareAgainst(scene, opt, specs, referenceOf(scene, opt, specs, progress), progress);
+}
+
+ComparisonResult runComparison(const Scene& scene, const CompareOptions& opt, const ReferenceRuns& reference,
+                               void (*progress)(const std::string&)) {
+  return compareAgainst(scene, opt, checkedSpecs(scene, opt), reference, progress);
 }
 
 namespace {

@@ -3,6 +3,7 @@
 /// output grid (the main job of the harness; docs/report-format.md).
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -27,11 +28,14 @@ struct CompareOptions {
   /// Leave out of `methods` those whose engine cannot take `m` (a default
   /// list: a method named by the user is refused instead), into left_out.
   void leaveOutRefused(const Model& m);
-  RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt 1e-3)
+  RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt kDefaultDt)
   /// Every other engine as a compared method, one spec each: its default
-  /// integrator, dt 1e-3, tolerance kEngineTol (Simbody: rkmerson at 1e-6;
-  /// MuJoCo: its rk4 at 1e-3, the in-house default's scheme and step).
+  /// integrator and tolerance kEngineTol (Simbody: rkmerson at 1e-6). A
+  /// fixed-step engine's step is the in-house one, and so is its scheme where
+  /// it has it, unless one was chosen (specFor; MuJoCo: rk4 at 1e-3).
   std::map<Engine, RunSpec> engines;
+  /// Engines whose integrator the user chose (chooseIntegrator): kept as chosen.
+  std::set<Engine> chosen;
   RunSpec reference;         ///< the reference run (defaultReferenceSpec(): Simbody rkmerson, accuracy 1e-10)
   double tight_factor = 100; ///< the horizon run is the reference at tolerance / tight_factor
   Grid grid;                 ///< t_end and output_dt asked for (absent: the scene's)
@@ -45,13 +49,14 @@ struct CompareOptions {
   double lyapunov_long_s = 0;
 
   CompareOptions();
-  /// The settings a compared method runs with: its engine's, or `inhouse`.
+  /// The settings a compared method runs with: `inhouse`, or its engine's,
+  /// a fixed-step engine following the in-house step and scheme (above).
+  /// The one place that rule is applied: no caller has to remember it.
   RunSpec specFor(Method method) const;
+  /// Run engine `e` on `i` whatever the in-house scheme (--<engine>-integrator).
+  void chooseIntegrator(Engine e, Integrator i);
   /// Every spec, the reference's included (to apply options common to all).
   std::vector<RunSpec*> allSpecs();
-  /// A fixed-step engine runs the in-house scheme when it has that scheme
-  /// (rk4: the same tableau), else its own default, at the in-house step.
-  void enginesFollowInHouse();
 };
 
 struct ComparisonResult {

@@ -47,14 +47,15 @@ void requireEngineTakes(Engine e, const Model& m) {
   if (const std::string why = engineRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
 }
 
-Trajectory runTrajectory(const Model& m, const RunSpec& spec) {
+Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
+  const RunSpec& spec = checked_spec;
   requireEngineTakes(spec.engine(), m);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
-  if (recordedRun(spec.method)) return recordedTrajectory(m, spec);  // a run made elsewhere: nothing runs
-  if (info(spec.method).isolated) return simulateIsolated(m, spec, observe);  // code from outside: in a child process
-  if (spec.engine() == Engine::InHouse) return simulate(m, spec, observe);
-  return engineCode(spec.engine()).simulate(m, spec, observe);
+  if (recordedRun(spec.method)) return recordedTrajectory(m, checked_spec);  // a run made elsewhere: nothing runs
+  if (info(spec.method).isolated) return simulateIsolated(m, checked_spec, observe);  // code from outside: in a child process
+  if (spec.engine() == Engine::InHouse) return simulate(m, checked_spec, observe);
+  return engineCode(spec.engine()).simulate(m, checked_spec, observe);
 }
 
 std::string engineSceneNote(Engine e, const Model& m) {

@@ -37,8 +37,8 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given);
 /// naming the file (and a locked gimbal). Commands call it before any run.
 void checkInitialState(const Scene& scene);
 
-/// Run `spec` on its engine. Throws for settings that cannot be run.
-Trajectory runTrajectory(const Model& m, const RunSpec& spec);
+/// Run `spec` on its engine (its settings were checked where it was made: checked()).
+Trajectory runTrajectory(const Model& m, const CheckedRunSpec& spec);
 
 /// What engine `e` does to this scene that bounds its agreement with the
 /// exact equations (its row's scene_note), or "" (the in-house engine: none).

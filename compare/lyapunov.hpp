@@ -6,12 +6,13 @@
 #include <vector>
 
 #include "solver/model.hpp"
+#include "solver/run_spec.hpp"
 
 namespace em {
 
 struct LyapunovOptions {
   double t_end = 10;      ///< horizon (s)
-  double dt = 1e-3;       ///< the twin pair's rk4 step (s)
+  double dt = kDefaultDt; ///< the twin pair's rk4 step (s)
   double renorm_s = 0.1;  ///< the twin is pulled back to distance d0 this often (s)
   double window_s = 1;    ///< the uncertainty is the spread of the exponent over windows this long (s)
   double d0 = 1e-8;       ///< separation of the twin in the state (q, u), Euclidean

@@ -25,12 +25,13 @@ RunSpec PrecisionOptions::specFor(Method method, double setting) const {
 namespace {
 
 // Every run of the sweep on the scene's grid, refused as a whole before any runs.
-std::vector<RunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& opt) {
+std::vector<CheckedRunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& opt) {
   if (opt.settings.empty()) throw std::invalid_argument("at least one step or tolerance is needed");
   for (double s : opt.settings)
     if (!(s > 0)) throw std::invalid_argument("steps and tolerances must be > 0");
   const bool fixed = info(opt.integrator).fixed_step;
   std::vector<RunSpec> specs;
+  std::vector<CheckedRunSpec> runs;
   for (Method method : opt.methods) {
     if (info(opt.specFor(method, 1.0).integrator).fixed_step != fixed)
       throw std::invalid_argument(std::string(methodName(method)) + (fixed ? " has no fixed-step integrator here: give an "
@@ -41,35 +42,37 @@ std::vector<RunSpec> precisionSpecs(const Scene& scene, const PrecisionOptions& 
   }
   for (const RunSpec& s : specs) {
     try {
-      checkRunSpec(s);
+      runs.push_back(checked(s));
     } catch (const SettingError& e) {
       throw e.field == "tol" || e.field == "dt" ? e.as("--settings") : e.as(e.option());
     }
   }
-  return specs;
+  return runs;
 }
 
 }  // namespace
 
 PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, void (*progress)(const std::string&)) {
-  const std::vector<RunSpec> specs = precisionSpecs(scene, opt);
-  RunSpec ref_spec = onGrid(opt.reference, scene, opt.grid);
-  ref_spec.diagnostics = false;
-  try {
-    checkRunSpec(ref_spec);
-  } catch (const SettingError& e) {
-    throw e.as(e.option("reference-"));
-  }
+  const std::vector<CheckedRunSpec> specs = precisionSpecs(scene, opt);
+  RunSpec ref = onGrid(opt.reference, scene, opt.grid);
+  ref.diagnostics = false;
+  const CheckedRunSpec ref_spec = [&] {
+    try {
+      return checked(ref);
+    } catch (const SettingError& e) {
+      throw e.as(e.option("reference-"));
+    }
+  }();
   PrecisionResult r;
   r.scene_name = scene.model.name;
   r.scene_source = scene.source;
   r.options = opt;
-  r.t_end = ref_spec.t_end;
-  if (progress) progress(std::string("reference ") + methodName(ref_spec.method));
+  r.t_end = ref.t_end;
+  if (progress) progress(std::string("reference ") + methodName(ref.method));
   r.reference = runTrajectory(scene.model, ref_spec);
   const double scale = energyScale(r.reference);
-  for (const RunSpec& s : specs) {
-    if (progress) progress(std::string(methodName(s.method)) + " " + integratorName(s.integrator) + " " + gnum(s.setting()));
+  for (const CheckedRunSpec& s : specs) {
+    if (progress) progress(std::string(methodName(s->method)) + " " + integratorName(s->integrator) + " " + gnum(s->setting()));
     r.points.push_back({measureRun(runTrajectory(scene.model, s), r.reference, {}, {}, scale)});
   }
   return r;

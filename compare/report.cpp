@@ -224,7 +224,8 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
                   {"thresholds_rad", o.thresholds},
                   {"energy_scale_J", r.energy_scale},
                   {"energy_scale_definition", "largest kinetic energy of the reference run"}};
-  for (const auto& [e, spec] : o.engines) options[engineName(e)] = runSpecJson(spec);  // one spec per engine
+  for (const auto& entry : o.engines)  // one spec per engine, as its runs resolve it
+    options[engineName(entry.first)] = runSpecJson(o.specFor(info(entry.first).method));
   if (!o.left_out.empty()) {  // engines that cannot take the scene, left out of the default methods
     json left = json::array();
     for (const auto& [method, why] : o.left_out) left.push_back({{"method", methodName(method)}, {"why", why}});

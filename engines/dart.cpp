@@ -481,7 +481,7 @@ EngineRow dartEngine() {
   r.info.fixed_scheme = "dart-euler";
   r.info.adaptive_scheme = "dart-euler";  // DART has no adaptive scheme
   r.info.colour = "tab:pink";
-  r.code.simulate = [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+  r.code.simulate = [](const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe) {
     QuietDart quiet;
     DartStepper stepper(m, spec);
     return runFixedStep(m, spec, stepper, observe);

@@ -67,7 +67,7 @@ struct EngineCode {
   /// Integrate from the model's initial state as `spec` says (the engine's
   /// method, one of its schemes), sampled on the output grid; a numerical
   /// failure ends the run with its time and cause; bad settings throw.
-  Trajectory (*simulate)(const Model& m, const RunSpec& spec, const SampleObserver& observe) = nullptr;
+  Trajectory (*simulate)(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe) = nullptr;
   /// Its model of `m` (throws std::runtime_error with the engine's message
   /// when it cannot take the scene), or nullptr: it gives no equations at a state.
   std::unique_ptr<EngineModel> (*model)(const Model& m) = nullptr;

@@ -22,8 +22,8 @@ bool checkStep(Trajectory& tr, double t, const std::string& complaint, const Eig
 
 }  // namespace
 
-Trajectory runFixedStep(const Model& m, const RunSpec& spec, FixedStepEngine& engine, const SampleObserver& observe) {
-  checkRunSpec(spec);
+Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngine& engine, const SampleObserver& observe) {
+  const RunSpec& spec = run;
   const long n_out = outputIntervals(spec.t_end, spec.output_dt), per_output = stepsPerOutput(spec.output_dt, spec.dt);
   Trajectory tr = makeTrajectory(m, spec);
   Eigen::VectorXd q(m.nq), u(m.nu);

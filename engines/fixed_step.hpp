@@ -38,15 +38,14 @@ class FixedStepEngine {
 /// Integrate `engine` from its initial state on the grid of `spec` (fixed
 /// step spec.dt). A failure ends the run with its time and cause; CPU time
 /// counts the steps alone, the harness's reads and W_diss apart.
-Trajectory runFixedStep(const Model& m, const RunSpec& spec, FixedStepEngine& engine, const SampleObserver& observe);
+Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngine& engine, const SampleObserver& observe);
 
 /// An engine row's `simulate` for a FixedStepEngine made as Stepper(m, spec):
-/// the spec checked, then the one loop.
+/// the one loop.
 template <class Stepper>
-Trajectory simulateFixedStep(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-  checkRunSpec(spec);
-  Stepper stepper(m, spec);
-  return runFixedStep(m, spec, stepper, observe);
+Trajectory simulateFixedStep(const Model& m, const CheckedRunSpec& run, const SampleObserver& observe) {
+  Stepper stepper(m, run.spec());
+  return runFixedStep(m, run, stepper, observe);
 }
 
 /// W_diss over one step of h from (P0, P0') to (P1, P1'): the trapezoid rule

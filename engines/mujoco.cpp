@@ -66,7 +66,7 @@ class MujocoStepper : public FixedStepEngine {
 
 }  // namespace
 
-Trajectory simulateMujoco(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+Trajectory simulateMujoco(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe) {
   return simulateFixedStep<MujocoStepper>(m, spec, observe);
 }
 

@@ -12,6 +12,6 @@ namespace em {
 /// MuJoCo integrator, fixed step spec.dt), sampled every spec.output_dt. A
 /// MuJoCo warning (a bad qacc, a non-finite state) ends the run with its time
 /// and cause; bad settings throw.
-Trajectory simulateMujoco(const Model& m, const RunSpec& spec, const SampleObserver& observe = {});
+Trajectory simulateMujoco(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe = {});
 
 }  // namespace em

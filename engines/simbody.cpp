@@ -283,8 +283,8 @@ void SimbodySystem::Impl::sample(Trajectory& tr, double t, const State& s) {
   appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
 }
 
-Trajectory SimbodySystem::simulate(const RunSpec& spec, const SampleObserver& observe) {
-  checkRunSpec(spec);
+Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserver& observe) {
+  const RunSpec& spec = run;
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   auto& I = *impl_;
   std::unique_ptr<SimTK::Integrator> integ = makeIntegrator(spec.integrator, I.system);
@@ -348,7 +348,7 @@ EngineRow simbodyEngine() {
   r.info.max_tol = 1.0;  // Simbody asserts (SIGABRT) on an accuracy >= 1
   r.info.colour = "tab:gray";
   r.info.roles.reference = true;  // the reference of every comparison of a tree, when none is named
-  r.code.simulate = [](const Model& m, const RunSpec& spec, const SampleObserver& observe) {
+  r.code.simulate = [](const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe) {
     return SimbodySystem(m).simulate(spec, observe);
   };
   r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); };

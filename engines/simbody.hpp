@@ -37,7 +37,7 @@ class SimbodySystem {
   /// a Simbody integrator (rkmerson, rk3, cpodes) at accuracy spec.tol,
   /// sampled every spec.output_dt. A numerical failure ends the run with its
   /// time and cause in the trajectory; bad settings throw.
-  Trajectory simulate(const RunSpec& spec, const SampleObserver& observe = {});
+  Trajectory simulate(const CheckedRunSpec& spec, const SampleObserver& observe = {});
 
  private:
   struct Impl;

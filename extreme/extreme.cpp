@@ -144,7 +144,6 @@ CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const E
   o.second_engine = false;  // the gallery compares MuJoCo as a method; its floor would double the cost
   o.inhouse.integrator = s.integrator;
   (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
-  o.enginesFollowInHouse();
   if (c.reference_tol) o.reference.tol = *c.reference_tol;
   for (RunSpec* spec : o.allSpecs()) spec->options = opt.options;
   o.grid = opt.grid;

@@ -240,11 +240,12 @@ void probePlugin(Method method, const Model& m) {
   throw std::invalid_argument(lib->path + ": " + failureAt(r, ", at the initial state of " + m.name));
 }
 
-Trajectory simulateIsolated(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-  const auto run = [&](const RunSpec& s) {
+Trajectory simulateIsolated(const Model& m, const CheckedRunSpec& checked_spec, const SampleObserver& observe) {
+  const RunSpec& spec = checked_spec;
+  const auto run = [&](const CheckedRunSpec& s) {
     return runIsolated([&] { return trajectoryJson(simulate(m, s, observe)).dump(); }, g_timeout);
   };
-  const Isolated r = run(spec);
+  const Isolated r = run(checked_spec);
   if (r.ok) return trajectoryFromJson(nlohmann::json::parse(r.output), spec, "a plugin's run");
   // Crashed or hung: the samples before it, from the same run repeated up to the last output time before r.t.
   const std::string name = methodName(spec.method);
@@ -253,7 +254,7 @@ Trajectory simulateIsolated(const Model& m, const RunSpec& spec, const SampleObs
   cut.t_end = (std::ceil(r.t / spec.output_dt * (1 - 1e-12)) - 1) * spec.output_dt;
   Trajectory tr = makeTrajectory(m, spec);
   if (cut.t_end >= spec.output_dt) {
-    const Isolated again = run(cut);
+    const Isolated again = run(checked(cut));  // a shorter run of a checked spec: t_end a whole multiple of output_dt
     if (again.ok) {
       tr = trajectoryFromJson(nlohmann::json::parse(again.output), cut, "a plugin's run");
       tr.run = spec;

@@ -47,7 +47,7 @@ nlohmann::json pluginSource(Method method);
 /// simulate makes it, or, when the plugin crashed or hung, the samples up to
 /// the last output time before that (the run repeated that far) and a
 /// `plugin` failure at the time of its last call.
-Trajectory simulateIsolated(const Model& m, const RunSpec& spec, const SampleObserver& observe);
+Trajectory simulateIsolated(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe);
 
 /// The plugin's u' at states (internal order), evaluated in a child process
 /// (crosscheck). Throws std::runtime_error naming the file when it fails.  // q: (nq), u, udot: (nu) each

@@ -409,7 +409,8 @@ const RecordedRun* recordedRun(Method method) {
   return e ? &e->run : nullptr;
 }
 
-Trajectory recordedTrajectory(const Model& m, const RunSpec& spec) {
+Trajectory recordedTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
+  const RunSpec& spec = checked_spec;
   Entry* e = findEntry(spec.method);
   if (!e) throw std::logic_error("recordedTrajectory: not a recorded run");
   const RecordedRun& r = e->run;

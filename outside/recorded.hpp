@@ -49,7 +49,7 @@ const RecordedRun* recordedRun(Method method);
 /// Its samples on the grid of `spec` (t_end, output_dt): taken where a sample
 /// lies on a grid time, else interpolated linearly (quaternions normalized);
 /// a file that ends before t_end is an ended-early failure at its last time.
-Trajectory recordedTrajectory(const Model& m, const RunSpec& spec);
+Trajectory recordedTrajectory(const Model& m, const CheckedRunSpec& spec);
 
 /// Where it came from, for its report: file, SHA-256, format, speeds, the
 /// interpolation, and what the file declared.

@@ -202,8 +202,8 @@ py::dict trajectoryDict(const Trajectory& tr) {
   return d;
 }
 
-// The run settings as the CLI resolves them: a tolerance alone selects the engine's adaptive scheme.
-RunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
+// The run settings as the CLI resolves them (a tolerance alone selects the engine's adaptive scheme), checked once.
+CheckedRunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
                 std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
   if (dt && tol) throw std::invalid_argument("dt and tol: one or the other");
   RunSpec spec;
@@ -214,9 +214,7 @@ RunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>&
   if (dt && !spec.fixedStep()) throw std::invalid_argument("dt: " + *integrator + " takes a tolerance");
   if (tol && spec.fixedStep()) throw std::invalid_argument("tol: " + std::string(integratorName(spec.integrator)) + " takes a fixed step");
   requireCompatible(spec.method, spec.integrator);
-  spec = onGrid(spec, s, Grid{t_end, output_dt});
-  checkRunSpec(spec);
-  return spec;
+  return checked(onGrid(spec, s, Grid{t_end, output_dt}));
 }
 
 py::dict simulatePy(const Scene& s, py::object method, std::optional<std::string> integrator, std::optional<double> dt,
@@ -240,7 +238,6 @@ py::object comparePy(const Scene& s, py::list methods, std::optional<std::string
   o.inhouse.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(Engine::InHouse, tol.has_value());
   if (dt) o.inhouse.dt = *dt;
   if (tol) o.inhouse.tol = *tol;
-  o.enginesFollowInHouse();
   o.grid = Grid{t_end, output_dt};
   return fromJson(makeReport(runComparison(s, o)));
 }

@@ -241,8 +241,8 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
 
 }  // namespace
 
-Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& observe) {
-  checkRunSpec(spec);
+Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const SampleObserver& observe) {
+  const RunSpec& spec = checked_spec;
   const IntegratorInfo& scheme = info(spec.integrator);
   if (scheme.fixed_step ? !scheme.step : !scheme.gsl)  // a row no code of ours steps (a recorded run's)
     throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);

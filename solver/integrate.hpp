@@ -12,6 +12,6 @@ namespace em {
 /// integrator). Never throws on a numerical failure: the trajectory carries
 /// status, time and cause. Throws SettingError or std::invalid_argument for
 /// settings that cannot be run.
-Trajectory simulate(const Model& m, const RunSpec& spec, const SampleObserver& observe = {});
+Trajectory simulate(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe = {});
 
 }  // namespace em

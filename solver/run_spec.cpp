@@ -63,4 +63,9 @@ void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
                                  " (" + long_run_hint + ")");
 }
 
+CheckedRunSpec checked(const RunSpec& s, const char* long_run_hint) {
+  checkRunSpec(s, long_run_hint);
+  return CheckedRunSpec(s);
+}
+
 }  // namespace em

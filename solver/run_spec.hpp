@@ -11,6 +11,9 @@
 
 namespace em {
 
+/// The fixed step when none is asked (s): the in-house rk4's and every fixed-step engine's.
+inline constexpr double kDefaultDt = 1e-3;
+
 /// What a scheme's one setting is: a fixed step dt (s) or a tolerance.
 enum class SettingKind { Dt, Tolerance };
 /// Its key in every file: "dt" or "tolerance".
@@ -21,7 +24,7 @@ inline SettingKind settingKindOf(Integrator i) { return info(i).fixed_step ? Set
 struct RunSpec {
   Method method = Method::Classical;
   Integrator integrator = Integrator::RK4;
-  double dt = 1e-3;        ///< fixed step (fixed-step integrators)
+  double dt = kDefaultDt;  ///< fixed step (fixed-step integrators)
   double tol = 1e-10;      ///< absolute and relative tolerance (adaptive; Simbody: accuracy)
   double t_end = 10.0;
   double output_dt = 0.01;
@@ -54,11 +57,29 @@ struct SettingError : std::invalid_argument {
   }
 };
 
+/// A RunSpec that checkRunSpec has passed: the only spec a run accepts
+/// (runTrajectory, simulate, an engine row's simulate), so settings are
+/// checked once, where a command, a plan or the Python module resolves them,
+/// and never again below. Made by checked() alone; read as a const RunSpec.
+class CheckedRunSpec {
+ public:
+  const RunSpec& spec() const { return spec_; }
+  operator const RunSpec&() const { return spec_; }
+  const RunSpec* operator->() const { return &spec_; }
+
+ private:
+  explicit CheckedRunSpec(const RunSpec& s) : spec_(s) {}
+  friend CheckedRunSpec checked(const RunSpec& s, const char* long_run_hint);
+  RunSpec spec_;
+};
+
 /// Throws SettingError (or std::invalid_argument for a method and integrator
 /// of different engines) unless `s` can be run as it stands. `long_run_hint`
 /// ends the message of a run beyond the step budget: how the caller's user
 /// raises it (the command line's --allow-long-run, a plan's max_steps).
 void checkRunSpec(const RunSpec& s, const char* long_run_hint = "--allow-long-run goes ahead");
+/// `s` checked by checkRunSpec, as the one type a run accepts.
+CheckedRunSpec checked(const RunSpec& s, const char* long_run_hint = "--allow-long-run goes ahead");
 
 /// Number of output intervals: t_end / output_dt, a whole number within
 /// round-off. Throws SettingError otherwise.

@@ -309,24 +309,12 @@ void readPlanKeys(const json& doc, Plan& p) {
   readMethodParams(doc, p.options);
 }
 
-// Every run of the plan on its grid: a setting that cannot run is refused
-// with the key that gave it, before anything runs.
+// Every run of the plan on its grid: planCases checks each case's settings
+// as it makes it (checkedCase), before anything runs; here, that no case is listed twice.
 void checkPlanRuns(const Plan& p) {
-  std::vector<SweepCase> cases = planCases(p);
   std::set<std::string> names;
-  for (const SweepCase& c : cases) {
+  for (const SweepCase& c : planCases(p))
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
-    try {
-      checkRunSpec(c.spec, "the plan keys max_steps and max_samples raise the budgets");
-    } catch (const SettingError& e) {  // the grid is the plan's own keys, not the reference's or a line's
-      if (e.field == "t_end" || e.field == "output_dt") throw InputError(e.field, e.detail);
-      throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
-                       c.name + ": " + e.what());
-    } catch (const std::invalid_argument& e) {
-      throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
-                       c.name + ": " + e.what());
-    }
-  }
 }
 
 }  // namespace
@@ -360,22 +348,31 @@ std::string memberTag(const Plan& p, int member) {
   return "m" + std::string(width - std::min<int>(width, digits.size()), '0') + digits;
 }
 
+// A case's spec, checked: a setting that cannot run is refused with the key that gave it.
+CheckedRunSpec checkedCase(const RunSpec& spec, CaseRole role, const std::string& name) {
+  const char* key = role == CaseRole::Run ? "lines" : role == CaseRole::Reference ? "reference" : "reference_check";
+  try {
+    return checked(spec, "the plan keys max_steps and max_samples raise the budgets");
+  } catch (const SettingError& e) {  // the grid is the plan's own keys, not the reference's or a line's
+    if (e.field == "t_end" || e.field == "output_dt") throw InputError(e.field, e.detail);
+    throw InputError(key, name + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw InputError(key, name + ": " + e.what());
+  }
+}
+
 SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSpec spec) {
-  SweepCase c;
-  c.role = role;
-  c.scene = scene;
-  c.member = member;
-  c.scene_name = p.scenes[scene].stem();
-  const std::string stem = p.ensemble ? c.scene_name + "." + memberTag(p, member) : c.scene_name;
+  const std::string scene_name = p.scenes[scene].stem();
+  const std::string stem = p.ensemble ? scene_name + "." + memberTag(p, member) : scene_name;
   spec.t_end = p.t_end;
   spec.output_dt = p.output_dt;
   spec.diagnostics = false;  // errors and cost only
   spec.options = p.options;
-  c.spec = spec;
-  if (role == CaseRole::Reference) c.name = stem + ".reference";
-  else if (role == CaseRole::Check) c.name = stem + ".check";
-  else c.name = stem + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
-  return c;
+  std::string name;
+  if (role == CaseRole::Reference) name = stem + ".reference";
+  else if (role == CaseRole::Check) name = stem + ".check";
+  else name = stem + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
+  return SweepCase{role, scene, scene_name, member, checkedCase(spec, role, name), name};
 }
 
 }  // namespace

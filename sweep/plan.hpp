@@ -60,7 +60,7 @@ struct SweepCase {
   size_t scene = 0;  ///< index into Plan::scenes
   std::string scene_name;  ///< the scene file's stem (unique within a plan)
   int member = 0;          ///< ensemble member (0: the scene itself)
-  RunSpec spec;            ///< on the plan's grid
+  CheckedRunSpec spec;     ///< on the plan's grid, checked when the case is made (a plan that loaded runs)
   std::string name;        ///< "pendulum5.classical.rk4.1e-2" ("pendulum5.m007.classical..." in an ensemble): result file stem, --case argument
 };
 

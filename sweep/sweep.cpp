@@ -106,10 +106,10 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
   rec.name = c.name;
   rec.role = kRoles[static_cast<int>(c.role)];
   rec.scene = c.scene_name;
-  rec.method = methodName(c.spec.method);
-  rec.integrator = integratorName(c.spec.integrator);
-  rec.setting_kind = c.spec.settingKind();
-  rec.setting = c.spec.setting();
+  rec.method = methodName(c.spec->method);
+  rec.integrator = integratorName(c.spec->integrator);
+  rec.setting_kind = c.spec->settingKind();
+  rec.setting = c.spec->setting();
   rec.nu = scene.model.nu;
   rec.member = c.member;
   return rec;

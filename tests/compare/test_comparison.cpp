@@ -46,7 +46,7 @@ TEST_CASE("an unknown method or a bad threshold is refused before any run", "[co
   o.thresholds = {0.1, -1};
   CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("thresholds must be > 0"));
   o.thresholds = {0.1};
-  o.engines[em::test::engine("simbody")].integrator = Integrator::RK4;  // a compared method's settings are checked before any run
+  o.chooseIntegrator(em::test::engine("simbody"), Integrator::RK4);  // a compared method's settings are checked before any run
   o.methods = {em::test::method("simbody")};
   CHECK_THROWS_WITH(runComparison(scene, o), Catch::Contains("integrator 'rk4' is not one of simbody's"));
 }

@@ -66,7 +66,7 @@ TEST_CASE("Erez et al. 1: a conservative chain's energy at the step users run, p
   std::map<std::string, double> bound = {
       {"inhouse", 1e-8}, {"simbody", 6e-6}, {"mujoco", 1e-8}, {"dart", 0.12}, {"bullet", 0.15}, {"ode", 7e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runTrajectory(m, userRun(e, 5.0, 0.01));
+    const Trajectory tr = runTrajectory(m, checked(userRun(e, 5.0, 0.01)));
     const double d = energyDrift(tr);
     std::printf("erez-energy %s/%s: %s, max |dE|/E_scale %.3g\n", e.c_str(), tr.integrator().c_str(), outcomeName(tr.status()), d);
     INFO(e << ": " << tr.failure);
@@ -87,7 +87,7 @@ TEST_CASE("Erez et al. 2: a free-floating robot's momenta in zero gravity, per e
   std::map<std::string, double> bound_H = {
       {"inhouse", 4e-11}, {"simbody", 1e-5}, {"mujoco", 6.2e-8}, {"dart", 1.9e-2}, {"bullet", 1.9e-2}, {"ode", 3.2e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runTrajectory(m, userRun(e, 5.0, 0.01));
+    const Trajectory tr = runTrajectory(m, checked(userRun(e, 5.0, 0.01)));
     const auto [dp, dH] = test::momentumDrift(m, tr);
     std::printf("erez-momentum %s/%s: %s, |dp|/|p| %.3g, |dH|/|H| %.3g\n", e.c_str(), tr.integrator().c_str(),
                 outcomeName(tr.status()), dp, dH);
@@ -101,7 +101,7 @@ TEST_CASE("Erez et al. 2: a free-floating robot's momenta in zero gravity, per e
 TEST_CASE("Erez et al. 3: a Dzhanibekov flip at the reference's time, per engine", "[engine-study]") {
   const Model m = dzhanibekov();
   RunSpec ref = test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 6.0, 1e-10, 1e-3);
-  const double t_ref = flipTime(runTrajectory(m, ref));
+  const double t_ref = flipTime(runTrajectory(m, checked(ref)));
   std::printf("erez-flip reference simbody/rkmerson 1e-10: flip at %.4f s\n", t_ref);
   REQUIRE(t_ref < 6.0);
   // Measured, sampled every 1 ms: the reference flips at 2.179 s; in-house, Simbody, MuJoCo and ODE
@@ -109,7 +109,7 @@ TEST_CASE("Erez et al. 3: a Dzhanibekov flip at the reference's time, per engine
   std::map<std::string, double> bound = {
       {"inhouse", 1e-3}, {"simbody", 1e-3}, {"mujoco", 1e-3}, {"dart", 7e-3}, {"bullet", 7e-3}, {"ode", 1e-3}};
   for (const std::string& e : engines()) {
-    const Trajectory tr = runTrajectory(m, userRun(e, 6.0, 1e-3));
+    const Trajectory tr = runTrajectory(m, checked(userRun(e, 6.0, 1e-3)));
     const double t = flipTime(tr);
     std::printf("erez-flip %s/%s: flip at %.4f s (%+.4f)\n", e.c_str(), tr.integrator().c_str(), t, t - t_ref);
     INFO(e << ": " << tr.failure);
@@ -124,7 +124,7 @@ TEST_CASE("the study's momentum drift keeps p - M g t and H about the CM of a fr
   const Model falling = buildModel(s);
   s.gravity = Vec3::Zero();
   const Model floating = buildModel(s);
-  const Trajectory tr = runTrajectory(falling, test::runSpec(Method::Classical, Integrator::RK4, 2.0, 1e-3, 0.01));
+  const Trajectory tr = runTrajectory(falling, checked(test::runSpec(Method::Classical, Integrator::RK4, 2.0, 1e-3, 0.01)));
   REQUIRE_FALSE(tr.failed());
   const std::optional<MomentumDrift> d = momentumDrift(falling, tr);
   REQUIRE(d);
@@ -149,7 +149,7 @@ TEST_CASE("in zero gravity the study's momentum drift of p equals the conservati
   SceneSpec s = parseSceneSpec(readFile(test::sourcePath("data/scenes/floating_arm.json"), "scene"));
   s.gravity = Vec3::Zero();
   const Model m = buildModel(s);
-  const Trajectory tr = runTrajectory(m, userRun("dart", 1.0, 0.01));
+  const Trajectory tr = runTrajectory(m, checked(userRun("dart", 1.0, 0.01)));
   const std::optional<MomentumDrift> d = momentumDrift(m, tr);
   REQUIRE(d);
   const auto [dp, dH] = test::momentumDrift(m, tr);

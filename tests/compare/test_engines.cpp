@@ -31,17 +31,17 @@ TEST_CASE("runTrajectory dispatches to both engines and rejects unknown names", 
   RunSpec s;
   s.t_end = 0.1;
   s.output_dt = 0.05;
-  CHECK(runTrajectory(m, s).method() == "classical");
+  CHECK(runTrajectory(m, checked(s)).method() == "classical");
   s.method = em::test::method("simbody");
   s.integrator = chosenIntegrator(em::test::engine("simbody"), false);
-  const Trajectory t = runTrajectory(m, s);
+  const Trajectory t = runTrajectory(m, checked(s));
   CHECK(t.method() == "simbody");
   CHECK(t.integrator() == "rkmerson");
   CHECK(t.size() == 3);
   CHECK_THROWS_WITH(parseMethod("lagrange"), Catch::Contains("unknown method 'lagrange'"));
   CHECK_THROWS_WITH(parseIntegrator("verlet"), Catch::Contains("unknown integrator 'verlet'"));
   s.method = Method::Classical;  // an integrator of the other engine
-  CHECK_THROWS_WITH(runTrajectory(m, s), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
+  CHECK_THROWS_WITH(runTrajectory(m, checked(s)), Catch::Contains("integrator 'rkmerson' is not one of classical's"));
 }
 
 TEST_CASE("scene defaults apply where nothing was asked - the reference defaults are one place", "[runner]") {

@@ -24,7 +24,7 @@ namespace {
 std::pair<double, double> halvedErrors(const Model& m, const Trajectory& ref, const char* scheme, double dt, int evals) {
   double err[2];
   for (int i = 0; i < 2; ++i) {
-    const Trajectory b = runTrajectory(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 0.5, dt / (1 + i)));
+    const Trajectory b = runTrajectory(m, checked(test::runSpec(test::method("bullet"), test::scheme(scheme), 0.5, dt / (1 + i))));
     REQUIRE_FALSE(b.failed());
     CHECK(b.rhs_evals == evals * b.steps);
     err[i] = test::stateDiff(b, ref, 0.5);
@@ -45,8 +45,8 @@ TEST_CASE("Bullet's u' under the in-house rk4 agrees with classical rk4 to round
   models.push_back(test::freeTop());
   const Method udot = test::method("bullet-udot");
   for (const Model& m : models) {
-    const Trajectory in = runTrajectory(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
-    const Trajectory bullet = runTrajectory(m, test::runSpec(udot, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory in = runTrajectory(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)));
+    const Trajectory bullet = runTrajectory(m, checked(test::runSpec(udot, Integrator::RK4, 1.0, 1e-3)));
     REQUIRE_FALSE(in.failed());
     REQUIRE_FALSE(bullet.failed());
     INFO(m.name << ": max |dq|, |du| over 1 s " << test::stateDiff(in, bullet, 1.0));
@@ -67,7 +67,7 @@ TEST_CASE("Bullet's stepping is first order (semi-implicit Euler), its rk4 secon
   const std::tuple<const char*, double> scenes[] = {{"pendulum5.json", 4}, {"tree_mixed.json", 4}, {"floating_arm.json", 2}};
   for (const auto& [s, rk4_ratio] : scenes) {
     const Model m = test::loadData(s);
-    const Trajectory ref = runTrajectory(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    const Trajectory ref = runTrajectory(m, checked(test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12)));
     const auto [e1, e2] = halvedErrors(m, ref, "bullet-euler", 1e-3, 1);
     INFO(s << " euler: " << e1 << " at 1e-3, " << e2 << " at 5e-4");
     CHECK(e1 > 1.6 * e2);
@@ -90,7 +90,7 @@ TEST_CASE("Bullet's stepping on a free body in zero gravity: momenta drift at it
   for (const char* scheme : {"bullet-euler", "bullet-rk4"}) {
     double dp[2], dH[2];
     for (int i = 0; i < 2; ++i) {
-      const Trajectory b = runTrajectory(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+      const Trajectory b = runTrajectory(m, checked(test::runSpec(test::method("bullet"), test::scheme(scheme), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1)));
       REQUIRE_FALSE(b.failed());
       std::tie(dp[i], dH[i]) = test::momentumDrift(m, b);
     }
@@ -111,7 +111,7 @@ TEST_CASE("Bullet's stepping closes the energy balance on a damped scene at firs
   for (const char* scheme : {"bullet-euler", "bullet-rk4"}) {
     double balance[2];
     for (int i = 0; i < 2; ++i) {
-      const Trajectory b = runTrajectory(m, test::runSpec(test::method("bullet"), test::scheme(scheme), 1.0, i == 0 ? 1e-3 : 5e-4));
+      const Trajectory b = runTrajectory(m, checked(test::runSpec(test::method("bullet"), test::scheme(scheme), 1.0, i == 0 ? 1e-3 : 5e-4)));
       REQUIRE_FALSE(b.failed());
       CHECK(b.dissipated.back() > 1);
       balance[i] = std::abs(b.energy.back() + b.dissipated.back() - b.energy.front()) / std::abs(b.energy.front());

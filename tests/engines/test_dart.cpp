@@ -22,8 +22,8 @@ TEST_CASE("DART's u' under the in-house rk4 agrees with classical rk4 to round-o
   std::vector<Model> models = test::modelsOfEveryKind();
   const Method udot = test::method("dart-udot");
   for (const Model& m : models) {
-    const Trajectory in = runTrajectory(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
-    const Trajectory dart = runTrajectory(m, test::runSpec(udot, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory in = runTrajectory(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)));
+    const Trajectory dart = runTrajectory(m, checked(test::runSpec(udot, Integrator::RK4, 1.0, 1e-3)));
     REQUIRE_FALSE(in.failed());
     REQUIRE_FALSE(dart.failed());
     INFO(m.name << ": max |dq|, |du| over 1 s " << test::stateDiff(in, dart, 1.0));
@@ -38,10 +38,10 @@ TEST_CASE("DART's World::step is first order against the reference", "[dart]") {
   // 5e-4 (a chaotic pendulum started fast); 0.5 holds it.
   for (const char* s : {"pendulum5.json", "floating_arm.json"}) {
     const Model m = test::loadData(s);
-    const Trajectory ref = runTrajectory(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    const Trajectory ref = runTrajectory(m, checked(test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12)));
     double err[2];
     for (int i = 0; i < 2; ++i) {
-      const Trajectory d = runTrajectory(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 0.5, i == 0 ? 1e-3 : 5e-4));
+      const Trajectory d = runTrajectory(m, checked(test::runSpec(test::method("dart"), test::scheme("dart-euler"), 0.5, i == 0 ? 1e-3 : 5e-4)));
       REQUIRE_FALSE(d.failed());
       CHECK(d.rhs_evals == d.steps);  // one forward dynamics per step
       err[i] = test::stateDiff(d, ref, 0.5);
@@ -62,7 +62,7 @@ TEST_CASE("DART's World::step on a free body in zero gravity: momenta drift at f
   const Model m = test::freeTop();
   double dp[2], dH[2];
   for (int i = 0; i < 2; ++i) {
-    const Trajectory d = runTrajectory(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+    const Trajectory d = runTrajectory(m, checked(test::runSpec(test::method("dart"), test::scheme("dart-euler"), 10.0, i == 0 ? 1e-3 : 5e-4, 0.1)));
     REQUIRE_FALSE(d.failed());
     std::tie(dp[i], dH[i]) = test::momentumDrift(m, d);
   }
@@ -80,7 +80,7 @@ TEST_CASE("DART's World::step closes the energy balance on a damped scene to fir
   const Model m = test::loadData("spring_damper.json");
   double balance[2];
   for (int i = 0; i < 2; ++i) {
-    const Trajectory d = runTrajectory(m, test::runSpec(test::method("dart"), test::scheme("dart-euler"), 1.0, i == 0 ? 1e-3 : 5e-4));
+    const Trajectory d = runTrajectory(m, checked(test::runSpec(test::method("dart"), test::scheme("dart-euler"), 1.0, i == 0 ? 1e-3 : 5e-4)));
     REQUIRE_FALSE(d.failed());
     CHECK(d.dissipated.back() > 1);
     balance[i] = std::abs(d.energy.back() + d.dissipated.back() - d.energy.front()) / std::abs(d.energy.front());

@@ -24,8 +24,8 @@ TEST_CASE("MuJoCo rk4 and classical rk4 at the same step agree to round-off over
   for (const char* s : {"pendulum5.json", "chain10.json", "cartpole.json", "spring_damper.json"}) models.push_back(test::loadData(s));
   for (unsigned seed : {1u, 2u, 3u, 4u}) models.push_back(test::randomTree(seed, 6));
   for (const Model& m : models) {
-    const Trajectory in = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
-    const Trajectory mj = simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 1.0, 1e-3));
+    const Trajectory in = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)));
+    const Trajectory mj = simulateMujoco(m, checked(test::runSpec(em::test::method("mujoco"), Integrator::RK4, 1.0, 1e-3)));
     REQUIRE_FALSE(in.failed());
     REQUIRE_FALSE(mj.failed());
     REQUIRE(mj.size() == in.size());
@@ -45,12 +45,12 @@ TEST_CASE("ball joints: MuJoCo 2.2's RK4 is second order on a quaternion, the in
   // MuJoCo 2.44e-8 at dt 1e-3 and 6.10e-9 at 5e-4 (ratio 4.0: second
   // order), in-house 1.6e-11 and 2.2e-12 (ratio 7.4, at Simbody's own floor).
   const Model m = test::loadData("pendulum5_ball.json");
-  const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 0.1, 1e-12));
+  const Trajectory sb = SimbodySystem(m).simulate(checked(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 0.1, 1e-12)));
   double mj_err[2], in_err[2];
   for (int i = 0; i < 2; ++i) {
     const double dt = i == 0 ? 1e-3 : 5e-4;
-    in_err[i] = test::stateDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, dt)), sb, 0.1);
-    mj_err[i] = test::stateDiff(simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 0.1, dt)), sb, 0.1);
+    in_err[i] = test::stateDiff(simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.1, dt))), sb, 0.1);
+    mj_err[i] = test::stateDiff(simulateMujoco(m, checked(test::runSpec(em::test::method("mujoco"), Integrator::RK4, 0.1, dt))), sb, 0.1);
   }
   INFO("MuJoCo " << mj_err[0] << " -> " << mj_err[1] << ", in-house " << in_err[0] << " -> " << in_err[1]);
   CHECK(mj_err[0] / mj_err[1] > 3.5);  // second order: 4
@@ -65,8 +65,8 @@ TEST_CASE("MuJoCo at a small step agrees with the Simbody reference", "[crossche
   // 1e-8 rad / m of each other. (Ball joints: the case above.)
   for (const char* s : {"pendulum5.json", "cartpole.json", "floating_arm.json", "spring_damper.json"}) {
     const Model m = test::loadData(s);
-    const Trajectory mj = simulateMujoco(m, test::runSpec(em::test::method("mujoco"), Integrator::RK4, 1.0, 1e-4));
-    const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
+    const Trajectory mj = simulateMujoco(m, checked(test::runSpec(em::test::method("mujoco"), Integrator::RK4, 1.0, 1e-4)));
+    const Trajectory sb = SimbodySystem(m).simulate(checked(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12)));
     REQUIRE_FALSE(mj.failed());
     REQUIRE_FALSE(sb.failed());
     INFO(s << ": pose difference " << test::maxPoseDiff(mj, sb));
@@ -79,11 +79,11 @@ TEST_CASE("MuJoCo's Euler and implicit schemes run, first order, and a damped sc
   // the Simbody reference (a ratio above 1.6 asserted). The dampers' work is
   // summed per step (c u^2 dt), so E + W_diss stays within O(dt) of E(0).
   const Model m = test::loadData("spring_damper.json");
-  const Trajectory sb = SimbodySystem(m).simulate(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12));
+  const Trajectory sb = SimbodySystem(m).simulate(checked(test::runSpec(em::test::method("simbody"), em::test::scheme("rkmerson"), 1.0, 1e-12)));
   for (Integrator scheme : {em::test::scheme("euler"), em::test::scheme("implicit")}) {
     double err[2];
     for (int i = 0; i < 2; ++i) {
-      const Trajectory mj = simulateMujoco(m, test::runSpec(em::test::method("mujoco"), scheme, 1.0, i == 0 ? 1e-3 : 5e-4));
+      const Trajectory mj = simulateMujoco(m, checked(test::runSpec(em::test::method("mujoco"), scheme, 1.0, i == 0 ? 1e-3 : 5e-4)));
       REQUIRE_FALSE(mj.failed());
       err[i] = test::stateDiff(mj, sb, 1.0);
       const double balance = std::abs(mj.energy.back() + mj.dissipated.back() - mj.energy.front());

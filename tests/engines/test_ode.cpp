@@ -43,16 +43,16 @@ TEST_CASE("ODE's bodies read back as our coordinates give the initial state to r
     INFO(m.name);
     if (hasJointOf(m, JointType::Planar)) {
       CHECK_THAT(engineRefusal(test::engine("ode"), m), Catch::Contains("no planar joint") && Catch::Contains("body '"));
-      CHECK_THROWS_WITH(runTrajectory(m, odeSpec("ode-step", 0.01, 1e-3)), Catch::StartsWith("ode: ") && Catch::Contains("planar"));
+      CHECK_THROWS_WITH(runTrajectory(m, checked(odeSpec("ode-step", 0.01, 1e-3))), Catch::StartsWith("ode: ") && Catch::Contains("planar"));
       ++refused;
       continue;
     }
     CHECK(engineRefusal(test::engine("ode"), m).empty());
     ++ran;
-    const Trajectory o = runTrajectory(m, odeSpec("ode-step", 0.01, 1e-3));
+    const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 0.01, 1e-3)));
     REQUIRE_FALSE(o.failed());
     INFO(m.name);
-    const Trajectory in = runTrajectory(m, test::runSpec(Method::Classical, Integrator::RK4, 0.01, 1e-3));
+    const Trajectory in = runTrajectory(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.01, 1e-3)));
     CHECK((o.q[0] - in.q[0]).cwiseAbs().maxCoeff() <= 1e-12);
     CHECK((o.u[0] - in.u[0]).cwiseAbs().maxCoeff() <= 1e-12);
     CHECK(std::isfinite(o.max_joint_separation));
@@ -69,10 +69,10 @@ TEST_CASE("ODE's dWorldStep is first order, and its joints' separation shrinks w
   // joints apart 1.6e-4 / 4.2e-5 m; tree_mixed 5.8e-3 / 3.0e-3 rad, 2.2e-5 / 5.5e-6 m.
   for (const char* s : {"pendulum5.json", "tree_mixed.json"}) {
     const Model m = test::loadData(s);
-    const Trajectory ref = runTrajectory(m, test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12));
+    const Trajectory ref = runTrajectory(m, checked(test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 0.5, 1e-12)));
     double err[2], apart[2];
     for (int i = 0; i < 2; ++i) {
-      const Trajectory o = runTrajectory(m, odeSpec("ode-step", 0.5, i == 0 ? 1e-3 : 5e-4));
+      const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 0.5, i == 0 ? 1e-3 : 5e-4)));
       REQUIRE_FALSE(o.failed());
       CHECK(o.rhs_evals == o.steps);
       err[i] = test::maxPoseDiff(o, ref);
@@ -92,8 +92,8 @@ TEST_CASE("ODE's quickstep runs the same scenes near dWorldStep", "[ode]") {
   // first-order error itself: measured 2.2e-4 rad apart over 0.5 s at 1e-3
   // (its joints 1.7e-4 m apart); 1e-2 holds it, below the 8.8e-3 rad error of either.
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory step = runTrajectory(m, odeSpec("ode-step", 0.5, 1e-3));
-  const Trajectory quick = runTrajectory(m, odeSpec("ode-quickstep", 0.5, 1e-3));
+  const Trajectory step = runTrajectory(m, checked(odeSpec("ode-step", 0.5, 1e-3)));
+  const Trajectory quick = runTrajectory(m, checked(odeSpec("ode-quickstep", 0.5, 1e-3)));
   REQUIRE_FALSE(quick.failed());
   INFO("step vs quickstep " << test::maxPoseDiff(step, quick) << " rad; joints apart " << quick.max_joint_separation << " m");
   CHECK(test::maxPoseDiff(step, quick) < 1e-2);
@@ -107,7 +107,7 @@ TEST_CASE("ODE's stepping on a free body in zero gravity: momenta as measured", 
   const Model m = test::freeTop();
   double dp[2], dH[2];
   for (int i = 0; i < 2; ++i) {
-    const Trajectory o = runTrajectory(m, odeSpec("ode-step", 10.0, i == 0 ? 1e-3 : 5e-4, 0.1));
+    const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 10.0, i == 0 ? 1e-3 : 5e-4, 0.1)));
     REQUIRE_FALSE(o.failed());
     std::tie(dp[i], dH[i]) = test::momentumDrift(m, o);
   }
@@ -124,7 +124,7 @@ TEST_CASE("ODE's stepping closes the energy balance on a damped scene at first o
   const Model m = test::loadData("spring_damper.json");
   double balance[2];
   for (int i = 0; i < 2; ++i) {
-    const Trajectory o = runTrajectory(m, odeSpec("ode-step", 1.0, i == 0 ? 1e-3 : 5e-4));
+    const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 1.0, i == 0 ? 1e-3 : 5e-4)));
     REQUIRE_FALSE(o.failed());
     CHECK(o.dissipated.back() > 1);
     balance[i] = std::abs(o.energy.back() + o.dissipated.back() - o.energy.front()) / std::abs(o.energy.front());

@@ -31,8 +31,8 @@ RunSpec simbodyRun(Integrator integrator, double tol, double t_end) {
 }
 
 std::pair<Trajectory, Trajectory> runBoth(const Model& m, double tol_inhouse, double tol_simbody, double t_end) {
-  Trajectory in = simulate(m, rk8pd(tol_inhouse, t_end));
-  Trajectory sb = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end));
+  Trajectory in = simulate(m, checked(rk8pd(tol_inhouse, t_end)));
+  Trajectory sb = SimbodySystem(m).simulate(checked(simbodyRun(em::test::scheme("rkmerson"), tol_simbody, t_end)));
   REQUIRE(in.status() == Outcome::Ok);
   REQUIRE(sb.status() == Outcome::Ok);
   REQUIRE(in.size() == sb.size());
@@ -107,9 +107,9 @@ TEST_CASE("pendulum5 trajectory: in-house rk8pd 1e-13 vs Simbody RK-Merson 1e-12
 
 TEST_CASE("ball-rooted and gimbal-rooted pendulum5 give the same body poses over 5 s", "[crosscheck][slow]") {
   const Model g = test::loadData("pendulum5.json"), b = test::loadData("pendulum5_ball.json");
-  const Trajectory sg = SimbodySystem(g).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
-  const Trajectory sball = SimbodySystem(b).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0));
-  const Trajectory ib = simulate(b, rk8pd(1e-13, 5.0));
+  const Trajectory sg = SimbodySystem(g).simulate(checked(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0)));
+  const Trajectory sball = SimbodySystem(b).simulate(checked(simbodyRun(em::test::scheme("rkmerson"), 1e-12, 5.0)));
+  const Trajectory ib = simulate(b, checked(rk8pd(1e-13, 5.0)));
   CHECK(test::maxPoseDiff(sg, sball) <= 1e-8);
   CHECK(test::maxPoseDiff(ib, sball) <= 1e-8);
 }
@@ -151,9 +151,9 @@ TEST_CASE("dampers: both engines close the energy balance and agree on the dissi
 TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5 over 1 s", "[crosscheck]") {
   const Model m = test::loadData("pendulum5.json");
   SimbodySystem ref(m);
-  const Trajectory a = ref.simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 1.0));
+  const Trajectory a = ref.simulate(checked(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 1.0)));
   for (Integrator integ : {em::test::scheme("rk3"), em::test::scheme("cpodes")}) {
-    const Trajectory b = ref.simulate(simbodyRun(integ, 1e-10, 1.0));
+    const Trajectory b = ref.simulate(checked(simbodyRun(integ, 1e-10, 1.0)));
     INFO(integratorName(integ));
     REQUIRE(b.status() == Outcome::Ok);
     CHECK(b.run.integrator == integ);
@@ -161,14 +161,14 @@ TEST_CASE("Simbody RK-Merson - RK3 and CPodes agree with each other on pendulum5
   }
   // An in-house integrator is not Simbody's: refused, naming Simbody's.
   RunSpec other = simbodyRun(Integrator::RK8PD, 1e-10, 1.0);
-  CHECK_THROWS_WITH(ref.simulate(other), Catch::Contains("integrator 'rk8pd'") && Catch::Contains("rkmerson, rk3, cpodes"));
+  CHECK_THROWS_WITH(ref.simulate(checked(other)), Catch::Contains("integrator 'rk8pd'") && Catch::Contains("rkmerson, rk3, cpodes"));
 }
 
 TEST_CASE("a Simbody failure is a one-line cause with its time - not an exception", "[crosscheck][failure]") {
   SceneSpec s = test::chainSpec(2);
   s.bodies[1].joint.u0 = Eigen::VectorXd::Constant(1, 1e200);  // kinetic energy overflows
   const Model m = buildModel(s);
-  const Trajectory t = SimbodySystem(m).simulate(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1));
+  const Trajectory t = SimbodySystem(m).simulate(checked(simbodyRun(em::test::scheme("rkmerson"), 1e-10, 0.1)));
   CHECK(t.status() == Outcome::Failed);
   CHECK(t.failure_time == 0.0);
   CHECK_THAT(t.failure, Catch::StartsWith("Simbody: "));

@@ -53,11 +53,11 @@ TEST_CASE("every engine runs a scene on the grid through the one dispatch point,
   // scheme errs by ~dt T max|u''| ~ 1e-4 * 0.1 * 20 = 2e-4 rad; 1e-3 holds it
   // and is far below a wrong model (a missing term moves q by > 1e-2 here).
   const Scene scene = test::sceneData("chain02.json");
-  const Trajectory truth = runTrajectory(scene.model, test::runSpec(Method::Classical, Integrator::RK8PD, 0.1, 1e-12));
+  const Trajectory truth = runTrajectory(scene.model, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 0.1, 1e-12)));
   for (Engine e : otherEngines()) {
     INFO(engineName(e));
     const RunSpec spec = test::runSpec(info(e).method, defaultIntegrator(e), 0.1, info(defaultIntegrator(e)).fixed_step ? 1e-4 : 1e-8);
-    const Trajectory tr = runTrajectory(scene.model, spec);
+    const Trajectory tr = runTrajectory(scene.model, checked(spec));
     REQUIRE(tr.status() == Outcome::Ok);
     REQUIRE(tr.size() == truth.size());
     CHECK(tr.q_names == truth.q_names);

@@ -29,7 +29,7 @@ std::vector<std::vector<double>> readRows(std::istream& in) {
 
 TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-trips exactly", "[trajectory]") {
   const Model m = test::loadData("tree_mixed.json");
-  const Trajectory t = simulate(m, test::runSpec(Method::EigenJacobi, Integrator::RK4, 0.05, 1e-3));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::EigenJacobi, Integrator::RK4, 0.05, 1e-3)));
   const std::string path = std::string(EM_BINARY_DIR) + "/test_trajectory.csv";
   writeCsv(t, path);
   CHECK_FALSE(test::temporaryLeft(path));
@@ -60,7 +60,7 @@ TEST_CASE("CSV has t coordinates speeds energy and every body pose and round-tri
 
 TEST_CASE("the sampler stores the source's order: the first sample is the file's initial state", "[trajectory]") {
   const Model m = test::loadData("tree_mixed.json");
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.01, 1e-3));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.01, 1e-3)));
   Eigen::VectorXd qf, uf;
   m.qToFile(m.q0(), qf);
   m.uToFile(m.u0(), uf);

@@ -11,7 +11,7 @@ using namespace em;
 TEST_CASE("a trajectory round-trips through JSON text bit for bit", "[trajectory]") {
   const Model m = test::loadData("tree_mixed.json");
   const RunSpec spec = test::runSpec(Method::Classical, Integrator::RK4, 0.2, 1e-3);
-  const Trajectory t = simulate(m, spec);
+  const Trajectory t = simulate(m, checked(spec));
   const nlohmann::json text = nlohmann::json::parse(trajectoryJson(t).dump());
   const Trajectory back = trajectoryFromJson(text, spec, "test");
   REQUIRE(back.size() == t.size());
@@ -31,7 +31,7 @@ TEST_CASE("a trajectory round-trips through JSON text bit for bit", "[trajectory
 }
 
 TEST_CASE("a JSON that is not a trajectory is refused naming its source", "[trajectory]") {
-  nlohmann::json j = trajectoryJson(simulate(test::loadData("pendulum5.json"), test::runSpec(Method::Classical, Integrator::RK4, 0.05, 1e-3)));
+  nlohmann::json j = trajectoryJson(simulate(test::loadData("pendulum5.json"), checked(test::runSpec(Method::Classical, Integrator::RK4, 0.05, 1e-3))));
   j["q"].erase(0);
   CHECK_THROWS_WITH(trajectoryFromJson(j, RunSpec(), "ref.json"), Catch::Contains("ref.json: sample counts differ"));
   j.erase("t");

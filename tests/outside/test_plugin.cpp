@@ -60,7 +60,7 @@ TEST_CASE("the example plugin's trajectory equals classical's under the same int
     const RunSpec s = test::runSpec(rnea, integ, 1.0, integ == Integrator::RK4 ? 1e-3 : 1e-9);
     RunSpec c = s;
     c.method = Method::Classical;
-    const Trajectory a = runTrajectory(m, s), b = simulate(m, c);
+    const Trajectory a = runTrajectory(m, checked(s)), b = simulate(m, checked(c));
     REQUIRE_FALSE(a.failed());
     REQUIRE(a.size() == b.size());
     // u' agrees to ~1e-14; over 1 s of a chaotic pendulum (exponent ~1.7 /s) the
@@ -74,7 +74,7 @@ TEST_CASE("a plugin's run in a child process is the run in-process, bit for bit"
   const Method ok = plugin("hostile_ok");
   const Model m = test::loadData("pendulum5.json");
   const RunSpec s = test::runSpec(ok, Integrator::RK4, 0.5, 1e-3);
-  const Trajectory isolated = runTrajectory(m, s), direct = simulate(m, s);
+  const Trajectory isolated = runTrajectory(m, checked(s)), direct = simulate(m, checked(s));
   REQUIRE(isolated.size() == direct.size());
   for (size_t k = 0; k < direct.size(); ++k) {
     CHECK(isolated.q[k] == direct.q[k]);
@@ -124,7 +124,7 @@ TEST_CASE("a plugin that fails during a run ends that run with its time and caus
   for (const Case& c : {Case{"hostile_late_segv", "crashed (SIGSEGV) in em_plugin_udot at t = 0.25"},
                         Case{"hostile_late_hang", "no return within 0.5 s (killed) in em_plugin_udot at t = 0.25"},
                         Case{"hostile_late_error", "the plugin gave up at t = 0.25"}}) {
-    const Trajectory tr = runTrajectory(m, test::runSpec(plugin(c.name), Integrator::RK4, 1.0, 1e-3));
+    const Trajectory tr = runTrajectory(m, checked(test::runSpec(plugin(c.name), Integrator::RK4, 1.0, 1e-3)));
     INFO(c.name << ": " << tr.failure);
     CHECK(tr.failure_kind == Failure::Plugin);
     CHECK_THAT(tr.failure, Catch::Contains(c.cause));

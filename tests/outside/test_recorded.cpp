@@ -73,11 +73,11 @@ MethodMetrics metricsOf(const Trajectory& run, const Trajectory& ref, const Traj
 TEST_CASE("a run written out and read back gives the run's own metrics", "[outside][recorded]") {
   for (const char* scene : {"pendulum5.json", "pendulum5_ball.json"}) {
     const Model m = test::loadData(scene);
-    const Trajectory run = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 2e-3));
-    const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12));
-    const Trajectory tight = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-14));
+    const Trajectory run = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 2e-3)));
+    const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12)));
+    const Trajectory tight = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-14)));
     const Method rec = addRecordedRun(freshName(), csvWith(run, std::string("own-") + scene + ".csv", kAll), m);
-    const Trajectory back = recordedTrajectory(m, test::runSpec(rec, Integrator::RK4, 1.0, 1e-3));
+    const Trajectory back = recordedTrajectory(m, checked(test::runSpec(rec, Integrator::RK4, 1.0, 1e-3)));
     const MethodMetrics a = metricsOf(run, ref, tight), b = metricsOf(back, ref, tight);
     INFO(scene);
     CHECK(b.pose.value == a.pose.value);  // 17 digits written: every q and u read back to the bit
@@ -92,7 +92,7 @@ TEST_CASE("a run written out and read back gives the run's own metrics", "[outsi
 
 TEST_CASE("body poses alone give the run's pose errors, its coordinates and, by differences, its energy", "[outside][recorded]") {
   const Model m = test::loadData("pendulum5_ball.json");  // a ball joint: a quaternion read back from poses
-  const Trajectory run = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.002));
+  const Trajectory run = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.002)));
   const auto poses = [](const std::string& c) {
     return c == "t" || c.size() > 2 && (c.find(".x") != std::string::npos || c.find(".y") != std::string::npos ||
                                         c.find(".z") != std::string::npos || c.find(".q") != std::string::npos &&
@@ -102,8 +102,8 @@ TEST_CASE("body poses alone give the run's pose errors, its coordinates and, by 
   const Method rec = addRecordedRun(freshName(), csvWith(run, "poses.csv", poses), m);
   CHECK(recordedRun(rec)->format == "body-poses");
   CHECK(recordedRun(rec)->speeds == "central differences");
-  const Trajectory back = recordedTrajectory(m, test::runSpec(rec, Integrator::RK4, 1.0, 1e-3, 0.01));
-  Trajectory own = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.01));
+  const Trajectory back = recordedTrajectory(m, checked(test::runSpec(rec, Integrator::RK4, 1.0, 1e-3, 0.01)));
+  Trajectory own = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.01)));
   CHECK(test::maxPoseDiff(back, own) < 1e-14);
   // Coordinates: jointCoordinates inverts the kinematics to round-off.
   double dq = 0, dE = 0;
@@ -119,10 +119,10 @@ TEST_CASE("body poses alone give the run's pose errors, its coordinates and, by 
 
 TEST_CASE("samples off the grid are interpolated and said to be, and a file that ends early is a failure there", "[outside][recorded]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory run = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.004));
+  const Trajectory run = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.004)));
   const Method rec = addRecordedRun(freshName(), csvWith(run, "coarse.csv", kAll), m);
-  const Trajectory back = recordedTrajectory(m, test::runSpec(rec, Integrator::RK4, 1.0, 1e-3, 0.01));
-  const Trajectory own = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.01));
+  const Trajectory back = recordedTrajectory(m, checked(test::runSpec(rec, Integrator::RK4, 1.0, 1e-3, 0.01)));
+  const Trajectory own = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3, 0.01)));
   CHECK(recordedSource(rec)["grid"].get<std::string>().rfind("linear between samples", 0) == 0);
   // Linear interpolation at spacing h = 4 ms errs by at most h^2/8 max|q''| (u = q' here: no quaternion);
   // max|q''| from the file's own speeds, its estimate's error covered by a factor 1.5.
@@ -134,7 +134,7 @@ TEST_CASE("samples off the grid are interpolated and said to be, and a file that
   CHECK(dq > 0);
 
   const Method early = addRecordedRun(freshName(), csvWith(run, "early.csv", kAll, 1, 0.5), m);
-  const Trajectory cut = recordedTrajectory(m, test::runSpec(early, Integrator::RK4, 1.0, 1e-3, 0.01));
+  const Trajectory cut = recordedTrajectory(m, checked(test::runSpec(early, Integrator::RK4, 1.0, 1e-3, 0.01)));
   CHECK(cut.failure_kind == Failure::EndedEarly);
   CHECK(cut.failure_time == Approx(0.5));
   CHECK(cut.t.back() == Approx(0.5));
@@ -142,7 +142,7 @@ TEST_CASE("samples off the grid are interpolated and said to be, and a file that
 
 TEST_CASE("what the file declares is kept, its CPU time is the run's", "[outside][recorded]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory run = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3));
+  const Trajectory run = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3)));
   const std::string body = [&] {
     std::ifstream in(csvWith(run, "plain.csv", kAll));
     std::ostringstream s;
@@ -150,7 +150,7 @@ TEST_CASE("what the file declares is kept, its CPU time is the run's", "[outside
     return s.str();
   }();
   const Method rec = addRecordedRun(freshName(), writeText("declared.csv", "# simulator: a script\n# cpu_s: 0.25\n#\n" + body), m);
-  const Trajectory back = recordedTrajectory(m, test::runSpec(rec, Integrator::RK4, 0.1, 1e-3));
+  const Trajectory back = recordedTrajectory(m, checked(test::runSpec(rec, Integrator::RK4, 0.1, 1e-3)));
   CHECK(back.run_time_s == 0.25);
   CHECK(recordedSource(rec)["declared"]["simulator"] == "a script");
   CHECK(recordedSource(rec)["sha256"].get<std::string>().size() == 64);
@@ -201,7 +201,7 @@ TEST_CASE("malformed recorded runs: one line naming the file, the line and the c
   CHECK_THROWS_WITH(addRecordedRun("eigen", writeText("x.csv", "t\n"), m), "run name 'eigen': a method of that name exists");
   // A unit quaternion is checked where the format has one.
   const Model ball = test::loadData("pendulum5_ball.json");
-  const Trajectory run = simulate(ball, test::runSpec(Method::Classical, Integrator::RK4, 0.02, 1e-3));
+  const Trajectory run = simulate(ball, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.02, 1e-3)));
   std::string text;
   {
     std::ifstream in(csvWith(run, "ball.csv", kAll));

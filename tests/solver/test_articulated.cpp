@@ -161,8 +161,8 @@ TEST_CASE("articulated trajectories equal classical's under the same integrator"
   for (const auto& [name, m] : scenes)
     for (Integrator integ : {Integrator::RK4, Integrator::RK8PD}) {
       const double setting = integ == Integrator::RK4 ? 1e-3 : 1e-10;
-      const Trajectory a = simulate(m, test::runSpec(Method::Articulated, integ, 1.0, setting));
-      const Trajectory c = simulate(m, test::runSpec(Method::Classical, integ, 1.0, setting));
+      const Trajectory a = simulate(m, checked(test::runSpec(Method::Articulated, integ, 1.0, setting)));
+      const Trajectory c = simulate(m, checked(test::runSpec(Method::Classical, integ, 1.0, setting)));
       INFO(name << " " << integratorName(integ) << " " << a.failure);
       REQUIRE_FALSE(a.failed());
       REQUIRE_FALSE(c.failed());

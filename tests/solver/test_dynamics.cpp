@@ -100,8 +100,8 @@ TEST_CASE("all methods give the same udot at the initial state", "[identity][dyn
 
 TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-jacobi", "[identity][dynamics]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory e = simulate(m, rk4(Method::Eigen, 0.1));
-  const Trajectory j = simulate(m, rk4(Method::EigenJacobi, 0.1));
+  const Trajectory e = simulate(m, checked(rk4(Method::Eigen, 0.1)));
+  const Trajectory j = simulate(m, checked(rk4(Method::EigenJacobi, 0.1)));
   REQUIRE(e.diag.size() == 11);
   double off_e = 0, off_j = 0;
   for (size_t k = 0; k < e.size(); ++k) {
@@ -117,9 +117,9 @@ TEST_CASE("pendulum5 rk4 dt 1e-3 100 steps: drift of C A CT for eigen and eigen-
 
 TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[identity][dynamics]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory c = simulate(m, rk4(Method::Classical, 1.0));
+  const Trajectory c = simulate(m, checked(rk4(Method::Classical, 1.0)));
   for (Method meth : {Method::Eigen, Method::EigenJacobi, Method::EigenJacobiOrth}) {
-    const Trajectory t = simulate(m, rk4(meth, 1.0));
+    const Trajectory t = simulate(m, checked(rk4(meth, 1.0)));
     INFO(methodName(meth));
     CHECK(t.status() == Outcome::Ok);
     CHECK(maxAngleDiff(t, c) <= 1e-6);
@@ -128,7 +128,7 @@ TEST_CASE("eigen and eigen-jacobi equal classical over the first second", "[iden
 
 TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classical runs", "[dynamics][failure]") {
   const Model m = sphereOnBall();
-  const Trajectory e = simulate(m, rk4(Method::Eigen, 0.5));
+  const Trajectory e = simulate(m, checked(rk4(Method::Eigen, 0.5)));
   CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("eigenvalue gap"));
@@ -136,7 +136,7 @@ TEST_CASE("equal eigenvalues stop the eigenfactor methods with a cause - classic
   // Where it stopped, A has two equal eigenvalues but is well conditioned.
   CHECK(e.failure_cond_A >= 1.0);
   CHECK(e.failure_cond_A < 100);
-  const Trajectory c = simulate(m, rk4(Method::Classical, 0.5));
+  const Trajectory c = simulate(m, checked(rk4(Method::Classical, 0.5)));
   CHECK(c.status() == Outcome::Ok);
   CHECK(c.size() == 51);
 }
@@ -160,9 +160,9 @@ TEST_CASE("a gimbal locked at 90 deg makes A singular: classical fails with the 
 TEST_CASE("the paper: eigen leaves classical by 0.1 rad between 6.5 and 8 s - eigen-jacobi later", "[dynamics][paper]") {
   // pendulum5, rk4 dt 1e-3, 10 s (the paper reports about 7.2 s); measured 7.24 s and 9.85 s.
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory c = simulate(m, rk4(Method::Classical, 10.0));
-  const Trajectory e = simulate(m, rk4(Method::Eigen, 10.0));
-  const Trajectory j = simulate(m, rk4(Method::EigenJacobi, 10.0));
+  const Trajectory c = simulate(m, checked(rk4(Method::Classical, 10.0)));
+  const Trajectory e = simulate(m, checked(rk4(Method::Eigen, 10.0)));
+  const Trajectory j = simulate(m, checked(rk4(Method::EigenJacobi, 10.0)));
   auto firstApart = [&](const Trajectory& t) {
     for (size_t k = 0; k < t.size(); ++k)
       if ((t.q[k] - c.q[k]).cwiseAbs().maxCoeff() > 0.1) return t.t[k];
@@ -204,7 +204,7 @@ TEST_CASE("a NaN in the state - a non-positive eigenvalue or a blow-up is a fail
   {
     RunSpec s = rk4(Method::Classical, 2.0);
     s.options.blowup_speed = 1.0;  // pendulum5 reaches ~2 rad/s within a second
-    const Trajectory t = simulate(m, s);
+    const Trajectory t = simulate(m, checked(s));
     CHECK(t.status() == Outcome::Failed);
     CHECK_THAT(t.failure, Catch::Contains("blow-up"));
     CHECK(t.failure_kind == Failure::BlowUp);
@@ -218,10 +218,10 @@ TEST_CASE("a 20-link chain under rk4 dt 1e-3: eigenfactor breakdown is a failure
   // Measured: eigen fails near 1.2 s (negative eigenvalue), eigen-jacobi near
   // 2.1 s (C no longer orthogonal, Jacobi cannot converge); classical runs on.
   const Model m = test::loadData("chain20.json");
-  const Trajectory c = simulate(m, rk4(Method::Classical, 2.5));
+  const Trajectory c = simulate(m, checked(rk4(Method::Classical, 2.5)));
   CHECK(c.status() == Outcome::Ok);
   for (Method meth : {Method::Eigen, Method::EigenJacobi}) {
-    const Trajectory t = simulate(m, rk4(meth, 2.5));
+    const Trajectory t = simulate(m, checked(rk4(meth, 2.5)));
     INFO(methodName(meth) << ": " << t.failure);
     CHECK(t.status() == Outcome::Failed);
     CHECK_FALSE(t.failure.empty());
@@ -240,16 +240,16 @@ TEST_CASE("adaptive runs retry a step whose trial stage fails, while a failure a
   // 1e-3 s sends eigen's integrated eigenvalue below zero at a trial stage.
   const Model stiff = loadScene(test::sourcePath("data/scenes/extreme/stiff_springs_damped.json")).model;
   RunSpec s = test::runSpec(Method::Eigen, Integrator::RK8PD, 0.05, 1e-10);
-  const Trajectory retried = simulate(stiff, s);
+  const Trajectory retried = simulate(stiff, checked(s));
   CHECK(retried.status() == Outcome::Ok);
   CHECK(retried.step_retries >= 1);
   s.options.retry_failed_steps = false;
-  const Trajectory stopped = simulate(stiff, s);
+  const Trajectory stopped = simulate(stiff, checked(s));
   CHECK(stopped.status() == Outcome::Failed);
   CHECK(stopped.failure_kind == Failure::NonPositiveEigenvalue);
   CHECK(stopped.step_retries == 0);
   // Equal eigenvalues at t = 0: no smaller step helps, the cause is kept.
-  const Trajectory equal = simulate(sphereOnBall(), test::runSpec(Method::Eigen, Integrator::RK8PD, 0.5, 1e-10));
+  const Trajectory equal = simulate(sphereOnBall(), checked(test::runSpec(Method::Eigen, Integrator::RK8PD, 0.5, 1e-10)));
   CHECK(equal.failure_kind == Failure::EigenGap);
   CHECK(equal.failure_time == 0.0);
 }

@@ -155,8 +155,8 @@ TEST_CASE("through a family of near-crossings eigen-block's rates stay bounded w
 
 TEST_CASE("with no clusters eigen-block is eigen: pendulum5 over 1 s", "[identity][eigenblock]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
-  const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 1e-9));
+  const Trajectory e = simulate(m, checked(test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3)));
+  const Trajectory b = simulate(m, checked(blockRun(Method::EigenBlock, 1.0, 1e-9)));
   REQUIRE(b.status() == Outcome::Ok);
   double dq = 0;
   for (size_t k = 0; k < e.size(); ++k) dq = std::max(dq, (e.q[k] - b.q[k]).cwiseAbs().maxCoeff());
@@ -170,9 +170,9 @@ TEST_CASE("through tree_mixed's near-crossing eigen-block's Omega stays bounded 
   // at 5.7 (2 merges, 3 splits) and finishes, 7.2e-8 rad from the reference
   // (classical 6.4e-8). Bounds leave 17x and more.
   const Model m = test::loadData("tree_mixed.json");
-  const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
-  const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 3.0, 3e-2));
-  const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
+  const Trajectory e = simulate(m, checked(test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3)));
+  const Trajectory b = simulate(m, checked(blockRun(Method::EigenBlock, 3.0, 3e-2)));
+  const Trajectory c = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3)));
   CHECK(e.status() == Outcome::Failed);
   CHECK(e.eigen.max_abs_Omega > 1e5);
   REQUIRE(b.status() == Outcome::Ok);
@@ -192,10 +192,10 @@ TEST_CASE("chain20 under rk4 dt 1e-3 runs to the end with eigen-block and eigen-
   // (eigen-block) and 0.096 m (eigen-block-jacobi) off at most (measured), on
   // links 1 m long: finished, not accurate. The bounds sit a factor 2 above.
   const Model m = test::loadData("chain20.json");
-  const Trajectory c = simulate(m, blockRun(Method::Classical, 10.0, 3e-2));
+  const Trajectory c = simulate(m, checked(blockRun(Method::Classical, 10.0, 3e-2)));
   REQUIRE(c.status() == Outcome::Ok);
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
-    const Trajectory b = simulate(m, blockRun(method, 10.0, 3e-2));
+    const Trajectory b = simulate(m, checked(blockRun(method, 10.0, 3e-2)));
     const double off = maxPoseDiff(b, c);
     INFO(methodName(method) << " " << off << " m from classical");
     CHECK(b.status() == Outcome::Ok);
@@ -210,9 +210,9 @@ TEST_CASE("a published quadruped whose identical legs repeat eigenvalues stops e
   // one block and follows classical (measured: 1.7e-16 m apart over 1 s;
   // both 5.8e-8 rad from the Simbody reference over 10 s, docs/urdf.md).
   const Model m = loadScene(test::sourcePath("data/robots/solo12.urdf")).model;
-  const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3));
-  const Trajectory b = simulate(m, blockRun(Method::EigenBlock, 1.0, 3e-2));
-  const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3));
+  const Trajectory e = simulate(m, checked(test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3)));
+  const Trajectory b = simulate(m, checked(blockRun(Method::EigenBlock, 1.0, 3e-2)));
+  const Trajectory c = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)));
   CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
   CHECK_THAT(e.failure, Catch::Contains("gap"));
@@ -228,18 +228,18 @@ TEST_CASE("with two residual corrections eigen-block follows classical on chain2
   // leave 12x on the refined runs and need a 1000x gain over the plain one.
   constexpr double kRefinedRad = 1e-7;
   const Model m = test::loadData("chain20.json");
-  const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 2.0, 1e-3));
+  const Trajectory c = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 2.0, 1e-3)));
   const auto maxQDiff = [&](const Trajectory& t) {
     double d = 0;
     for (size_t k = 0; k < std::min(t.size(), c.size()); ++k) d = std::max(d, (t.q[k] - c.q[k]).cwiseAbs().maxCoeff());
     return d;
   };
   RunSpec plain = blockRun(Method::EigenBlock, 2.0, 3e-2);
-  const double d0 = maxQDiff(simulate(m, plain));
+  const double d0 = maxQDiff(simulate(m, checked(plain)));
   for (Method method : {Method::EigenBlock, Method::EigenBlockJacobi}) {
     RunSpec refined = blockRun(method, 2.0, 3e-2);
     refined.options.params["refine"] = 2;
-    const Trajectory b = simulate(m, refined);
+    const Trajectory b = simulate(m, checked(refined));
     INFO(methodName(method) << ": " << maxQDiff(b) << " rad against " << d0 << " unrefined");
     REQUIRE(b.status() == Outcome::Ok);
     CHECK(maxQDiff(b) <= kRefinedRad);
@@ -256,16 +256,16 @@ TEST_CASE("residual corrections do not carry eigen through tree_mixed's crossing
   const Model m = test::loadData("tree_mixed.json");
   RunSpec e = test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3);
   e.options.params["refine"] = 2;
-  const Trajectory te = simulate(m, e);
+  const Trajectory te = simulate(m, checked(e));
   CHECK(te.status() == Outcome::Failed);
   CHECK(te.failure_kind == Failure::RefinementNotConverged);
   e.options.params["refine_tol"] = 1;
-  const Trajectory tl = simulate(m, e);
+  const Trajectory tl = simulate(m, checked(e));
   CHECK(tl.failure_kind == Failure::RefinementDiverged);
   CHECK(tl.failure_time > te.failure_time);
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
   b.options.params["refine"] = 2;
-  CHECK(simulate(m, b).status() == Outcome::Ok);
+  CHECK(simulate(m, checked(b)).status() == Outcome::Ok);
 }
 
 TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-block with two corrections follows classical", "[eigenblock][refine][urdf]") {
@@ -278,14 +278,14 @@ TEST_CASE("a published hand with identical fingers stops eigen at t = 0, eigen-b
   UrdfOptions urdf;
   urdf.balance_inertia = true;
   const Model m = loadScene(test::sourcePath("data/robots/allegro_right_hand.urdf"), urdf).model;
-  const Trajectory e = simulate(m, test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3));
+  const Trajectory e = simulate(m, checked(test::runSpec(Method::Eigen, Integrator::RK4, 3.0, 1e-3)));
   CHECK(e.status() == Outcome::Failed);
   CHECK(e.failure_time == 0.0);
-  const Trajectory c = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3));
+  const Trajectory c = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 3.0, 1e-3)));
   RunSpec b = blockRun(Method::EigenBlock, 3.0, 3e-2);
-  const double plain = maxPoseDiff(simulate(m, b), c);
+  const double plain = maxPoseDiff(simulate(m, checked(b)), c);
   b.options.params["refine"] = 2;
-  const Trajectory refined = simulate(m, b);
+  const Trajectory refined = simulate(m, checked(b));
   REQUIRE(refined.status() == Outcome::Ok);
   INFO("max pose difference to classical: " << maxPoseDiff(refined, c) << " refined, " << plain << " plain");
   CHECK(maxPoseDiff(refined, c) < kWithClassical);
@@ -317,13 +317,13 @@ TEST_CASE("refine N proves its u' per evaluation: the fast top fails as refineme
   // eigen ended "ok" 1.94 rad from the reference at refine 2. Oracle: classical
   // (Cholesky of the same A) at rk8pd 1e-12; classical's own rk4 error sets the bar.
   const Model m = fastTop();
-  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12));
+  const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12)));
   REQUIRE(ref.status() == Outcome::Ok);
-  const double classical = maxAngleDiff(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3)), ref);
+  const double classical = maxAngleDiff(simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3))), ref);
   for (int refine : {1, 2}) {
     RunSpec e = test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3);
     e.options.params["refine"] = refine;
-    const Trajectory te = simulate(m, e);
+    const Trajectory te = simulate(m, checked(e));
     const double err = maxAngleDiff(te, ref);
     std::printf("fast_top eigen refine %d: %s%s, %.3g rad from the reference (classical rk4: %.3g)\n", refine,
                 outcomeName(te.status()), te.failed() ? (" at " + gnum(te.failure_time) + " s: " + te.failure).c_str() : "", err, classical);
@@ -336,7 +336,7 @@ TEST_CASE("refine N proves its u' per evaluation: the fast top fails as refineme
   RunSpec loose = test::runSpec(Method::Eigen, Integrator::RK4, 1.0, 1e-3);
   loose.options.params["refine"] = 2;
   loose.options.params["refine_tol"] = 1;
-  const Trajectory tl = simulate(m, loose);
+  const Trajectory tl = simulate(m, checked(loose));
   std::printf("fast_top eigen refine 2, refine_tol 1: %s, %.3g rad from the reference\n", outcomeName(tl.status()), maxAngleDiff(tl, ref));
   REQUIRE_FALSE(tl.failed());
   CHECK(maxAngleDiff(tl, ref) > 10 * classical);

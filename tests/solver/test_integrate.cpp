@@ -60,7 +60,7 @@ TEST_CASE("GSLs rk4 stepper is not one classical step: it does step doubling", "
 
 TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[integrate]") {
   const Model m = test::loadData("chain03.json");
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.5, 1e-3));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.5, 1e-3)));
   CHECK(t.steps == 500);
   CHECK(t.rhs_evals == 4 * 500);
   CHECK(t.size() == 51);
@@ -69,7 +69,7 @@ TEST_CASE("simulate with rk4 takes t_end/dt steps of four evaluations each", "[i
 
 TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10", "[integrate][energy]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-12));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-12)));
   REQUIRE(t.status() == Outcome::Ok);
   REQUIRE(t.size() == 1001);
   CHECK(maxRelEnergyError(t) < 1e-10);
@@ -77,7 +77,7 @@ TEST_CASE("pendulum5 classical rk8pd tol 1e-12 10 s: energy conserved to 1e-10",
 
 TEST_CASE("with dampers the energy never increases", "[integrate][energy]") {
   const Model m = test::loadData("spring_damper.json");
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 5.0, 1e-12));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 5.0, 1e-12)));
   REQUIRE(t.status() == Outcome::Ok);
   // Allowance per sample: the integration error of a tol-1e-12 run, far below
   // the dissipation per sample (~1e-3 J here).
@@ -105,7 +105,7 @@ TEST_CASE("a damped rotor: u and W_diss follow their closed forms", "[closedform
   s.bodies.push_back(b);
   const Model m = buildModel(s);
   REQUIRE(m.has_dampers);
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 4.0, 1e-12, 0.5));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 4.0, 1e-12, 0.5)));
   REQUIRE(t.status() == Outcome::Ok);
   const double E0 = 0.5 * I * u0 * u0;  // 9 J
   for (size_t k = 0; k < t.size(); ++k) {
@@ -120,13 +120,13 @@ TEST_CASE("a damped rotor: u and W_diss follow their closed forms", "[closedform
 TEST_CASE("without dampers no W_diss state is integrated", "[integrate][energy]") {
   const Model m = test::loadData("pendulum5.json");
   REQUIRE(!m.has_dampers);
-  const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3));
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3)));
   for (double w : t.dissipated) CHECK(w == 0.0);
 }
 
 TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum", "[integrate][identity]") {
-  const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
-  const Trajectory g = simulate(test::loadData("pendulum5.json"), test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12));
+  const Trajectory b = simulate(test::loadData("pendulum5_ball.json"), checked(test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12)));
+  const Trajectory g = simulate(test::loadData("pendulum5.json"), checked(test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-12)));
   REQUIRE(b.status() == Outcome::Ok);
   double pose = 0;
   for (size_t k = 0; k < b.size(); ++k) {
@@ -138,10 +138,10 @@ TEST_CASE("ball quaternions stay unit and agree with the gimbal-rooted pendulum"
 
 TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-13));
+  const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-13)));
   for (auto [i, p, bound] : {std::tuple{Integrator::RK4, 1e-3, 1e-8}, std::tuple{Integrator::RKF45, 1e-10, 1e-7},
                              std::tuple{Integrator::BSIMP, 1e-10, 1e-7}}) {
-    const Trajectory t = simulate(m, test::runSpec(Method::Classical, i, 1.0, p));
+    const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, i, 1.0, p)));
     INFO(integratorName(i));
     REQUIRE(t.status() == Outcome::Ok);
     CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < bound);
@@ -150,10 +150,10 @@ TEST_CASE("every integrator agrees on pendulum5 over 1 s", "[integrate][identity
 
 TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[integrate][identity]") {
   const Model m = test::loadData("pendulum5.json");
-  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12));
+  const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-12)));
   for (Method meth : {Method::Eigen, Method::EigenJacobi})
     for (Integrator i : {Integrator::RKF45, Integrator::RK8PD}) {
-      const Trajectory t = simulate(m, test::runSpec(meth, i, 1.0, 1e-10));
+      const Trajectory t = simulate(m, checked(test::runSpec(meth, i, 1.0, 1e-10)));
       INFO(methodName(meth) << " " << integratorName(i));
       REQUIRE(t.status() == Outcome::Ok);
       CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < 1e-6);
@@ -162,19 +162,19 @@ TEST_CASE("the eigenfactor methods run under the adaptive integrators too", "[in
 
 TEST_CASE("inconsistent options are rejected before any computation", "[integrate]") {
   const Model m = test::loadData("chain01.json");
-  CHECK_THROWS_AS(simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, 0.003)), std::invalid_argument);
+  CHECK_THROWS_AS(simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, 0.003))), std::invalid_argument);
   RunSpec o = test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 0.0);
-  CHECK_THROWS_AS(simulate(m, o), std::invalid_argument);
+  CHECK_THROWS_AS(simulate(m, checked(o)), std::invalid_argument);
   o = test::runSpec(Method::Classical, Integrator::RK4, 1.0, 1e-3);
   o.output_dt = 0.3;
-  CHECK_THROWS_AS(simulate(m, o), std::invalid_argument);
+  CHECK_THROWS_AS(simulate(m, checked(o)), std::invalid_argument);
 }
 
 TEST_CASE("the same scene and options give bitwise the same numbers", "[integrate]") {
   const Model m = test::loadData("tree_mixed.json");
   for (Method meth : {Method::Classical, Method::EigenJacobi}) {
-    const Trajectory a = simulate(m, test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9));
-    const Trajectory b = simulate(m, test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9));
+    const Trajectory a = simulate(m, checked(test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9)));
+    const Trajectory b = simulate(m, checked(test::runSpec(meth, Integrator::RKF45, 0.5, 1e-9)));
     CHECK(a.q == b.q);
     CHECK(a.u == b.u);
     CHECK(a.energy == b.energy);
@@ -185,10 +185,10 @@ TEST_CASE("the hand-written rk4 converges at fourth order", "[integrate][closedf
   // Halving dt must divide the error by 2^4: the observed order over two
   // halvings lies in [3.7, 4.3] (the leading term dominates at these steps).
   const Model m = test::loadData("chain03.json");
-  const Trajectory ref = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-14));
+  const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-14)));
   std::vector<double> err;
   for (double dt : {0.02, 0.01, 0.005}) {
-    const Trajectory t = simulate(m, test::runSpec(Method::Classical, Integrator::RK4, 1.0, dt, 0.02));
+    const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 1.0, dt, 0.02)));
     err.push_back((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff());
   }
   for (int k = 0; k < 2; ++k) {

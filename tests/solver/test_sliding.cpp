@@ -180,7 +180,7 @@ TEST_CASE("a prismatic joint along a tilted axis under gravity falls in closed f
   const Model m = buildModel(s);
   const double acc = m.gravity.dot(b.joint.axis[0]);
   for (Method method : inhouseMethods()) {
-    const Trajectory tr = simulate(m, test::runSpec(method, Integrator::RK4, 1.0, 1e-3, 0.1));
+    const Trajectory tr = simulate(m, checked(test::runSpec(method, Integrator::RK4, 1.0, 1e-3, 0.1)));
     REQUIRE_FALSE(tr.failed());
     for (size_t k = 0; k < tr.size(); ++k) {
       const double t = tr.t[k];
@@ -197,7 +197,7 @@ TEST_CASE("a free body in zero gravity keeps its momenta, every method (rk8pd, 1
   // H within 1.7e-13; at tol 1e-13 the uncorrected eigen method's H drifts 1.8e-12).
   const Model m = freeTop();
   for (Method method : inhouseMethods()) {
-    const Trajectory tr = simulate(m, test::runSpec(method, Integrator::RK8PD, 10.0, 1e-14, 0.1));
+    const Trajectory tr = simulate(m, checked(test::runSpec(method, Integrator::RK8PD, 10.0, 1e-14, 0.1)));
     REQUIRE_FALSE(tr.failed());
     const auto [dp, dH] = test::momentumDrift(m, tr);
     INFO(methodName(method) << ": |dp|/|p| " << dp << ", |dH|/|H| " << dH);
@@ -214,7 +214,7 @@ TEST_CASE("a torque-free asymmetric top on a free joint follows Euler's equation
   const Mat3 J = m.bodies[0].J;
   const Mat3 Jinv = J.inverse();
   auto euler = [&](const Vec3& w) -> Vec3 { return Jinv * Vec3(-w.cross(J * w)); };
-  const Trajectory tr = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-13, 0.5));
+  const Trajectory tr = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 10.0, 1e-13, 0.5)));
   REQUIRE_FALSE(tr.failed());
   const Vec4 quat0 = m.bodies[0].joint.q0.tail<4>();
   Vec3 w = quatToMatrix(quat0).transpose() * Vec3(m.bodies[0].joint.u0.tail<3>());
@@ -253,7 +253,7 @@ TEST_CASE("Solo 12 freed by --floating-base in zero gravity: momenta kept, CM on
     m.bodies[&b - m.bodies.data()].joint.q0 = q.segment(b.iq, b.nq());
     m.bodies[&b - m.bodies.data()].joint.u0 = u.segment(b.iu, b.nu());
   }
-  const Trajectory tr = simulate(m, test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-13, 0.05));
+  const Trajectory tr = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-13, 0.05)));
   REQUIRE_FALSE(tr.failed());
   const auto [dp, dH] = test::momentumDrift(m, tr);
   INFO("|dp|/|p| " << dp << ", |dH|/|H| " << dH);

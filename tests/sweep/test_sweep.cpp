@@ -86,8 +86,8 @@ TEST_CASE("a plan expands to its references first, then scene x line x method x 
   CHECK(cases[6].name == "pendulum5.simbody.rkmerson.1e-06");
   CHECK(cases[7].scene_name == "chain02");
   for (const SweepCase& c : cases) {
-    CHECK(c.spec.t_end == 0.5);
-    CHECK(c.spec.output_dt == 0.01);
+    CHECK(c.spec->t_end == 0.5);
+    CHECK(c.spec->output_dt == 0.01);
   }
   CHECK(p.repeats == 3);
 }
