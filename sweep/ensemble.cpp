@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_statistics_double.h>
+
 #include "solver/rotation.hpp"
 
 namespace em {
@@ -69,7 +72,18 @@ std::optional<double> quantile(std::vector<double> x, double p) {
   const double h = p * static_cast<double>(x.size() - 1);
   const size_t lo = static_cast<size_t>(std::floor(h));
   const size_t hi = std::min(lo + 1, x.size() - 1);
-  return x[lo] + (h - static_cast<double>(lo)) * (x[hi] - x[lo]);
+  if (std::isinf(x[lo]) || std::isinf(x[hi])) return h > static_cast<double>(lo) ? x[hi] : x[lo];  // censored: not interpolated
+  return gsl_stats_quantile_from_sorted_data(x.data(), 1, x.size(), p);
+}
+
+std::optional<std::pair<double, double>> medianInterval(std::vector<double> x, double level) {
+  if (x.empty()) return std::nullopt;
+  std::sort(x.begin(), x.end());
+  const unsigned n = static_cast<unsigned>(x.size());
+  // P(x_(l+1) <= median < x_(n-l)) = 1 - 2 P(B <= l), B ~ Binomial(n, 1/2).
+  unsigned l = 0;
+  while (l + 1 <= n / 2 && 1 - 2 * gsl_cdf_binomial_P(l, 0.5, n) >= level) ++l;
+  return std::make_pair(x[std::max(l, 1u) - 1], x[n - std::max(l, 1u)]);
 }
 
 }  // namespace em

@@ -38,7 +38,16 @@ struct Ensemble {
 Model ensembleMember(const Model& m, const Ensemble& e, int k);
 
 /// Quantiles of `x` (sorted inside) by linear interpolation between order
-/// statistics (Hyndman–Fan type 7, numpy's default); nullopt for no values.
+/// statistics (Hyndman–Fan type 7, numpy's default; GSL's
+/// gsl_stats_quantile_from_sorted_data); nullopt for no values. A censored
+/// member is +inf ("later than t_end"): a quantile that reaches one is +inf,
+/// never interpolated (tools/ensemble_summary.py's quantile, the same convention).
 std::optional<double> quantile(std::vector<double> x, double p);
+
+/// The distribution-free interval of the median from the order statistics:
+/// the widest symmetric pair (x_(l), x_(n+1-l)) whose exact Binomial(n, 1/2)
+/// coverage is at least `level` (GSL's gsl_cdf_binomial_P); +inf entries are
+/// censored members, as in quantile. nullopt for no values.
+std::optional<std::pair<double, double>> medianInterval(std::vector<double> x, double level = 0.95);
 
 }  // namespace em

@@ -1,9 +1,11 @@
 // The ensemble's distributions (docs/sweep.md, "ensemble"): for every scene x
 // method x integrator x setting x divergence metric x threshold, how many
-// members crossed, how many failed, and the quartiles of the crossing times
-// of those that did. A member that never crosses has no time: it is counted,
-// never given one. The reference horizon (the check against the reference)
+// members crossed, how many failed, the quartiles of the crossing times and
+// the median's 95 % interval over all members. A member that never crosses is
+// censored: later than t_end (+inf in the order statistics), never given a
+// time, as tools/ensemble_summary.py counts it. The reference horizon (the check against the reference)
 // gets the same rows under the method name "reference-horizon".
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -35,11 +37,13 @@ Distribution distributionOf(const std::vector<const CaseRecord*>& members, const
   for (const CaseRecord* r : members) {
     ++d.members;
     if (r->status != Outcome::Ok) ++d.failed;
-    if (const std::optional<double>& t = (r->*metric.times)[metric.threshold]) times.push_back(*t);
+    const std::optional<double>& t = (r->*metric.times)[metric.threshold];
+    if (t) ++d.diverged;
+    times.push_back(t ? *t : HUGE_VAL);  // never crossed: later than t_end, censored
   }
-  d.diverged = static_cast<int>(times.size());
   d.min = quantile(times, 0), d.q1 = quantile(times, 0.25), d.median = quantile(times, 0.5);
   d.q3 = quantile(times, 0.75), d.max = quantile(times, 1);
+  d.median_ci = medianInterval(times);
   return d;
 }
 
@@ -74,12 +78,14 @@ std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records) {
 
 std::string ensembleCsv(const std::vector<EnsembleRow>& rows) {
   std::ostringstream o;
-  o << "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s\n";
-  auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
+  o << "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s,"
+       "median_lo_s,median_hi_s\n";
+  auto opt = [](const std::optional<double>& x) { return !x ? std::string() : std::isinf(*x) ? std::string("inf") : gnum(*x, 17); };
   for (const EnsembleRow& r : rows)
     o << r.scene << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ',' << gnum(r.setting, 17) << ','
       << r.metric << ',' << gnum(r.threshold) << ',' << r.d.members << ',' << r.d.diverged << ',' << r.d.failed << ','
-      << opt(r.d.median) << ',' << opt(r.d.q1) << ',' << opt(r.d.q3) << ',' << opt(r.d.min) << ',' << opt(r.d.max) << '\n';
+      << opt(r.d.median) << ',' << opt(r.d.q1) << ',' << opt(r.d.q3) << ',' << opt(r.d.min) << ',' << opt(r.d.max) << ','
+      << opt(r.d.median_ci->first) << ',' << opt(r.d.median_ci->second) << '\n';
   return o.str();
 }
 
@@ -87,11 +93,12 @@ std::string ensembleTable(const std::vector<EnsembleRow>& rows) {
   std::ostringstream o;
   o << "## Ensemble: when the members cross each threshold\n\n"
        "Times (s) at which each member's error against its own reference first exceeds the threshold: median "
-       "[quartiles] (min - max) over the members that crossed; `crossed` counts them, `failed` counts runs that "
+       "[quartiles] (min - max) over all members, a member that never crosses counted as later than t_end "
+       "(`> t_end`: censored, never given a time); `crossed` counts those that did, `failed` runs that "
        "stopped (a failure counts as crossing at its time). `reference-horizon` is the reference's own check.\n\n"
        "| scene | method | integrator | setting | metric | threshold | members | crossed | failed | median [q1, q3] | min - max |\n"
        "|---|---|---|---:|---|---:|---:|---:|---:|---|---|\n";
-  auto t = [](const std::optional<double>& x) { return x ? gnum(*x, 3) : std::string("-"); };
+  auto t = [](const std::optional<double>& x) { return !x ? std::string("-") : std::isinf(*x) ? std::string("> t_end") : gnum(*x, 3); };
   for (const EnsembleRow& r : rows)
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | " << r.metric
       << " | " << gnum(r.threshold) << " | " << r.d.members << " | " << r.d.diverged << " | " << r.d.failed << " | "

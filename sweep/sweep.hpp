@@ -90,7 +90,10 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member =
 /// How the members of an ensemble crossed one threshold of one metric.
 struct Distribution {
   int members = 0, diverged = 0, failed = 0;  ///< diverged: crossed (failures count, at their time)
-  std::optional<double> median, q1, q3, min, max;  ///< over the members that crossed
+  /// Over all members, one that never crossed counted as later than t_end
+  /// (+inf: censored everywhere, as tools/ensemble_summary.py counts it).
+  std::optional<double> median, q1, q3, min, max;
+  std::optional<std::pair<double, double>> median_ci;  ///< the median's 95 % interval (medianInterval)
 };
 /// One row of `<plan>-ensemble.csv`: scene x method x integrator x setting x metric (pose, joint) x threshold.
 struct EnsembleRow {

@@ -4,16 +4,31 @@
 
     python3 tools/ensemble_summary.py data/plans/paper-ensemble.json results/paper-ensemble > docs/results/paper-ensemble-claims.md
     python3 tools/ensemble_summary.py --sigma PLAN RESULTS [PLAN RESULTS ...] > docs/results/paper-sigma.md
+    python3 tools/ensemble_summary.py --check-ensemble CASES.csv ENSEMBLE.csv   # this file's statistics = eigenmass's
 
 Reads <plan>.csv (one row per case, with its member) and <plan>-prediction.csv;
 writes Markdown tables: when each method's joint angles leave the reference by
 0.1 rad, over all members (a member that never leaves within t_end counts as
 "later than t_end", never as a time), where the plan's ensemble.claim (the paper's 7.2 s) falls; the
 energy ranking per member; the Lyapunov prediction against measurement.
-Standard library only.
+
+One convention with eigenmass (sweep/ensemble.hpp): a member that never
+crosses is censored everywhere, +inf ("later than t_end") in the order
+statistics; quantiles are type 7 and the median's interval is from the order
+statistics, as `--merge` writes them in <plan>-ensemble.csv (--check-ensemble
+proves the two agree). Libraries (Debian's): Wilson's interval is statsmodels'
+proportion_confint, the binomial law scipy's, the Kaplan-Meier curve
+statsmodels' SurvfuncRight (its quantile is read here as the textbook
+inf{t: S(t) <= 1 - p}; statsmodels' own quantile takes S(t) < 1 - p, which
+differs where the curve rests exactly on 1 - p).
 """
-import csv, json, math, os, sys
+import argparse, csv, json, math, os, sys
 from collections import defaultdict
+
+import numpy as np
+from scipy.stats import binom
+from statsmodels.duration.survfunc import SurvfuncRight
+from statsmodels.stats.proportion import proportion_confint
 
 
 
@@ -35,7 +50,8 @@ def num(x):
 
 
 def quantile(xs, p):
-    """Type 7 (numpy's default) over values that may include +inf."""
+    """Type 7 (numpy's default) over values that may include +inf (censored members:
+    a quantile that reaches one is +inf, never interpolated; eigenmass's quantile)."""
     xs = sorted(xs)
     h = p * (len(xs) - 1)
     lo = int(math.floor(h))
@@ -49,21 +65,19 @@ def median_ci(xs, level=0.95):
     """Distribution-free interval for the median from the order statistics: the widest
     symmetric pair (x_(l), x_(n+1-l)) whose exact binomial coverage is at least `level`."""
     xs, n = sorted(xs), len(xs)
-    cdf = lambda k: sum(math.comb(n, i) for i in range(k + 1)) / 2 ** n  # P(Binomial(n, 1/2) <= k)
+    cdf = lambda k: binom.cdf(k, n, 0.5)  # P(Binomial(n, 1/2) <= k)
     l = 0
     while l + 1 <= n // 2 and 1 - 2 * cdf(l) >= level:  # P(x_(l+1) <= median < x_(n-l)) = 1 - 2 P(B <= l)
         l += 1
     return xs[max(l - 1, 0)], xs[n - max(l, 1)]
 
 
-def wilson(k, n, z=1.959964):
-    """Wilson's 95 % score interval of a proportion k / n."""
+def wilson(k, n):
+    """Wilson's 95 % score interval of a proportion k / n (statsmodels)."""
     if n == 0:
         return math.nan, math.nan
-    p = k / n
-    c = (p + z * z / (2 * n)) / (1 + z * z / n)
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, c - h), min(1.0, c + h)
+    lo, hi = proportion_confint(k, n, alpha=0.05, method="wilson")
+    return max(0.0, float(lo)), min(1.0, float(hi))
 
 
 def per_member(runs, column):
@@ -78,15 +92,11 @@ def km_quantile(obs, p):
     """Kaplan-Meier estimate of the p-quantile of a right-censored sample: `obs` is
     (value, observed) pairs, observed False where only a lower bound is known.
     None when the survival curve never falls to 1 - p (too much is censored)."""
-    obs = sorted(obs)
-    at_risk, surv = len(obs), 1.0
-    for i, (x, seen) in enumerate(obs):
-        if seen:
-            surv *= 1 - 1 / at_risk
-            if surv <= 1 - p + 1e-12:
-                return x
-        at_risk -= 1
-    return None
+    if not any(seen for _, seen in obs):
+        return None
+    curve = SurvfuncRight([x for x, _ in obs], [int(seen) for _, seen in obs])
+    below = np.nonzero(curve.surv_prob <= 1 - p + 1e-12)[0]  # the textbook inf{t: S(t) <= 1 - p}
+    return float(curve.surv_times[below[0]]) if len(below) else None
 
 
 def fmt(t, t_end):
@@ -136,10 +146,63 @@ def sigma_table(pairs):
         print(line.replace("e-0", "e-"))
 
 
+THRESHOLD_KEYS = {0.001: "1e-3", 0.1: "1e-1"}  # the merged CSV's column names (sweep/sweep_report.cpp, beyondKey)
+CHECK_REL = 1e-12  # two type-7 interpolations, a + d (b - a) here and GSL's (1 - d) a + d b: last bits apart
+
+
+def check_ensemble(cases_path, ensemble_path):
+    """Recompute every row of eigenmass's <plan>-ensemble.csv (median, quartiles, min, max and the
+    median's interval) from the per-case <plan>.csv with this file's statistics; exit 1 naming any
+    that differ. Proves both apply one convention."""
+    cases = [r for r in rows(cases_path) if r["role"] != "reference"]
+    groups = defaultdict(list)
+    for r in cases:
+        groups[(r["scene"], "reference-horizon" if r["role"] == "check" else r["method"], r["integrator"],
+                float(r["setting"]))].append(r)
+    checked, bad = 0, []
+    same = lambda a, b: a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= CHECK_REL * max(abs(a), abs(b)))
+    ensemble = rows(ensemble_path)
+    missing = [k for k in ("median_s", "median_lo_s", "median_hi_s") if ensemble and k not in ensemble[0]]
+    if missing:
+        sys.exit("%s: no column %s: not an ensemble file of this eigenmass (--merge writes it)" % (ensemble_path, missing[0]))
+    for e in ensemble:
+        members = groups[(e["scene"], e["method"], e["integrator"], float(e["setting"]))]
+        column = "%s_beyond_%s_s" % ("pose" if e["metric"] == "pose" else "coord", THRESHOLD_KEYS[float(e["threshold"])])
+        t = [num(r[column]) for r in members]  # "" (never crossed): +inf, censored
+        if len(t) != int(e["members"]):
+            bad.append("%s: %d members in %s, %s in %s" % (column, len(t), cases_path, e["members"], ensemble_path))
+            continue
+        lo, hi = median_ci(t)
+        mine = {"median_s": quantile(t, .5), "q1_s": quantile(t, .25), "q3_s": quantile(t, .75), "min_s": min(t),
+                "max_s": max(t), "median_lo_s": lo, "median_hi_s": hi}
+        for k, v in mine.items():
+            checked += 1
+            if not same(v, float(e[k])):
+                bad.append("%s %s %s %s %s %s: %s %r here, %r in %s" % (e["scene"], e["method"], e["setting"], e["metric"],
+                                                                       e["threshold"], column, k, v, float(e[k]), ensemble_path))
+    for b in bad:
+        print(b, file=sys.stderr)
+    print("%d statistics of %s recomputed from %s: %d differ" % (checked, ensemble_path, cases_path, len(bad)))
+    return 1 if bad or not checked else 0
+
+
 def main():
-    if sys.argv[1:2] == ["--sigma"]:
-        return sigma_table(sys.argv[2:])
-    plan_path, results = sys.argv[1], sys.argv[2]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sigma", nargs="+", metavar="PLAN RESULTS", help="pairs of a sigma plan and its results folder")
+    ap.add_argument("--check-ensemble", nargs=2, metavar=("CASES_CSV", "ENSEMBLE_CSV"),
+                    help="recompute eigenmass's <plan>-ensemble.csv from <plan>.csv; exit 1 where they differ")
+    ap.add_argument("plan", nargs="?", help="the ensemble plan (JSON)")
+    ap.add_argument("results", nargs="?", help="its merged results folder")
+    a = ap.parse_args()
+    if a.check_ensemble:
+        return check_ensemble(*a.check_ensemble)
+    if a.sigma:
+        if len(a.sigma) % 2:
+            ap.error("--sigma: PLAN RESULTS pairs, got %d values" % len(a.sigma))
+        return sigma_table(a.sigma)
+    if not (a.plan and a.results):
+        ap.error("PLAN and RESULTS are required (or --sigma, or --check-ensemble)")
+    plan_path, results = a.plan, a.results
     with open(plan_path) as f:
         plan = json.load(f)
     name, t_end = plan["name"], plan["t_end"]
@@ -264,4 +327,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -69,6 +69,46 @@ TEST_CASE("quantiles interpolate between order statistics as numpy does", "[swee
   CHECK_FALSE(quantile({}, 0.5));
 }
 
+TEST_CASE("a member that never crosses is censored: later than t_end in every statistic, here and in Python", "[sweep][ensemble]") {
+  const double inf = HUGE_VAL;
+  // Sorted 1, 2, 3, inf, inf: the median is the third member's 3 s (over the crossers alone it would be 2 s).
+  CHECK(*quantile({3, inf, 1, inf, 2}, 0.5) == 3);
+  CHECK(*quantile({3, inf, 1, inf, 2}, 0.25) == 2);
+  CHECK(*quantile({3, inf, 1, inf, 2}, 0.75) == inf);  // h = 3: the fourth member, censored, not interpolated
+  CHECK(*quantile({1, 2, 3, inf}, 0.5) == 2.5);        // between two crossers: interpolated
+  CHECK(*quantile({1, 2, inf, inf}, 0.5) == inf);      // between a crosser and a censored member: censored
+  // The median's 95 % interval from the order statistics: n = 10 gives (x_(2), x_(9)), exact coverage
+  // 1 - 2 P(B(10, 1/2) <= 1) = 0.9785 (x_(3), x_(8) would cover 0.891 < 0.95).
+  const auto ci = medianInterval({10, 9, 8, 7, 6, 5, 4, 3, 2, 1});
+  REQUIRE(ci);
+  CHECK(ci->first == 2);
+  CHECK(ci->second == 9);
+  // The same records through eigenmass's CSVs and tools/ensemble_summary.py: 12 members, 7 that cross at
+  // scattered times, 5 that never do (the median is a crosser's; q3 and the interval's top are censored).
+  std::vector<CaseRecord> records;
+  const double times[] = {4.1, 0.7, 9.3, 2.2, 5.5, 3.3, 6.8};
+  for (int k = 0; k < 12; ++k) {
+    CaseRecord r;
+    r.name = "s.m" + std::to_string(k) + ".classical.rk4.0.01";
+    r.role = "run", r.scene = "s", r.method = "classical", r.integrator = "rk4", r.member = k, r.setting = 0.01, r.nu = 1;
+    r.has_error = true, r.max_coord = 0.5;
+    if (k < 7) r.pose_beyond = {times[k], times[k] + 0.5}, r.coord_beyond = {times[k] * 0.9, std::nullopt};
+    records.push_back(r);
+  }
+  const std::vector<EnsembleRow> rows = ensembleRows(records);
+  REQUIRE(rows.size() == 4);
+  CHECK(rows[0].d.diverged == 7);
+  // Sorted: 0.7 2.2 3.3 4.1 5.5 6.8 9.3, then 5 x inf; h = 0.5 x 11 = 5.5: halfway from 6.8 to 9.3.
+  CHECK(*rows[0].d.median == Approx(8.05).epsilon(1e-15));
+  CHECK(*rows[0].d.q3 == HUGE_VAL);
+  const std::string dir = "ensemble-censored";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/cases.csv") << mergedCsv(records, true);
+  std::ofstream(dir + "/ensemble.csv") << ensembleCsv(rows);
+  CHECK(shell("/usr/bin/python3 " + test::sourcePath("tools/ensemble_summary.py") + " --check-ensemble " + dir + "/cases.csv " +
+              dir + "/ensemble.csv >/dev/null") == 0);
+}
+
 TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row per method x setting x metric x threshold",
           "[sweep][ensemble]") {
   json plan = {{"format", "eigenmass-plan/1"},
@@ -100,7 +140,13 @@ TEST_CASE("an ensemble plan through --list and GNU parallel merges into one row 
   REQUIRE(shell(exe + " sweep " + path + " --merge " + dir + " >/dev/null") == 0);
   const std::vector<std::string> rows = lines(dir + "/ens-ensemble.csv");
   REQUIRE(!rows.empty());
-  CHECK(rows[0] == "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s");
+  CHECK(rows[0] ==
+        "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s,"
+        "median_lo_s,median_hi_s");
+  // One convention: tools/ensemble_summary.py recomputes every median, quartile and the median's interval from the
+  // per-case CSV (a member that never crossed: later than t_end, +inf) and finds eigenmass's, to round-off.
+  CHECK(shell("/usr/bin/python3 " + test::sourcePath("tools/ensemble_summary.py") + " --check-ensemble " + dir + "/ens.csv " +
+              dir + "/ens-ensemble.csv >/dev/null") == 0);
   // 2 methods x 2 steps and the reference horizon, x 2 metrics x 2 thresholds.
   CHECK(rows.size() == 1 + (2 * 2 + 1) * 2 * 2);
   for (size_t i = 1; i < rows.size(); ++i) CHECK(rows[i].find(",4,") != std::string::npos);  // members = count
