@@ -1,6 +1,7 @@
 #include "outside/isolate.hpp"
 
 #include <poll.h>
+#include <sys/prctl.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
@@ -38,7 +39,10 @@ void writeAll(int fd, const std::string& s) {
 }
 
 // The child: run the work, send "ok\n" + its text or "error\n" + the message.
-[[noreturn]] void child(const std::function<std::string()>& work, int fd, Beat* beat) {
+// It dies with its parent (SIGKILL when the parent exits by any path: a
+// signal's handler, a crash, SIGKILL), so it never outlives it; init reaps it.
+[[noreturn]] void child(const std::function<std::string()>& work, int fd, Beat* beat, pid_t parent) {
+  if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(5);  // the parent already gone: before prctl took
   // The parent's handlers are the parent's: its cleanup, and a sanitizer's
   // report, which would turn a plugin's crash into an exit status.
   for (int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
@@ -104,11 +108,12 @@ Isolated runIsolated(const std::function<std::string()>& work, double timeout_s)
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error(std::string("isolation: pipe: ") + std::strerror(errno));
   std::fflush(nullptr);  // nothing buffered is written twice
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("isolation: fork: ") + std::strerror(errno));
   if (pid == 0) {
     close(fds[0]);
-    child(work, fds[1], beat);
+    child(work, fds[1], beat, parent);
   }
   close(fds[1]);
   Isolated r;

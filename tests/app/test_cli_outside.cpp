@@ -144,3 +144,21 @@ TEST_CASE("hostile recorded runs through the CLI: one line, exit 2", "[cli][outs
   const Run r = eigenmass("compare " + s + " --methods classical --run mine=" + d + "/mine.csv --out " + d + "/mine.csv", true);
   CHECK(r.status == 2);
 }
+
+// Issue 53, bug 3: SIGINT or SIGTERM to the parent left a hung plugin's child spinning under PID 1.
+TEST_CASE("a plugin's child does not outlive eigenmass when it is interrupted", "[cli][outside]") {
+  const std::string d = folder("orphan");
+  for (const char* sig : {"TERM", "INT"}) {
+    // The child probes a plugin that never returns (a timeout of 60 s: only the signal ends it); find it, signal the
+    // parent, then the child must be gone within 2 s (it is killed with its parent, and reaped by init).
+    const std::string script =
+        std::string(EM_BINARY_DIR) + "/bin/eigenmass compare " + scene("pendulum5.json") +
+        " --methods classical --plugin-timeout 60 --plugin h=" + lib("hostile_hang") + " --out " + d + "/r.json --no-progress "
+        ">/dev/null 2>&1 & P=$!; C=; for i in $(seq 100); do C=$(pgrep -P $P); [ -n \"$C\" ] && break; sleep 0.05; done; "
+        "[ -n \"$C\" ] || { kill -9 $P; exit 3; }; kill -" + sig + " $P; wait $P; "
+        "for i in $(seq 40); do kill -0 $C 2>/dev/null || exit 0; sleep 0.05; done; kill -9 $C; exit 4";
+    const int st = std::system(("bash -c '" + script + "'").c_str());
+    INFO("SIG" << sig << ": 3 = no child seen, 4 = the child outlived its parent");
+    CHECK(WEXITSTATUS(st) == 0);
+  }
+}
