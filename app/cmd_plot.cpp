@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <regex>
 #include <cstdlib>
 #include <filesystem>
@@ -47,13 +49,14 @@ std::string python() {
 int runProgram(const std::vector<std::string>& argv, bool quiet) {
   std::cout.flush();
   std::fflush(stdout);
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) return -1;
   if (pid == 0) {
     // The child ends with its parent (SIGTERM; plot.py then removes its scratch
     // folder): an interrupted plot leaves no orphan drawing into /tmp.
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (::getppid() == 1) _exit(143);  // the parent died before prctl
+    if (::getppid() != parent) _exit(143);  // the parent died before prctl
     std::FILE* null = std::fopen("/dev/null", "w");
     if (null) {
       dup2(fileno(null), 1);
@@ -65,8 +68,11 @@ int runProgram(const std::vector<std::string>& argv, bool quiet) {
     execv(args[0], args.data());
     _exit(127);
   }
+  awaitOnInterrupt(pid);  // an interrupt ends it and waits for it before the scratch folder goes
   int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return -1;
+  const pid_t waited = waitpid(pid, &status, 0);
+  awaitOnInterrupt(0);
+  if (waited < 0) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
@@ -166,15 +172,23 @@ void checkPython() {
                              "(apt-get install python3-matplotlib)");
 }
 
-// A private folder under /tmp for the script's figures, removed however the command ends.
+// A private folder in $TMPDIR (else /tmp) for the script's figures, removed
+// however the command ends: on return or a throw here, on SIGINT or SIGTERM
+// by the interrupt handler (removeOnInterrupt).
 struct ScratchFolder {
   fs::path path;
   ScratchFolder() {
-    char tmpl[] = "/tmp/eigenmass-plot-XXXXXX";
-    if (!mkdtemp(tmpl)) throw std::runtime_error("plot: cannot make a temporary folder in /tmp");
+    const char* env = std::getenv("TMPDIR");
+    const std::string base = env && *env ? env : "/tmp";
+    std::string tmpl = (fs::path(base) / "eigenmass-plot-XXXXXX").string();
+    if (!mkdtemp(tmpl.data()))
+      throw std::runtime_error("plot: cannot make a temporary folder in " + base + (env && *env ? " (TMPDIR)" : "") + ": " +
+                               std::strerror(errno));
     path = tmpl;
+    removeOnInterrupt(path.string());
   }
   ~ScratchFolder() {
+    removeOnInterrupt("");
     std::error_code ec;
     fs::remove_all(path, ec);
   }

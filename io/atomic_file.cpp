@@ -1,8 +1,10 @@
 #include "io/atomic_file.hpp"
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -19,9 +21,20 @@ namespace {
 // fixed buffer, a flag, unlink, signal, raise).
 char g_tmp[4096];
 volatile std::sig_atomic_t g_tmp_active = 0;
+// A scratch folder and the child drawing into it (plot): the child is ended
+// and waited for, then the folder, by then empty, removed (rmdir).
+char g_folder[4096];
+volatile std::sig_atomic_t g_folder_active = 0;
+volatile pid_t g_child = 0;
 
 extern "C" void removeTemporaryAndDie(int sig) {
   if (g_tmp_active) ::unlink(g_tmp);
+  if (const pid_t child = g_child; child > 0) {
+    ::kill(child, SIGTERM);  // plot.py removes what it drew on SIGTERM; before its handler, SIGTERM ends it
+    while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+    }
+  }
+  if (g_folder_active) ::rmdir(g_folder);
   // One line, as every ending of the tool (write(2) is async-signal-safe).
   static const char kInt[] = "eigenmass: interrupted (SIGINT); no output was left half-written\n";
   static const char kTerm[] = "eigenmass: terminated (SIGTERM); no output was left half-written\n";
@@ -42,6 +55,16 @@ struct TemporaryGuard {
 };
 
 }  // namespace
+
+void removeOnInterrupt(const std::string& folder) {
+  g_folder_active = 0;
+  if (folder.empty()) return;
+  if (folder.size() >= sizeof g_folder) throw std::runtime_error(folder + ": path too long");
+  std::memcpy(g_folder, folder.c_str(), folder.size() + 1);
+  g_folder_active = 1;
+}
+
+void awaitOnInterrupt(pid_t child) { g_child = child; }
 
 void installInterruptCleanup() {
   std::signal(SIGINT, removeTemporaryAndDie);

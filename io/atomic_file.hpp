@@ -7,6 +7,8 @@
 /// is followed, its target written atomically and the link kept (a link to a
 /// missing file is refused). docs/report-format.md says so.
 #include <functional>
+#include <sys/types.h>
+
 #include <ostream>
 #include <string>
 
@@ -19,6 +21,11 @@ void writeAtomic(const std::string& path, const std::string& what, const std::fu
 /// On SIGINT or SIGTERM, remove the temporary being written (if any), then die
 /// of the signal as before (exit status 130 or 143 in a shell). Programs call it once.
 void installInterruptCleanup();
+/// The empty-at-the-end scratch folder to remove on such a signal ("": none).
+void removeOnInterrupt(const std::string& folder);
+/// A child to end (SIGTERM) and wait for on such a signal, before the folder
+/// is removed (0: none).
+void awaitOnInterrupt(pid_t child);
 
 /// A program's exit code once what it printed must have reached standard
 /// output: `code`, or 2 (with one line on standard error, `program` naming
