@@ -151,12 +151,13 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   prepareOutput("--out", out, inputs);
   const CompareOptions options = resolve(a, cmd, scene.model, a.outside.load(scene));
   if (!a.csv_dir.empty()) {
-    prepareFolder("--csv-dir", a.csv_dir);
     const std::vector<std::string> csvs = csvFiles(a.csv_dir, options.methods);
-    refuseInputs("--csv-dir", a.csv_dir, csvs, inputs);
-    std::vector<std::pair<std::string, std::string>> outputs = {{"--out", out}};
+    // The folder itself is an output too: --out X --csv-dir X would run everything, then fail to write the report.
+    std::vector<std::pair<std::string, std::string>> outputs = {{"--out", out}, {"--csv-dir", a.csv_dir}};
     for (const std::string& f : csvs) outputs.emplace_back("--csv-dir", f);
     refuseCollisions(outputs);
+    prepareFolder("--csv-dir", a.csv_dir);
+    refuseInputs("--csv-dir", a.csv_dir, csvs, inputs);
   }
   const ComparisonResult r = runComparison(scene, options, progress);
   nlohmann::json gate = nullptr;

@@ -403,6 +403,9 @@ TEST_CASE("one output never overwrites another of the same command", "[cli][host
        "--out and --csv-dir would both write " + d + "/cd2/classical.csv"},
       {"compare " + s + " --t-end 0.1 --methods classical --csv-dir " + d + "/cd3 --out " + d + "/cd3/reference.csv.json",
        "would both write " + d + "/cd3/reference.csv.json"},
+      // Issue 53, bug 6: the same path as the report and the CSV folder ran everything, left the CSVs, then exited 2.
+      {"compare " + s + " --t-end 0.1 --methods classical --csv-dir " + d + "/same --out " + d + "/same",
+       "--out and --csv-dir would both write " + d + "/same"},
       {"extreme " + thin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex3 --doc " + d + "/ex3/extreme.json",
        "--out-dir and --doc would both write " + d + "/ex3/extreme.json"},
       {"extreme " + thin + " --t-end 0.01 --runs rk4:1e-3 --out-dir " + d + "/ex4 --doc " + d + "/ex4/thin_rods.rk4-0.001.report.json",
@@ -427,6 +430,7 @@ TEST_CASE("one output never overwrites another of the same command", "[cli][host
     CHECK(r.out.find("running") == std::string::npos);  // before any run
   }
   CHECK(em::readFile(d + "/sw/chain01.classical.rk4.0.01.json", "plan") == plan_text);
+  CHECK_FALSE(fs::exists(d + "/same"));  // refused before the CSV folder was made
   fs::remove_all(dir);
 }
 
