@@ -4,6 +4,8 @@
 #include "outside/recorded.hpp"
 #include "outside/isolate.hpp"
 
+#include <sys/stat.h>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -113,7 +115,17 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"rhs_evals", tr.rhs_evals},
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
+  if (!regularOutput(path)) {  // a device, a FIFO (/dev/stdout, /dev/null): no sidecar beside it, the metadata on stderr
+    std::fprintf(stderr, "eigenmass: %s is not a regular file, so no %s.json beside it; its metadata: %s\n", path.c_str(),
+                 path.c_str(), meta.dump().c_str());
+    return;
+  }
   writeAtomic(path + ".json", "trajectory metadata", [&](std::ostream& out) { out << meta.dump(2) << "\n"; });
+}
+
+bool regularOutput(const std::string& path) {
+  struct stat st;
+  return ::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode);  // a new file will be a regular one
 }
 
 void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option) {

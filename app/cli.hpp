@@ -69,6 +69,9 @@ void progress(const std::string& what);
 /// Write a trajectory as CSV and, beside it, `<path>.json`: the run that made
 /// it (RunSpec), its status and failure, and the provenance.
 void writeTrajectory(const Trajectory& tr, const std::string& path);
+/// Whether `path` (followed through links) is, or will be, a regular file:
+/// no sidecar is written beside a device or a FIFO (--out /dev/stdout).
+bool regularOutput(const std::string& path);
 
 /// The scene a subcommand reads: its path and, for a URDF, the import options.
 struct SceneArg {

@@ -30,7 +30,8 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
               drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));
   if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
-  std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
+  if (regularOutput(path)) std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
+  else std::printf("\ntrajectory: %s (run, status and provenance: on standard error)\n", path.c_str());
 }
 
 // The run's settings checked once, a refusal told as the option the user typed.

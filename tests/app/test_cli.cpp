@@ -993,3 +993,25 @@ TEST_CASE("compare notes where MuJoCo cannot agree closely: a scene with product
   std::ifstream in5(dir + "/p5.json");
   CHECK(nlohmann::json::parse(in5)["engine_notes"].empty());
 }
+
+TEST_CASE("no sidecar is written beside a device: its metadata go to standard error", "[cli][hostile]") {
+  // Issue 53, bug 5: `simulate --out ./null`, null a character device, created null.json (and --out /dev/stdout
+  // created /dev/stdout.json). The device is one of our own making in a private folder, never /dev's.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_sidecar_device";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string dev = (dir / "null").string();
+  REQUIRE(std::system(("mknod " + dev + " c 1 3").c_str()) == 0);
+  const Run r = eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + dev, true);
+  CHECK(r.status == 0);
+  CHECK_FALSE(fs::exists(dev + ".json"));
+  CHECK_THAT(r.out, Catch::Contains(dev + " is not a regular file, so no " + dev + ".json beside it; its metadata: {") &&
+                        Catch::Contains("\"format\":\"eigenmass-trajectory-meta/1\"") &&
+                        Catch::Contains("provenance: on standard error"));
+  CHECK(fs::is_character_file(dev));  // still the device
+  // A regular file still gets its sidecar.
+  REQUIRE(eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + (dir / "t.csv").string()).status == 0);
+  CHECK(fs::exists(dir / "t.csv.json"));
+  fs::remove_all(dir);
+}
