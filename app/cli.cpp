@@ -4,8 +4,6 @@
 #include "outside/recorded.hpp"
 #include "outside/isolate.hpp"
 
-#include <sys/stat.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -123,10 +121,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
   writeAtomic(path + ".json", "trajectory metadata", [&](std::ostream& out) { out << meta.dump(2) << "\n"; });
 }
 
-bool regularOutput(const std::string& path) {
-  struct stat st;
-  return ::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode);  // a new file will be a regular one
-}
+bool regularOutput(const std::string& path) { return !writesThrough(path); }
 
 void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::string& dt_option, const std::string& tol_option) {
   const bool fixed = info(integrator).fixed_step;

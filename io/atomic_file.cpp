@@ -108,6 +108,8 @@ void writeThrough(const std::string& path, const std::string& what, const std::f
 
 }  // namespace
 
+bool writesThrough(const std::string& path) { return resolveTarget(path).through; }
+
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write) {
   const Target target = resolveTarget(path);
   if (target.through) return writeThrough(target.path, what, write);

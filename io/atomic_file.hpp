@@ -18,6 +18,11 @@ namespace em {
 /// `path` ("path: cannot write the <what>") and leaves no temporary.
 void writeAtomic(const std::string& path, const std::string& what, const std::function<void(std::ostream&)>& write);
 
+/// Whether writeAtomic writes `path` straight through (a device, a FIFO or a
+/// socket, or a link to one: /dev/stdout) rather than replacing a regular
+/// file. Throws as writeAtomic does for a folder or a dangling link.
+bool writesThrough(const std::string& path);
+
 /// On SIGINT or SIGTERM, remove the temporary being written (if any), then die
 /// of the signal as before (exit status 130 or 143 in a shell). Programs call it once.
 void installInterruptCleanup();
