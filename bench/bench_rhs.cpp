@@ -1,5 +1,6 @@
-// Timing of one right-hand-side evaluation per method against Simbody's
-// realize(Acceleration) and MuJoCo's mj_forward, for chains of n links,
+// Timing of one right-hand-side evaluation per method against every engine's
+// forward dynamics that its row names (EngineCode::forward_call: Simbody's
+// realize(Acceleration), MuJoCo's mj_forward), for chains of n links,
 // measured in the same run; and the machine's matrix-multiply rate, against
 // which the eigen method's N^3 part is judged. Each time is the median (with
 // min and max) over batches; compare them only as ratios within one run.
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,12 +26,10 @@
 #include "io/atomic_file.hpp"
 #include "io/scene.hpp"
 #include "io/shipped.hpp"
-#include "engines/simbody.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor_ops.hpp"
 #include "compare/crosscheck.hpp"
 #include "engines/engine.hpp"
-#include "engines/mujoco_system.hpp"
 #include "outside/plugin.hpp"
 
 using namespace em;
@@ -78,12 +78,19 @@ Model chain(int n) {
   throw std::runtime_error(std::string(name) + ": no such chain in data/scenes or data/bench (tools/make_scenes.py)");
 }
 
-// One chain's timings (seconds per call) and the MuJoCo agreement check.
+// One engine's forward dynamics, timed, and its A and B against the in-house
+// ones at the initial state (max |diff| / max |in-house|).
+struct EngineTiming {
+  std::string name;  ///< its row's id: the JSON key
+  Timing t;
+  double A_err = 0, B_err = 0;
+};
+
+// One chain's timings (seconds per call) and the engines' agreement check.
 struct Row {
   int n = 0, N = 0;
-  Timing classical, articulated, eigen, eigen_refined, eigen_n3, jacobi, simbody, mujoco, gemm;  // eigen_refined: eigen with refine 2
-  bool has_mujoco = false;
-  double mujoco_A_err = 0, mujoco_B_err = 0;  ///< max |diff| / max |in-house| at the initial state
+  Timing classical, articulated, eigen, eigen_refined, eigen_n3, jacobi, gemm;  // eigen_refined: eigen with refine 2
+  std::vector<EngineTiming> engines;  ///< in engineRows() order, those with a forward_call
   double articulated_err = 0;  ///< articulated's u' vs classical's, max |diff| / max |classical|
   double cond_A = 0;           ///< cond(A) at the initial state
   /// Every engine's u' as a method under the in-house integrators (dart-udot),
@@ -116,7 +123,7 @@ int main(int argc, char** argv) {
   useEngines();
   std::vector<int> sizes = {5, 10, 20, 50, 100};
   std::string out;
-  CLI::App app{"Times one right-hand-side evaluation per method against Simbody's realize(Acceleration) and MuJoCo's mj_forward",
+  CLI::App app{"Times one right-hand-side evaluation per method against the engines' forward dynamics (Simbody's realize(Acceleration), MuJoCo's mj_forward)",
                "eigenmass_bench"};
   app.add_option("sizes", sizes, "Chain lengths n (data/scenes/chainNN.json or data/bench/)")
       ->check(CLI::Range(1, 999))
@@ -162,11 +169,12 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     for (int n : sizes) {
       rows.push_back(measure(n));
-      if (rows.back().has_mujoco && std::max(rows.back().mujoco_A_err, rows.back().mujoco_B_err) > 1e-12) {
-        std::fprintf(stderr, "eigenmass_bench: MuJoCo's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)\n",
-                     n, rows.back().mujoco_A_err, rows.back().mujoco_B_err);
-        return 1;
-      }
+      for (const EngineTiming& e : rows.back().engines)
+        if (std::max(e.A_err, e.B_err) > 1e-12) {  // the same equations: round-off only (chains have no full inertias)
+          std::fprintf(stderr, "eigenmass_bench: %s's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)\n",
+                       e.name.c_str(), n, e.A_err, e.B_err);
+          return 1;
+        }
       for (size_t k = 0; k + g_plugins.size() < rows.back().engine_udot.size(); ++k)  // a plugin's own accuracy is its business: printed
         if (rows.back().engine_udot_err[k] > 1e-12 * rows.back().cond_A) {  // another formulation: ~eps cond(A) too
           std::fprintf(stderr, "eigenmass_bench: %s's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n",
@@ -190,14 +198,24 @@ int main(int argc, char** argv) {
 
 namespace {
 
-void measureMujoco(const Model& m, const Workspace& ws, Row& r) {
-  MujocoSystem mj(m);
-  mj.setState(m.q0(), m.u0());
-  mj.forward();
-  r.has_mujoco = true;
-  r.mujoco_A_err = relativeDifference(mj.massMatrix(), ws.A);
-  r.mujoco_B_err = relativeDifference(mj.rhs(), ws.B);
-  r.mujoco = secondsPerCall([&] { mj.forward(); });
+// Every engine whose row names its forward dynamics: timed at the initial state.
+std::vector<EngineTiming> measureEngines(const Model& m, const Workspace& ws) {
+  std::vector<EngineTiming> out;
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  for (const EngineRow& row : engineRows()) {
+    if (!row.code.forward_call || !row.code.model) continue;
+    std::unique_ptr<EngineModel> engine = row.code.model(m);
+    const EngineEquations eq = engine->at(q, u);
+    out.push_back({row.info.name, secondsPerCall([&] { engine->forward(q, u); }), relativeDifference(eq.A, ws.A),
+                   relativeDifference(eq.B, ws.B)});
+  }
+  return out;
+}
+
+const char* forwardCall(const std::string& engine) {
+  for (const EngineRow& row : engineRows())
+    if (row.info.name == engine) return row.code.forward_call;
+  return "";
 }
 
 // The eigen method's N^3 part alone (eigenRates: A'C^T, G = C A'C^T, C' = -Omega C).
@@ -238,12 +256,8 @@ Row measure(int n) {
   // The correction after a step: forming A and the Jacobi sweeps from an exact basis.
   StepInfo step;
   r.jacobi = secondsPerCall([&] { yj = ye; jacobi.afterStep(0, yj.data(), step); });
-  SimbodySystem ref(m);
-  const Eigen::VectorXd q = m.q0(), u = m.u0();
-  // setState invalidates the Position stage, so each call realizes from scratch.
-  r.simbody = secondsPerCall([&] { ref.setState(q, u); ref.udot(); });
   classical.rhs(0, yc.data(), dc.data());
-  measureMujoco(m, classical.workspace(), r);
+  r.engines = measureEngines(m, classical.workspace());
   std::vector<Method> others;  // engines' u' under the in-house integrators, then the plugins'
   for (const EngineRow& row : engineRows())
     if (row.code.udot_method.name) others.push_back(parseMethod(row.code.udot_method.name));
@@ -266,23 +280,26 @@ double eigenN3Flops(int N) { return 5.0 * N * N * N; }
 double gemmFlops(int N) { return 2.0 * N * N * N; }
 
 void printTable(const std::vector<Row>& rows) {
-  std::printf("Median of 7 batches, microseconds per call. mj = MuJoCo mj_forward; SB = Simbody realize(Acceleration);\n"
-              "N3 / GEMM = the eigen N^3 part's flop rate over the machine's N x N matrix multiply.\n\n");
-  std::printf("| n | N | classical | articulated | articulated / classical | eigen | eigen refine 2 | eigen N^3 part | jacobi step | Simbody | MuJoCo | classical / mj | classical / SB"
-              " | refine 2 / eigen | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("Median of 7 batches, microseconds per call.");
+  if (!rows.empty())
+    for (const EngineTiming& e : rows.front().engines) std::printf(" %s = %s;", e.name.c_str(), forwardCall(e.name));
+  std::printf("\nN3 / GEMM = the eigen N^3 part's flop rate over the machine's N x N matrix multiply.\n\n");
+  std::printf("| n | N | classical | articulated | articulated / classical | eigen | eigen refine 2 | eigen N^3 part | jacobi step |");
+  if (!rows.empty())
+    for (const EngineTiming& e : rows.front().engines) std::printf(" %s | classical / %s |", e.name.c_str(), e.name.c_str());
+  std::printf(" refine 2 / eigen | jacobi / eigen | N3 / GEMM | GEMM GFLOP/s |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+  if (!rows.empty())
+    for (size_t k = 0; k < rows.front().engines.size(); ++k) std::printf("---:|---:|");
+  std::printf("---:|---:|---:|---:|\n");
   for (const Row& r : rows) {
     const double us = 1e6;
     const double rate_n3 = eigenN3Flops(r.N) / r.eigen_n3.median, rate_gemm = gemmFlops(r.N) / r.gemm.median;
-    char mj[32] = "-", ratio_mj[32] = "-";
-    if (r.has_mujoco) {
-      std::snprintf(mj, sizeof mj, "%.2f", us * r.mujoco.median);
-      std::snprintf(ratio_mj, sizeof ratio_mj, "%.2f", r.classical.median / r.mujoco.median);
-    }
-    std::printf("| %d | %d | %.2f | %.2f | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f | %s | %s | %.2f | %.2f | %.2f | %.2f | %.1f |\n", r.n, r.N,
-                us * r.classical.median, us * r.articulated.median, r.articulated.median / r.classical.median, us * r.eigen.median, us * r.eigen_refined.median, us * r.eigen_n3.median,
-                us * r.jacobi.median, us * r.simbody.median, mj, ratio_mj, r.classical.median / r.simbody.median,
-                r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median, rate_n3 / rate_gemm, 1e-9 * rate_gemm);
+    std::printf("| %d | %d | %.2f | %.2f | %.3f | %.2f | %.2f | %.2f | %.2f |", r.n, r.N, us * r.classical.median,
+                us * r.articulated.median, r.articulated.median / r.classical.median, us * r.eigen.median,
+                us * r.eigen_refined.median, us * r.eigen_n3.median, us * r.jacobi.median);
+    for (const EngineTiming& e : r.engines) std::printf(" %.2f | %.2f |", us * e.t.median, r.classical.median / e.t.median);
+    std::printf(" %.2f | %.2f | %.2f | %.1f |\n", r.eigen_refined.median / r.eigen.median, r.jacobi.median / r.eigen.median,
+                rate_n3 / rate_gemm, 1e-9 * rate_gemm);
   }
   if (!rows.empty() && !rows.front().engine_udot.empty()) {
     std::printf("\nEngines' (and plugins') u' under the in-house integrators, microseconds per evaluation (their u' against classical's):\n\n| n |");
@@ -299,15 +316,15 @@ void printTable(const std::vector<Row>& rows) {
     }
   }
   for (const Row& r : rows)
-    if (r.has_mujoco)
-      std::printf("%schain %d: MuJoCo vs in-house at the initial state, A %.1e, B %.1e (max |diff| / max |in-house|)",
-                  &r == &rows.front() ? "\n" : "; ", r.n, r.mujoco_A_err, r.mujoco_B_err);
+    for (const EngineTiming& e : r.engines)
+      std::printf("%schain %d: %s vs in-house at the initial state, A %.1e, B %.1e (max |diff| / max |in-house|)",
+                  &r == &rows.front() && &e == &r.engines.front() ? "\n" : "; ", r.n, e.name.c_str(), e.A_err, e.B_err);
   std::printf("\n");
 }
 
 nlohmann::json timingJson(const char* name, int n, const Timing& t, int threads) {
   nlohmann::json j = {{"name", name}, {"n", n}, {"median_us", 1e6 * t.median}, {"min_us", 1e6 * t.min}, {"max_us", 1e6 * t.max}};
-  if (threads != 1) j["threads"] = threads;  // Eigen's products only; Simbody and MuJoCo stay serial
+  if (threads != 1) j["threads"] = threads;  // Eigen's products only; the engines stay serial
   return j;
 }
 
@@ -319,8 +336,7 @@ nlohmann::json toJson(const std::vector<Row>& rows, int threads) {
                            {"eigen-refine2", &r.eigen_refined},
                            {"eigen-n3", &r.eigen_n3}, {"jacobi-step", &r.jacobi}, {"gemm", &r.gemm}})
       results.push_back(timingJson(name, r.n, *t, threads));
-    results.push_back(timingJson("simbody", r.n, r.simbody, 1));
-    if (r.has_mujoco) results.push_back(timingJson("mujoco", r.n, r.mujoco, 1));
+    for (const EngineTiming& e : r.engines) results.push_back(timingJson(e.name.c_str(), r.n, e.t, 1));
     for (const auto& [name, t] : r.engine_udot) results.push_back(timingJson(name.c_str(), r.n, t, 1));
   }
   return {{"machine", provenance()}, {"results", results}};

@@ -35,6 +35,9 @@ class EngineModel {
   virtual ~EngineModel() = default;
   /// A, B, u' and the energies at (q, u), internal order.  // q: (nq), u: (nu)
   virtual EngineEquations at(const Eigen::VectorXd& q, const Eigen::VectorXd& u) = 0;
+  /// Its forward dynamics at (q, u), from the state set to u' and no more:
+  /// the call eigenmass_bench times where EngineCode::forward_call names it.
+  virtual void forward(const Eigen::VectorXd& q, const Eigen::VectorXd& u) { at(q, u); }
   /// The masses it compiled where it rounds them (MuJoCo diagonalizes full
   /// inertias), else empty: crosscheck then also compares the in-house
   /// formation given these masses, and does not judge the raw u'.
@@ -74,6 +77,9 @@ struct EngineCode {
   /// Its own reading of a URDF robot whose Model is `m`, or nullptr: it has
   /// no URDF reader (crosscheck then uses `model`).
   std::unique_ptr<EngineModel> (*urdf)(const Model& m, const UrdfSource& source) = nullptr;
+  /// What EngineModel::forward calls ("Simbody realize(Acceleration)"), when
+  /// eigenmass_bench times it beside the in-house right-hand sides, or nullptr.
+  const char* forward_call = nullptr;
   /// Its library's version, for provenance and --version.
   std::string (*version)() = nullptr;
   /// One line on what crosscheck's "<name>-mass" rows are (engines with compiled masses), else nullptr.

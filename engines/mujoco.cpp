@@ -83,6 +83,10 @@ class MujocoModel : public EngineModel {
     peer_->forward();
     return {peer_->massMatrix(), peer_->rhs(), peer_->acceleration(), peer_->kineticEnergy(), peer_->potentialEnergy()};
   }
+  void forward(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
+    peer_->setState(q, u);
+    peer_->forward();
+  }
   std::vector<CompiledMass> compiledMass() override { return peer_->compiledMass(); }
 
  private:
@@ -128,6 +132,7 @@ EngineRow mujocoEngine() {
   r.code.urdf = [](const Model& m, const UrdfSource& u) -> std::unique_ptr<EngineModel> {
     return std::make_unique<MujocoModel>(std::make_unique<MujocoSystem>(m, u.text, u.joints, u.locked, u.balance_inertia, u.floating_joint));
   };
+  r.code.forward_call = "MuJoCo mj_forward";
   r.code.version = [] { return std::string(mj_versionString()); };
   r.code.mass_note =
       "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"

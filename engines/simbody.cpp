@@ -329,6 +329,11 @@ class SimbodyModel : public EngineModel {
     ref_.setState(q, u);
     return {ref_.massMatrix(), ref_.rhs(), ref_.udot(), ref_.kineticEnergy(), ref_.potentialEnergy()};
   }
+  // setState invalidates the Position stage, so each call realizes from scratch.
+  void forward(const Eigen::VectorXd& q, const Eigen::VectorXd& u) override {
+    ref_.setState(q, u);
+    ref_.udot();
+  }
 
  private:
   SimbodySystem ref_;
@@ -352,6 +357,7 @@ EngineRow simbodyEngine() {
     return SimbodySystem(m).simulate(spec, observe);
   };
   r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); };
+  r.code.forward_call = "Simbody realize(Acceleration)";
   r.code.version = [] { return std::string(EM_SIMBODY_VERSION); };
   return r;
 }
