@@ -1,12 +1,15 @@
 #include "io/csv.hpp"
 
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
 #include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
 
 namespace em {
 
 namespace {
-const char* kPoseCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
-const char* kDiagCols[] = {"orth_err", "offdiag_rel", "min_gap", "max_Omega", "inv_err"};
 
 void writeRow(std::ostream& out, const Trajectory& tr, size_t k) {
   out << tr.t[k];
@@ -28,13 +31,10 @@ std::vector<std::string> csvColumns(const Trajectory& tr) {
   std::vector<std::string> c = {"t"};
   c.insert(c.end(), tr.q_names.begin(), tr.q_names.end());
   c.insert(c.end(), tr.u_names.begin(), tr.u_names.end());
-  c.push_back("energy");
-  c.push_back("kinetic");
-  c.push_back("dissipated");
+  c.insert(c.end(), kEnergyColumns.begin(), kEnergyColumns.end());
   for (const auto& b : tr.body_names)
-    for (const char* col : kPoseCols) c.push_back(b + "." + col);
-  if (!tr.diag.empty())
-    for (const char* col : kDiagCols) c.push_back(col);
+    for (const char* col : kPoseColumns) c.push_back(b + "." + col);
+  if (!tr.diag.empty()) c.insert(c.end(), kDiagnosticColumns.begin(), kDiagnosticColumns.end());
   return c;
 }
 
@@ -46,6 +46,35 @@ void writeCsv(const Trajectory& tr, const std::string& path) {
     out << '\n';
     for (size_t k = 0; k < tr.size(); ++k) writeRow(out, tr, k);
   });
+}
+
+CsvText readCsvText(const std::string& path, const std::string& what) {
+  CsvText t;
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) && !std::filesystem::is_directory(status))
+    throw std::runtime_error(path + ": not a regular file (a device or a pipe has no bound): not a " + what);
+  t.bytes = readFile(path, what);  // refuses a folder, and stops past 256 MiB (/dev/zero included)
+  std::istringstream ls(t.bytes);
+  for (std::string l; std::getline(ls, l);) {
+    if (t.lines.size() == kMaxCsvLines)
+      throw std::runtime_error(path + ": more than " + std::to_string(kMaxCsvLines) + " lines: not a " + what);
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    t.lines.push_back(std::move(l));
+  }
+  return t;
+}
+
+std::vector<std::string> splitCsvFields(const std::string& line) {
+  std::vector<std::string> f;
+  std::string cur;
+  std::istringstream s(line);
+  while (std::getline(s, cur, ',')) {
+    const size_t a = cur.find_first_not_of(" \t"), b = cur.find_last_not_of(" \t");
+    f.push_back(a == std::string::npos ? "" : cur.substr(a, b - a + 1));
+  }
+  if (!line.empty() && line.back() == ',') f.emplace_back();
+  return f;
 }
 
 }  // namespace em

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/csv.hpp"
 #include "io/digest.hpp"
 #include "io/scene_json.hpp"
 #include "solver/formation.hpp"
@@ -17,9 +18,11 @@ namespace em {
 
 namespace {
 
-const char* kPoseCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
-// Columns eigenmass's own CSV has beside t, q, u and poses: read past, recomputed.
-const char* kOwnCols[] = {"energy", "kinetic", "dissipated", "orth_err", "offdiag_rel", "min_gap", "max_Omega", "inv_err"};
+// Columns eigenmass's own CSV has beside t, q, u and poses (io/csv.hpp): read past, recomputed.
+bool ownColumn(const std::string& c) {
+  return std::find(kEnergyColumns.begin(), kEnergyColumns.end(), c) != kEnergyColumns.end() ||
+         std::find(kDiagnosticColumns.begin(), kDiagnosticColumns.end(), c) != kDiagnosticColumns.end();
+}
 
 struct Entry {
   RecordedRun run;
@@ -50,34 +53,6 @@ struct Where {
   }
 };
 
-std::vector<std::string> splitFields(const std::string& line) {
-  std::vector<std::string> f;
-  std::string cur;
-  std::istringstream s(line);
-  while (std::getline(s, cur, ',')) {
-    const size_t a = cur.find_first_not_of(" \t"), b = cur.find_last_not_of(" \t");
-    f.push_back(a == std::string::npos ? "" : cur.substr(a, b - a + 1));
-  }
-  if (!line.empty() && line.back() == ',') f.emplace_back();
-  return f;
-}
-
-// The file's text as lines (a CR before each newline dropped).
-std::vector<std::string> readLines(const std::string& path, std::string& bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot read the recorded run");
-  std::ostringstream s;
-  s << in.rdbuf();
-  bytes = s.str();
-  std::vector<std::string> lines;
-  std::istringstream ls(bytes);
-  for (std::string l; std::getline(ls, l);) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    lines.push_back(l);
-  }
-  return lines;
-}
-
 // The columns of the header, checked against the scene: their index by name.
 struct Header {
   std::map<std::string, size_t> col;
@@ -88,16 +63,15 @@ struct Header {
 // Every column name eigenmass knows for this scene, and the prefixes (bodies, joints) it knows.
 bool knownColumn(const Model& m, const std::string& c, const std::vector<std::string>& qn, const std::vector<std::string>& un) {
   if (std::find(qn.begin(), qn.end(), c) != qn.end() || std::find(un.begin(), un.end(), c) != un.end()) return true;
-  for (const char* o : kOwnCols)
-    if (c == o) return true;
+  if (ownColumn(c)) return true;
   for (const Body& b : m.bodies)
-    for (const char* p : kPoseCols)
+    for (const char* p : kPoseColumns)
       if (c == b.name + "." + p) return true;
   return false;
 }
 
 Header readHeader(const Where& w, const Model& m, const std::string& line, long lineno) {
-  const std::vector<std::string> names = splitFields(line);
+  const std::vector<std::string> names = splitCsvFields(line);
   if (names.empty() || names[0] != "t") throw w.at(lineno, "the header's first column must be 't' (got '" + (names.empty() ? "" : names[0]) + "')");
   const std::vector<std::string> qn = m.qNames(), un = m.uNames();
   Header h;
@@ -126,7 +100,7 @@ std::string firstMissing(const Header& h, const std::vector<std::string>& names)
 std::vector<std::string> poseColumns(const Model& m) {
   std::vector<std::string> c;
   for (const Body& b : m.bodies)
-    for (const char* p : kPoseCols) c.push_back(b.name + "." + p);
+    for (const char* p : kPoseColumns) c.push_back(b.name + "." + p);
   return c;
 }
 
@@ -161,7 +135,7 @@ std::vector<std::vector<double>> readRows(const Where& w, const std::vector<std:
   for (size_t k = first; k < lines.size(); ++k) {
     const long L = static_cast<long>(k) + 1;
     if (lines[k].empty()) continue;
-    const std::vector<std::string> f = splitFields(lines[k]);
+    const std::vector<std::string> f = splitCsvFields(lines[k]);
     if (f.size() != h.size) throw w.at(L, std::to_string(f.size()) + " fields, the header has " + std::to_string(h.size));
     std::vector<double> row(h.size);
     for (size_t c = 0; c < f.size(); ++c) {
@@ -326,10 +300,15 @@ RecordedRun readRecorded(const std::string& name, const std::string& path, const
   const Where w{path};
   RecordedRun r;
   r.name = name, r.file = path;
-  std::string bytes;
-  const std::vector<std::string> lines = readLines(path, bytes);
+  CsvText text;
+  try {
+    text = readCsvText(path, "recorded run");
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+  const std::vector<std::string>& lines = text.lines;
   if (lines.empty()) throw std::invalid_argument(path + ": empty");
-  r.sha256 = sha256Hex(bytes);
+  r.sha256 = sha256Hex(text.bytes);
   const size_t head = readDeclared(w, lines, r);
   const Header h = readHeader(w, m, lines[head], static_cast<long>(head) + 1);
   bool with_u = false;

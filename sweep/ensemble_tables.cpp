@@ -10,6 +10,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "io/csv.hpp"
 #include "solver/text.hpp"
 #include "sweep/sweep.hpp"
 
@@ -77,16 +78,27 @@ std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records) {
 }
 
 std::string ensembleCsv(const std::vector<EnsembleRow>& rows) {
-  std::ostringstream o;
-  o << "scene,method,integrator,setting_kind,setting,metric,threshold,members,diverged,failed,median_s,q1_s,q3_s,min_s,max_s,"
-       "median_lo_s,median_hi_s\n";
   auto opt = [](const std::optional<double>& x) { return !x ? std::string() : std::isinf(*x) ? std::string("inf") : gnum(*x, 17); };
-  for (const EnsembleRow& r : rows)
-    o << r.scene << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ',' << gnum(r.setting, 17) << ','
-      << r.metric << ',' << gnum(r.threshold) << ',' << r.d.members << ',' << r.d.diverged << ',' << r.d.failed << ','
-      << opt(r.d.median) << ',' << opt(r.d.q1) << ',' << opt(r.d.q3) << ',' << opt(r.d.min) << ',' << opt(r.d.max) << ','
-      << opt(r.d.median_ci->first) << ',' << opt(r.d.median_ci->second) << '\n';
-  return o.str();
+  using C = CsvColumn<EnsembleRow>;
+  static const std::vector<C> columns = {
+      {"scene", [](const EnsembleRow& r) { return r.scene; }},
+      {"method", [](const EnsembleRow& r) { return r.method; }},
+      {"integrator", [](const EnsembleRow& r) { return r.integrator; }},
+      {"setting_kind", [](const EnsembleRow& r) { return std::string(settingKindName(r.setting_kind)); }},
+      {"setting", [](const EnsembleRow& r) { return gnum(r.setting, 17); }},
+      {"metric", [](const EnsembleRow& r) { return r.metric; }},
+      {"threshold", [](const EnsembleRow& r) { return gnum(r.threshold); }},
+      {"members", [](const EnsembleRow& r) { return std::to_string(r.d.members); }},
+      {"diverged", [](const EnsembleRow& r) { return std::to_string(r.d.diverged); }},
+      {"failed", [](const EnsembleRow& r) { return std::to_string(r.d.failed); }},
+      {"median_s", [opt](const EnsembleRow& r) { return opt(r.d.median); }},
+      {"q1_s", [opt](const EnsembleRow& r) { return opt(r.d.q1); }},
+      {"q3_s", [opt](const EnsembleRow& r) { return opt(r.d.q3); }},
+      {"min_s", [opt](const EnsembleRow& r) { return opt(r.d.min); }},
+      {"max_s", [opt](const EnsembleRow& r) { return opt(r.d.max); }},
+      {"median_lo_s", [opt](const EnsembleRow& r) { return opt(r.d.median_ci->first); }},
+      {"median_hi_s", [opt](const EnsembleRow& r) { return opt(r.d.median_ci->second); }}};
+  return csvTable(columns, rows);
 }
 
 std::string ensembleTable(const std::vector<EnsembleRow>& rows) {
@@ -145,16 +157,22 @@ std::vector<Prediction> predictions(const std::vector<CaseRecord>& records) {
 }
 
 std::string predictionCsv(const std::vector<Prediction>& rows) {
-  std::ostringstream o;
-  o << "scene,member,method,integrator,setting,threshold,t0_s,pose_error_by_t0_rad,lyapunov_per_s,predicted_s,measured_s,status\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
-  for (const Prediction& p : rows) {
-    const CaseRecord& r = *p.record;
-    o << r.scene << ',' << r.member << ',' << r.method << ',' << r.integrator << ',' << gnum(r.setting, 17) << ','
-      << gnum(p.threshold) << ',' << opt(r.t0) << ',' << gnum(p.e0, 17) << ',' << gnum(p.chi, 17) << ','
-      << opt(p.predicted) << ',' << opt(p.measured) << ',' << outcomeName(r.status) << '\n';
-  }
-  return o.str();
+  using C = CsvColumn<Prediction>;
+  static const std::vector<C> columns = {
+      {"scene", [](const Prediction& p) { return p.record->scene; }},
+      {"member", [](const Prediction& p) { return std::to_string(p.record->member); }},
+      {"method", [](const Prediction& p) { return p.record->method; }},
+      {"integrator", [](const Prediction& p) { return p.record->integrator; }},
+      {"setting", [](const Prediction& p) { return gnum(p.record->setting, 17); }},
+      {"threshold", [](const Prediction& p) { return gnum(p.threshold); }},
+      {"t0_s", [opt](const Prediction& p) { return opt(p.record->t0); }},
+      {"pose_error_by_t0_rad", [](const Prediction& p) { return gnum(p.e0, 17); }},
+      {"lyapunov_per_s", [](const Prediction& p) { return gnum(p.chi, 17); }},
+      {"predicted_s", [opt](const Prediction& p) { return opt(p.predicted); }},
+      {"measured_s", [opt](const Prediction& p) { return opt(p.measured); }},
+      {"status", [](const Prediction& p) { return std::string(outcomeName(p.record->status)); }}};
+  return csvTable(columns, rows);
 }
 
 std::string predictionTable(const std::vector<Prediction>& rows) {

@@ -1,6 +1,8 @@
 // outside/recorded.cpp: a run made elsewhere, read from CSV. The oracle is the
 // in-house run itself: written out and read back, it must give the run's own
 // metrics; every malformed file ends in one line naming file, line and column.
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <filesystem>
 #include <fstream>
 
@@ -197,7 +199,15 @@ TEST_CASE("malformed recorded runs: one line naming the file, the line and the c
     const std::string path = writeText("bad.csv", c.text);
     CHECK_THROWS_WITH(addRecordedRun(freshName(), path, m), Catch::StartsWith(path + ": ") && Catch::Contains(c.message));
   }
-  CHECK_THROWS_WITH(addRecordedRun(freshName(), "/nonexistent.csv", m), "/nonexistent.csv: cannot read the recorded run");
+  CHECK_THROWS_WITH(addRecordedRun(freshName(), "/nonexistent.csv", m), "/nonexistent.csv: cannot open the recorded run");
+  // Bounded (io/csv.hpp): a device has no end, so it is refused before any byte is read; a
+  // folder likewise. The device is made in the test's own folder, never /dev's.
+  const std::string zero = tempDir() + "/zero";
+  std::remove(zero.c_str());
+  REQUIRE(::mknod(zero.c_str(), S_IFCHR | 0600, ::makedev(1, 5)) == 0);
+  CHECK_THROWS_WITH(addRecordedRun(freshName(), zero, m), zero + ": not a regular file (a device or a pipe has no bound): not a recorded run");
+  std::remove(zero.c_str());
+  CHECK_THROWS_WITH(addRecordedRun(freshName(), tempDir(), m), tempDir() + ": is a folder, not a recorded run");
   CHECK_THROWS_WITH(addRecordedRun("eigen", writeText("x.csv", "t\n"), m), "run name 'eigen': a method of that name exists");
   // A unit quaternion is checked where the format has one.
   const Model ball = test::loadData("pendulum5_ball.json");

@@ -320,5 +320,5 @@ TEST_CASE("a plan names a plugin and a recorded run: their cases equal classical
   CHECK_THAT(planError(p), Catch::Contains("runs: a recorded run is of one scene; this plan has 2"));
   p["scenes"].erase(1);
   p["runs"]["bad"] = "nowhere.csv";
-  CHECK_THAT(planError(p), Catch::Contains("runs.bad: ") && Catch::Contains("cannot read the recorded run"));
+  CHECK_THAT(planError(p), Catch::Contains("runs.bad: ") && Catch::Contains("cannot open the recorded run"));
 }
