@@ -39,6 +39,10 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
 
 std::string engineRefusal(Engine e, const Model& m) {
   if (e == Engine::InHouse) return "";
+  // No engine row maps loops, point springs or drives yet: such a scene is
+  // refused for every engine, never run as the tree it would be without them.
+  if (m.isMechanism())
+    return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house formulations and ida run it)";
   const EngineCode& code = engineCode(e);
   return code.refusal ? code.refusal(m) : "";
 }

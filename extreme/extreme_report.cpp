@@ -137,6 +137,7 @@ std::string reasonOf(const ExtremeEntry& e, const ExtremeCaseResult& c) {
     case Failure::Engine: return "the engine gave up";
     case Failure::Plugin: return "the plugin's u' failed, crashed or hung";
     case Failure::EndedEarly: return "the recorded run ends there";
+    case Failure::LoopsOpen: return "the loops opened: a singular position, or the formulation drifted";
     case Failure::None: break;
   }
   return "";

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "io/json_input.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/run_spec.hpp"
 #include "solver/text.hpp"
 
@@ -155,7 +156,7 @@ Joint joint(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   Joint j;
   j.type = jointType(requireKey(v, path, "type"), at(path, "type"));
-  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring"});
+  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring", "torque"});
   if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
   readJointAxes(v, path, j);
   j.in_parent = vec3(requireKey(v, path, "in_parent"), at(path, "in_parent"));
@@ -181,7 +182,81 @@ Joint joint(const json& v, const std::string& path) {
     j.has_spring = true;
     j.spring = spring(v["spring"], at(path, "spring"), nu);
   }
+  if (v.contains("torque")) {  // a drive: one number for every speed, or one per speed
+    const json& t = v["torque"];
+    j.torque = t.is_array() ? numbers(t, at(path, "torque"), nu) : Eigen::VectorXd::Constant(nu, numberAt(t, at(path, "torque")));
+  }
   return j;
+}
+
+LoopType loopType(const json& v, const std::string& path) {
+  const std::string t = stringAt(v, path);
+  std::string known;
+  for (const LoopTypeInfo& row : kLoopTypes) {
+    if (t == row.name) return row.type;
+    known += (known.empty() ? "" : ", ") + std::string(row.name);
+  }
+  throw Err(path, "unknown loop type '" + printable(t, 40) + "' (" + known + ")");
+}
+
+// body_a, point_a, body_b, point_b of a loop or a force; a body joined to itself is refused.
+void readEnds(const json& v, const std::string& path, std::string& body_a, Vec3& point_a, std::string& body_b, Vec3& point_b) {
+  body_a = stringAt(requireKey(v, path, "body_a"), at(path, "body_a"));
+  body_b = stringAt(requireKey(v, path, "body_b"), at(path, "body_b"));
+  point_a = v.contains("point_a") ? vec3(v["point_a"], at(path, "point_a")) : Vec3::Zero();
+  point_b = v.contains("point_b") ? vec3(v["point_b"], at(path, "point_b")) : Vec3::Zero();
+  if (body_a == body_b) throw Err(at(path, "body_b"), "joins body '" + printable(body_a, 40) + "' to itself");
+}
+
+LoopSpec loop(const json& v, const std::string& path) {
+  if (!v.is_object()) throw Err(path, "expected an object");
+  LoopSpec l;
+  l.type = loopType(requireKey(v, path, "type"), at(path, "type"));
+  const bool axes = loopRow(l.type).axes;
+  onlyKeys(v, path, axes ? std::vector<std::string>{"name", "type", "body_a", "point_a", "body_b", "point_b", "axis_a", "axis_b"}
+                         : std::vector<std::string>{"name", "type", "body_a", "point_a", "body_b", "point_b"});
+  l.name = name(requireKey(v, path, "name"), at(path, "name"));
+  readEnds(v, path, l.body_a, l.point_a, l.body_b, l.point_b);
+  if (axes) {
+    l.axis_a = unitAxis(requireKey(v, path, "axis_a"), at(path, "axis_a"));
+    l.axis_b = unitAxis(requireKey(v, path, "axis_b"), at(path, "axis_b"));
+  }
+  l.extra = extras(v);
+  return l;
+}
+
+ForceSpec force(const json& v, const std::string& path) {
+  if (!v.is_object()) throw Err(path, "expected an object");
+  onlyKeys(v, path, {"name", "type", "body_a", "point_a", "body_b", "point_b", "k", "c", "length"});
+  const std::string type = stringAt(requireKey(v, path, "type"), at(path, "type"));
+  if (type != "spring") throw Err(at(path, "type"), "unknown force type '" + printable(type, 40) + "' (spring)");
+  ForceSpec f;
+  f.name = name(requireKey(v, path, "name"), at(path, "name"));
+  readEnds(v, path, f.body_a, f.point_a, f.body_b, f.point_b);
+  f.k = numberAt(requireKey(v, path, "k"), at(path, "k"));
+  if (!(f.k >= 0)) throw Err(at(path, "k"), "must be >= 0");
+  f.c = v.contains("c") ? numberAt(v["c"], at(path, "c")) : 0.0;
+  if (!(f.c >= 0)) throw Err(at(path, "c"), "must be >= 0");
+  f.length = numberAt(requireKey(v, path, "length"), at(path, "length"));
+  if (!(f.length > 0)) throw Err(at(path, "length"), "a rest length must be > 0");
+  f.extra = extras(v);
+  return f;
+}
+
+// A list of named items (loops, forces): each read by `read`, names unique.
+template <class T, class Read>
+std::vector<T> namedList(const json& doc, const char* key, Read read) {
+  std::vector<T> out;
+  if (!doc.contains(key)) return out;
+  const json& list = doc[key];
+  if (!list.is_array()) throw Err(key, "expected a list");
+  for (size_t i = 0; i < list.size(); ++i) {
+    out.push_back(read(list[i], at(key, i)));
+    for (size_t k = 0; k < i; ++k)
+      if (out[k].name == out[i].name)
+        throw Err(at(at(key, i), "name"), "duplicate name '" + out[i].name + "' (first at " + at(key, k) + ")");
+  }
+  return out;
 }
 
 BodySpec body(const json& v, const std::string& path) {
@@ -218,7 +293,7 @@ SceneSpec spec(const json& doc) {
   if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
   if (doc.contains("format") && doc["format"] == "eigenmass-plan/1")  // before its keys are blamed one by one
     throw Err("format", "a plan, not a scene (eigenmass-plan/1, docs/sweep.md): `sweep PLAN` runs it; this command takes a scene or a URDF");
-  onlyKeys(doc, "", {"format", "name", "gravity", "bodies", "simulate"});
+  onlyKeys(doc, "", {"format", "name", "gravity", "bodies", "loops", "forces", "simulate"});
   const std::string fmt = stringAt(requireKey(doc, "", "format"), "format");
   if (fmt != "eigenmass-scene/1")
     throw Err("format", "unsupported format '" + printable(fmt, 40) + "' (expected eigenmass-scene/1)");
@@ -231,6 +306,8 @@ SceneSpec spec(const json& doc) {
   if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
   if (bodies.empty()) throw Err("bodies", "empty body list");
   for (size_t i = 0; i < bodies.size(); ++i) s.bodies.push_back(body(bodies[i], at("bodies", i)));
+  s.loops = namedList<LoopSpec>(doc, "loops", loop);
+  s.forces = namedList<ForceSpec>(doc, "forces", force);
   if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
   s.extra = extras(doc);
   return s;
@@ -253,6 +330,24 @@ void requireMemoryFor(const std::vector<BodySpec>& bodies) {
 }
 
 std::string bodyPath(int file_index, const std::string& key) { return "bodies[" + std::to_string(file_index) + "]." + key; }
+
+// A mechanism's initial state (docs/scene-format.md, "Mechanisms"): its welds
+// take their orientation from it; a loop it leaves open, or a point spring
+// whose points coincide, is refused naming the item.
+void checkMechanismStart(Model& m) {
+  if (!m.isMechanism()) return;
+  finishMechanism(m);
+  const Eigen::VectorXd q = m.q0(), u = m.u0();
+  Workspace ws(m);
+  formKinematics(m, q.data(), u.data(), ws);
+  for (size_t i = 0; i < m.point_springs.size(); ++i) {
+    const PointSpring& s = m.point_springs[i];
+    if ((pointMotion(ws, s.a).x - pointMotion(ws, s.b).x).norm() < 1e-12)
+      throw Err(at("forces", i), "spring '" + s.name + "': its two points coincide at the initial state (no line to act along)");
+  }
+  if (const LoopGap gap = openLoop(m, q, u, kLoopStartTol); gap.loop >= 0)
+    throw Err(at("loops", static_cast<size_t>(gap.loop)), gap.what + " at the initial state, beyond " + gnum(kLoopStartTol));
+}
 
 }  // namespace
 
@@ -280,7 +375,32 @@ json jointJson(const Joint& j) {
   if (j.u0.size()) o["u0"] = numbersJson(j.u0);
   if (j.has_spring)
     o["spring"] = {{"k", numbersJson(j.spring.k)}, {"c", numbersJson(j.spring.c)}, {"q_rest", numbersJson(j.spring.q_rest)}};
+  if (j.torque.size()) o["torque"] = numbersJson(j.torque);
   return o;
+}
+
+json loopJson(const LoopSpec& l) {
+  json o = {{"name", l.name}, {"type", loopRow(l.type).name}, {"body_a", l.body_a}, {"point_a", vecJson(l.point_a)},
+            {"body_b", l.body_b}, {"point_b", vecJson(l.point_b)}};
+  if (loopRow(l.type).axes) o["axis_a"] = vecJson(l.axis_a), o["axis_b"] = vecJson(l.axis_b);
+  o.update(l.extra);
+  return o;
+}
+
+json forceJson(const ForceSpec& f) {
+  json o = {{"name", f.name}, {"type", "spring"}, {"body_a", f.body_a}, {"point_a", vecJson(f.point_a)}, {"body_b", f.body_b},
+            {"point_b", vecJson(f.point_b)}, {"k", f.k}, {"c", f.c}, {"length", f.length}};
+  o.update(f.extra);
+  return o;
+}
+
+// `key`'s list, one item per line, or nothing when it is empty.
+template <class T, class ToJson>
+std::string listText(const char* key, const std::vector<T>& items, ToJson toJson) {
+  if (items.empty()) return "";
+  std::string text = "  \"" + std::string(key) + "\": [\n";
+  for (size_t i = 0; i < items.size(); ++i) text += "    " + toJson(items[i]).dump() + (i + 1 < items.size() ? ",\n" : "\n");
+  return text + "  ],\n";
 }
 
 json bodyJson(const BodySpec& b) {
@@ -301,7 +421,8 @@ std::string sceneJson(const SceneSpec& s) {
   text += "  \"bodies\": [\n";
   for (size_t i = 0; i < s.bodies.size(); ++i)
     text += "    " + bodyJson(s.bodies[i]).dump() + (i + 1 < s.bodies.size() ? ",\n" : "\n");
-  text += "  ],\n  \"simulate\": " + json({{"t_end", s.t_end}, {"output_dt", s.output_dt}}).dump() + "\n}\n";
+  text += "  ],\n" + listText("loops", s.loops, loopJson) + listText("forces", s.forces, forceJson);
+  text += "  \"simulate\": " + json({{"t_end", s.t_end}, {"output_dt", s.output_dt}}).dump() + "\n}\n";
   return text;
 }
 
@@ -325,11 +446,33 @@ Model buildModel(const SceneSpec& spec) {
     if (it == by_name.end()) throw Err(bodyPath(f, "parent"), "unknown parent '" + printable(b.parent, 40) + "'");
     defs[f].parent = it->second;
   }
+  const auto end = [&by_name](const std::string& body, const std::string& path) {
+    if (body == "ground") return -1;
+    auto it = by_name.find(body);
+    if (it == by_name.end()) throw Err(path, "unknown body '" + printable(body, 40) + "'");
+    return it->second;
+  };
+  MechanismDef mech;
+  for (size_t i = 0; i < spec.loops.size(); ++i) {
+    const LoopSpec& l = spec.loops[i];
+    const std::string path = at("loops", i);
+    mech.loops.push_back({l.name, l.type, {end(l.body_a, at(path, "body_a")), l.point_a}, {end(l.body_b, at(path, "body_b")), l.point_b},
+                          l.axis_a, l.axis_b, Mat3::Identity()});
+  }
+  for (size_t i = 0; i < spec.forces.size(); ++i) {
+    const ForceSpec& f = spec.forces[i];
+    const std::string path = at("forces", i);
+    mech.springs.push_back({f.name, {end(f.body_a, at(path, "body_a")), f.point_a}, {end(f.body_b, at(path, "body_b")), f.point_b},
+                            f.k, f.c, f.length});
+  }
+  Model m;
   try {
-    return em::buildModel(spec.name, spec.gravity, defs);
+    m = em::buildModel(spec.name, spec.gravity, defs, mech);
   } catch (const ModelError& e) {
     throw Err(bodyPath(e.index, e.field), e.detail);
   }
+  checkMechanismStart(m);
+  return m;
 }
 
 }  // namespace em

@@ -31,11 +31,34 @@ struct BodySpec {
   nlohmann::json extra = nlohmann::json::object();  ///< its "x-" keys, kept as written
 };
 
+/// A closure as written (`loops`): bodies by name, "ground" for the base.
+struct LoopSpec {
+  std::string name, body_a, body_b;
+  LoopType type = LoopType::Ball;
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
+  Vec3 axis_a = Vec3::UnitZ(), axis_b = Vec3::UnitZ();  ///< unit (hinge)
+  nlohmann::json extra = nlohmann::json::object();
+};
+
+/// A point spring-damper as written (`forces`, type "spring").
+struct ForceSpec {
+  std::string name, body_a, body_b;
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
+  double k = 0, c = 0, length = 0;
+  nlohmann::json extra = nlohmann::json::object();
+};
+
+/// Largest |g| and |G u| of an initial state that is accepted (m or rad, m/s
+/// or rad/s): beyond it the scene is refused naming the loop and the gap.
+inline constexpr double kLoopStartTol = 1e-9;
+
 /// A scene as written: bodies in file order and the run defaults.
 struct SceneSpec {
   std::string name;
   Vec3 gravity{0, 0, -9.81};
   std::vector<BodySpec> bodies;
+  std::vector<LoopSpec> loops;    ///< closures (docs/scene-format.md, "Mechanisms")
+  std::vector<ForceSpec> forces;  ///< point spring-dampers
   double t_end = 10.0, output_dt = 0.01;  ///< simulate.t_end, simulate.output_dt
   nlohmann::json extra = nlohmann::json::object();  ///< top-level "x-" keys, kept as written
 };

@@ -24,7 +24,8 @@ std::unique_ptr<MethodImpl> make(const Model& m, Method method, const MethodOpti
 
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
-      size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)) {}
+      size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)),
+      loops_(m), solve_(m), Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows), llt_(m.nu), dv_(m.nu), dq_(m.nq) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(size_);
@@ -57,11 +58,15 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
   if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   formQdot(model_, y, y + nq, dydt);
-  if (f_->needsEquations()) formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA());
+  // A mechanism needs A for its multipliers and the kinematics for its point forces.
+  const bool mechanism = model_.isMechanism(), loops = !model_.loops.empty();
+  if (f_->needsEquations() || mechanism) formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA() || loops);
   else if (f_->needsKinematics()) formKinematics(model_, y, y + nq, ws_);
   EvalInfo local;
   Status s = f_->rates(t, y, y + nq, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
-  if (model_.has_dampers) dydt[offsetDissipated()] = dissipationRate(model_, y + nq);
+  if (s && loops) s = closeLoops(t, y, dydt + nq);
+  if (model_.has_dampers)
+    dydt[offsetDissipated()] = mechanism ? nonConservativePower(model_, ws_, y + nq) : dissipationRate(model_, y + nq);
   if (!s) s.cause += gimbalLockHint(model_, y);
   else if (!allFinite(dydt, size_)) return Status::failure(t, Failure::NonFinite, "non-finite derivative (NaN or Inf)");
   return s;
@@ -79,12 +84,88 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
   const double umax = Eigen::Map<const Eigen::VectorXd>(y + nq, N).cwiseAbs().maxCoeff();
   if (umax > opt_.blowup_speed)
     return Status::failure(t, Failure::BlowUp, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
+  if (!model_.loops.empty()) {
+    if (projects())
+      if (Status s = projectOntoLoops(t, y); !s) return s;
+    formKinematics(model_, y, y + nq, ws_);
+    formLoops(model_, ws_, y + nq, loops_);
+    recordLoops();
+    const double gap = std::max(loops_.position_m, loops_.position_rad);
+    if (!(gap <= opt_.loops.loop_tol))
+      return Status::failure(t, Failure::LoopsOpen, "the loops are open by " + gnum(gap, 3) + " (m or rad), beyond the loop tolerance " +
+                                                        gnum(opt_.loops.loop_tol));
+  }
   if (f_->needsAAfterStep()) {  // the correction needs A at the accepted state
     formKinematics(model_, y, y + nq, ws_);
     formSubtrees(model_, ws_);
     formA(model_, ws_);
   }
   return f_->afterStep(t, ws_, y + offsetExtra(), info);
+}
+
+const Eigen::MatrixXd& Dynamics::inverseATimesGt(const double* x) {
+  Gt_.noalias() = loops_.G.transpose();
+  if (f_->solveWithA(x, Gt_, AinvGt_)) return AinvGt_;
+  llt_.compute(ws_.A);
+  AinvGt_ = llt_.solve(Gt_);
+  return AinvGt_;
+}
+
+// u' = a + A^-1 G^T lambda (docs/theory.md eq. (M7)), a the tree's u' in udot.
+Status Dynamics::closeLoops(double t, const double* y, double* udot) {
+  formLoops(model_, ws_, y + model_.nq, loops_);
+  const Eigen::MatrixXd& AinvGt = inverseATimesGt(y + offsetExtra());
+  if (!AinvGt.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^-1 G^T not finite (A not positive definite)");
+  const int rank = solve_.solve(loops_, AinvGt, opt_.loops.alpha, opt_.loops.beta, Eigen::Map<Eigen::VectorXd>(udot, model_.nu));
+  loop_stats_.rank_min = loop_stats_.rank_min < 0 ? rank : std::min(loop_stats_.rank_min, rank);
+  loop_stats_.rank_max = std::max(loop_stats_.rank_max, rank);
+  return {};
+}
+
+void Dynamics::recordLoops() {
+  LoopStats& s = loop_stats_;
+  s.position_m = std::max(s.position_m, loops_.position_m);
+  s.position_rad = std::max(s.position_rad, loops_.position_rad);
+  s.velocity_m = std::max(s.velocity_m, loops_.velocity_m);
+  s.velocity_rad = std::max(s.velocity_rad, loops_.velocity_rad);
+}
+
+// q onto g(q) = 0 by Gauss-Newton in A's metric, then u onto G u = 0
+// (docs/theory.md eqs. (M8), (M9)): dq from dv = -A^-1 G^T (G A^-1 G^T)^+ g.
+Status Dynamics::projectOntoLoops(double t, double* y) {
+  double* q = y;
+  double* u = y + model_.nq;
+  const LoopOptions& lo = opt_.loops;
+  ++loop_stats_.projections;
+  for (int it = 0;; ++it) {
+    formKinematics(model_, q, u, ws_);
+    formLoops(model_, ws_, u, loops_);
+    formSubtrees(model_, ws_);
+    formA(model_, ws_);
+    llt_.compute(ws_.A);
+    Gt_.noalias() = loops_.G.transpose();
+    AinvGt_ = llt_.solve(Gt_);
+    const double gap = loops_.g.size() ? loops_.g.cwiseAbs().maxCoeff() : 0.0;
+    if (gap <= lo.projection_tol) break;
+    if (it == lo.projection_iterations || !std::isfinite(gap))
+      return Status::failure(t, Failure::LoopsOpen, "the projection left the loops open by " + gnum(gap, 3) + " (m or rad) after " +
+                                                        std::to_string(it) + " Gauss-Newton iterations (a singular position?)");
+    solve_.correction(loops_, AinvGt_, loops_.g, dv_);
+    dv_ = -dv_;
+    formQdot(model_, q, dv_.data(), dq_.data());
+    Eigen::Map<Eigen::VectorXd>(q, model_.nq) += dq_;
+    normalizeQuaternions(y);
+    ++loop_stats_.projection_iterations;
+  }
+  solve_.correction(loops_, AinvGt_, loops_.Gu, dv_);
+  Eigen::Map<Eigen::VectorXd>(u, model_.nu) -= dv_;
+  return {};
+}
+
+std::pair<double, double> Dynamics::loopViolationAt(const double* y) {
+  formKinematics(model_, y, y + model_.nq, ws_);
+  formLoops(model_, ws_, y + model_.nq, loops_);
+  return {std::max(loops_.position_m, loops_.position_rad), std::max(loops_.velocity_m, loops_.velocity_rad)};
 }
 
 void Dynamics::kinematicsAt(const double* y) {

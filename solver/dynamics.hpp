@@ -8,9 +8,20 @@
 /// dissipated work W_diss (1), with W_diss' = sum c u^2].
 #include <memory>
 
+#include "solver/mechanism.hpp"
 #include "solver/method.hpp"
 
 namespace em {
+
+/// What keeping a mechanism's loops closed took and left over a run (at the
+/// accepted steps): the largest violations, the rank of G A^-1 G^T, and the
+/// projections (docs/theory.md §15).
+struct LoopStats {
+  double position_m = 0, position_rad = 0;  ///< largest |g| over the point rows (m) and the axis rows (rad)
+  double velocity_m = 0, velocity_rad = 0;  ///< largest |G u|, m/s and rad/s
+  int rank_min = -1, rank_max = -1;         ///< of G A^-1 G^T over the evaluations (-1: none yet)
+  long projections = 0, projection_iterations = 0;
+};
 
 class Dynamics {
  public:
@@ -21,7 +32,12 @@ class Dynamics {
   Method method() const { return method_; }
   /// Whether the method carries eigenfactor drift diagnostics.
   bool eigenfactor() const { return f_->hasDiagnostics(); }
-  bool correctsAfterStep() const { return f_->correctsAfterStep(); }
+  bool correctsAfterStep() const { return f_->correctsAfterStep() || projects(); }
+  /// Whether afterStep projects onto the loops (the projection formulation on a model with loops).
+  bool projects() const { return !model_.loops.empty() && opt_.loops.formulation == Formulation::Projection; }
+  const LoopStats& loopStats() const { return loop_stats_; }
+  /// max |g| and max |G u| (all rows; m and rad, m/s and rad/s) at y, for an output sample.
+  std::pair<double, double> loopViolationAt(const double* y);
   int size() const { return size_; }
   /// Where the extra state starts in y (laid out as info(method()).extra says).
   int offsetExtra() const { return model_.nq + model_.nu; }
@@ -47,6 +63,10 @@ class Dynamics {
 
  private:
   void normalizeQuaternions(double* y) const;
+  Status closeLoops(double t, const double* y, double* udot);
+  Status projectOntoLoops(double t, double* y);
+  void recordLoops();
+  const Eigen::MatrixXd& inverseATimesGt(const double* x);  // A^-1 G^T at the formed A (the method's factors, else Cholesky)
 
   const Model& model_;
   Method method_;
@@ -55,6 +75,13 @@ class Dynamics {
   int size_;
   Workspace ws_;
   Eigen::VectorXd scratch_;  // (size) derivative scratch of diagnosticsAt
+  // A mechanism's loops (docs/theory.md §15), sized once; 0 rows for a tree.
+  LoopState loops_;
+  ConstrainedSolve solve_;
+  Eigen::MatrixXd Gt_, AinvGt_;  // (nu x m)
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd dv_, dq_;      // (nu), (nq): a projection's correction
+  LoopStats loop_stats_;
 };
 
 /// " (gimbal lock: body 'arm' q1 = 1.5708 rad)" for every gimbal whose middle

@@ -4,6 +4,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "solver/mechanism.hpp"
+
 namespace em {
 
 namespace {
@@ -94,6 +96,7 @@ double potentialEnergy(const Model& m, const double* q, const Workspace& ws) {
       V += 0.5 * sp.k[k] * e * e;
     }
   }
+  if (!m.point_springs.empty()) V += pointSpringPotential(m, ws);
   return V;
 }
 
@@ -255,7 +258,7 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     if (nt > 0) ws.B.segment(body.iu, nt).noalias() = -(ws.P.middleCols(body.iu, nt).transpose() * ws.F_slide[i]);
     ws.B.segment(body.iu + nt, nr).noalias() = -(ws.P.middleCols(body.iu + nt, nr).transpose() * ws.psi.segment<3>(3 * i));
   }
-  if (m.has_springs) addSpringForces(m, q, u, ws.B);
+  if (m.hasAppliedForces()) addAppliedForces(m, ws, q, u, ws.B);
 }
 
 void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q) {

@@ -10,6 +10,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "solver/ida.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -107,6 +108,7 @@ class Integration {
   }
 
   Dynamics& dynamics() { return dyn_; }
+  void countEvaluations(long n) { rhs_evals_ += n; }
 
  private:
   Dynamics& dyn_;
@@ -239,12 +241,33 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
   }
 }
 
+// A DAE run: IDA integrates the formation and the loops itself (solver/ida.hpp);
+// each output sample is its state there, sampled as every run's is.
+void runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y, Trajectory& tr) {
+  const Model& m = run.dynamics().model();
+  IdaRun ida(m, spec.tol, spec.output_dt);
+  for (long k = 1; k <= n_out; ++k) {
+    const Status s = ida.advance(k * spec.output_dt);
+    ida.state(y.data());
+    if (!s) {
+      run.fail(s);
+      break;
+    }
+    run.sample(k * spec.output_dt, y.data());
+  }
+  tr.steps = ida.steps();
+  run.countEvaluations(ida.residualEvaluations());
+}
+
 }  // namespace
 
 Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const SampleObserver& observe) {
   const RunSpec& spec = checked_spec;
   const IntegratorInfo& scheme = info(spec.integrator);
-  if (scheme.fixed_step ? !scheme.step : !scheme.gsl)  // a row no code of ours steps (a recorded run's)
+  if (scheme.dae && info(spec.method).extra != ExtraState::None)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself: method " +
+                                methodName(spec.method) + " carries its own state (run it with classical)");
+  if (!scheme.dae && (scheme.fixed_step ? !scheme.step : !scheme.gsl))  // a row no code of ours steps (a recorded run's)
     throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   const long per_output = spec.fixedStep() ? stepsPerOutput(spec.output_dt, spec.dt) : 1;
@@ -256,7 +279,9 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
   tr.sample_time_s = 0;
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts
   const double c0 = cpuSeconds();
-  if (spec.fixedStep())
+  if (scheme.dae)
+    runIda(run, spec, n_out, y, tr);
+  else if (spec.fixedStep())
     runFixed(run, spec, n_out, per_output, y);
   else
     runAdaptive(run, spec, n_out, y);

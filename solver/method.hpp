@@ -59,6 +59,10 @@ class MethodImpl {
   /// u' and the extra state's rates at (q, u) from the formed A, B (and A').  // q: (nq), u, udot: (nu), x, xdot: (extraStateSize)
   virtual Status rates(double t, const double* q, const double* u, const Workspace& ws, const double* x, double* udot,
                        double* xdot, EvalInfo& info) = 0;
+  /// out = A^-1 X with the method's own factors of the A its last rates()
+  /// had (classical: its Cholesky; the eigenfactor methods: C^T Lambda^-1 C
+  /// from x), for a mechanism's multipliers; false: Dynamics factors A itself.  // X, out: (nu x m)
+  virtual bool solveWithA(const double* /*x*/, const Eigen::MatrixXd& /*X*/, Eigen::MatrixXd& /*out*/) { return false; }
   /// Whether afterStep changes the state (the integrator must then restart).
   virtual bool correctsAfterStep() const { return false; }
   /// Whether afterStep needs A formed at the accepted state.

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "solver/mechanism.hpp"
 #include "solver/method.hpp"
 #include "solver/text.hpp"
 
@@ -52,7 +53,7 @@ class Articulated final : public MethodImpl {
   Status rates(double t, const double* q, const double* u, const Workspace& ws, const double*, double* udot, double*,
                EvalInfo&) override {
     Q_.setZero();
-    if (m_.has_springs) addSpringForces(m_, q, u, Q_);
+    if (m_.hasAppliedForces()) addAppliedForces(m_, ws, q, u, Q_);
     bodiesAndBiases(u, ws);
     for (int k = m_.n() - 1; k >= 0; --k) {
       const Status s = dispatch(k, [&](auto nu, auto nt) { return release<nu(), nt()>(k, t, ws); });

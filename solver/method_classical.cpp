@@ -27,6 +27,11 @@ class Classical final : public MethodImpl {
     return {};
   }
 
+  bool solveWithA(const double*, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) override {
+    out = llt_.solve(X);
+    return true;
+  }
+
  private:
   MethodOptions opt_;
   Eigen::LLT<Eigen::MatrixXd> llt_;

@@ -55,6 +55,18 @@ class EigenMethod final : public MethodImpl {
     return solveByEigenfactors(t, ws, refine_, refine_tol_, applyH, Eigen::Map<Eigen::VectorXd>(udot, N_), r_, du_);
   }
 
+  // A^-1 X = C^T Lambda^-1 C X (paper eq. (17)): the multipliers of a
+  // mechanism through the eigenfactors, A^(-1/2) = C^T Lambda^(-1/2) C.
+  bool solveWithA(const double* x, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) override {
+    Eigen::Map<const RowMatrix> C(x, N_, N_);
+    Eigen::Map<const Eigen::VectorXd> lambda(x + N_ * N_, N_);
+    CX_.resize(N_, X.cols());
+    CX_.noalias() = C * X;
+    CX_.array().colwise() /= lambda.array();
+    out.noalias() = C.transpose() * CX_;
+    return true;
+  }
+
   Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info) override {
     Eigen::Map<RowMatrix> C(x, N_, N_);
     Eigen::Map<Eigen::VectorXd> lambda(x + N_ * N_, N_);
@@ -80,6 +92,7 @@ class EigenMethod final : public MethodImpl {
   MethodOptions opt_;
   Eigen::MatrixXd Omega_, AdotCt_;  // (N x N) scratch: Omega (G formed in place) and A' C^T
   Eigen::VectorXd z_;               // (N) scratch: Lambda^-1 C b
+  Eigen::MatrixXd CX_;              // (N x m) scratch: Lambda^-1 C X for a mechanism's multipliers
   Eigen::VectorXd r_, du_;          // (N) scratch of refineResidual
   CorrectionScratch corr_;
 };

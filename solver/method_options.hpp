@@ -7,7 +7,24 @@
 
 namespace em {
 
+/// How a mechanism's loops are kept closed (docs/theory.md §15), one row each
+/// in formulationTable() (solver/mechanism.cpp).
+enum class Formulation {
+  Baumgarte,   ///< multipliers at acceleration level, G u' = -c - 2 alpha G u - beta^2 g
+  Projection,  ///< the same, and after every accepted step q onto g = 0 and u onto G u = 0 in A's metric
+};
+
+/// A mechanism's formulation and its options, with their defaults.
+struct LoopOptions {
+  Formulation formulation = Formulation::Projection;
+  double alpha = 0, beta = 0;    ///< Baumgarte's (1/s): 0 and 0 integrate the raw index-1 form and show its drift
+  double projection_tol = 1e-12; ///< the projection stops when max |g| <= this (m, rad)
+  int projection_iterations = 10;  ///< Gauss-Newton iterations at most per step
+  double loop_tol = 1e-6;        ///< a run whose loops open beyond this (m, rad) fails (loops-open)
+};
+
 struct MethodOptions {
+  LoopOptions loops;  ///< where the model has loops
   double jacobi_tol = 1e-13;  ///< stop when off(C A C^T) <= tol ||A||_F
   int jacobi_max_sweeps = 50;
   double gap_floor_rel = 1e-12;  ///< fail when min |lambda_i - lambda_j| < floor * max lambda

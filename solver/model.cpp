@@ -91,6 +91,7 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.nu += b.nu();
     m.has_springs = m.has_springs || b.joint.has_spring;
     m.has_dampers = m.has_dampers || (b.joint.has_spring && (b.joint.spring.c.array() != 0).any());
+    m.has_drives = m.has_drives || b.joint.torque.size() > 0;
     m.has_sliding = m.has_sliding || b.nt() > 0;
     if (b.parent >= 0) m.bodies[b.parent].children.push_back(i);
     m.body_parent.push_back(b.parent);
@@ -110,13 +111,38 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
 
 }  // namespace
 
-Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& defs) {
+namespace {
+
+// The mechanism's bodies in internal numbering (source indices in, checked by io/).
+void placeMechanism(const MechanismDef& def, Model& m) {
+  const auto internal = [&m](Attachment a) {
+    if (a.body >= 0) a.body = m.file_to_internal.at(a.body);
+    return a;
+  };
+  for (Loop l : def.loops) {
+    l.a = internal(l.a), l.b = internal(l.b);
+    m.loop_rows += loopRow(l.type).equations;
+    m.loops.push_back(std::move(l));
+  }
+  for (PointSpring s : def.springs) {
+    s.a = internal(s.a), s.b = internal(s.b);
+    m.has_dampers = m.has_dampers || s.c != 0;
+    m.point_springs.push_back(std::move(s));
+  }
+  // W_diss is the work the non-conservative forces take out: a drive's is counted negative.
+  m.has_dampers = m.has_dampers || m.has_drives;
+}
+
+}  // namespace
+
+Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& defs, const MechanismDef& mechanism) {
   validate(defs);
   Model m;
   m.name = name;
   m.gravity = gravity;
   m.has_gravity = gravity.squaredNorm() > 0;
   placeBodies(defs, regularOrder(defs), m);
+  placeMechanism(mechanism, m);
   // §2: T(j,i) = 1 when joint j lies on the path from the ground to body i.
   const int n = m.n();
   m.T = Eigen::MatrixXi::Zero(n, n);

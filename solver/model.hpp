@@ -74,6 +74,53 @@ struct Spring {
   Eigen::VectorXd k, c, q_rest;  // (nu) each
 };
 
+/// A point fixed in a body: the body's internal index (-1: the ground) and
+/// the point from its CM in the body frame (for the ground, in the world).
+struct Attachment {
+  int body = -1;
+  Vec3 point = Vec3::Zero();
+};
+
+/// A closure kind (docs/theory.md §15): its scene name, the equations it adds
+/// and whether the scene gives it axes. One row per kind, in LoopType order.
+enum class LoopType { Ball, Hinge, Weld };
+struct LoopTypeInfo {
+  LoopType type;
+  const char* name;
+  int equations;  ///< ball 3 (the points meet), hinge 5 (and the axes stay aligned), weld 6 (and the frames)
+  bool axes;      ///< the scene gives axis_a and axis_b
+};
+inline constexpr LoopTypeInfo kLoopTypes[] = {
+    {LoopType::Ball, "ball", 3, false}, {LoopType::Hinge, "hinge", 5, true}, {LoopType::Weld, "weld", 6, false}};
+inline const LoopTypeInfo& loopRow(LoopType t) { return kLoopTypes[static_cast<int>(t)]; }
+
+/// One closure of the tree into a mechanism (the scene's `loops`): a's point
+/// and b's point meet; a hinge keeps axis_a (body a's frame) along axis_b
+/// (body b's); a weld keeps b's frame at the orientation relative to a's that
+/// it has at the initial state (rel = R_a^T R_b there).
+struct Loop {
+  std::string name;
+  LoopType type = LoopType::Ball;
+  Attachment a, b;
+  Vec3 axis_a = Vec3::UnitZ(), axis_b = Vec3::UnitZ();  ///< unit (hinge)
+  Mat3 rel = Mat3::Identity();                           ///< weld: R_a^T R_b at q0 (set by finishMechanism)
+};
+
+/// A linear spring-damper between two points (the scene's `forces`): tension
+/// k (l - length) + c l' along the line from a's point to b's.
+struct PointSpring {
+  std::string name;
+  Attachment a, b;
+  double k = 0, c = 0, length = 0;
+};
+
+/// What turns a tree into a mechanism, bodies named by their index in the
+/// source's list (-1: the ground), as handed to buildModel.
+struct MechanismDef {
+  std::vector<Loop> loops;
+  std::vector<PointSpring> springs;
+};
+
 /// One joint: the inboard joint of its body.
 struct Joint {
   JointType type = JointType::Revolute;
@@ -83,6 +130,7 @@ struct Joint {
   Eigen::VectorXd q0, u0;         ///< initial coordinates (nq) and speeds (nu)
   bool has_spring = false;
   Spring spring;
+  Eigen::VectorXd torque;         ///< a drive: constant generalized force per speed (nu), empty without one
   std::string name;               ///< optional (a URDF joint's): coordinates are then named after it, not the body
   /// Prefix of this joint's coordinate names ("<prefix>.q0"): its name, else the body's.
   const std::string& prefix(const std::string& body) const { return name.empty() ? body : name; }
@@ -132,6 +180,10 @@ struct Model {
   bool has_dampers = false;    ///< some c != 0: runs track the dissipated work W_diss (docs/theory.md §5)
   bool has_gravity = false;
   bool has_sliding = false;    ///< some prismatic or free joint: the formation does translational work only then (theory.md §12)
+  bool has_drives = false;     ///< some joint.torque: B gains it, and W_diss counts its work negative (theory.md §15)
+  std::vector<Loop> loops;     ///< closures, bodies in internal numbering (theory.md §15)
+  std::vector<PointSpring> point_springs;  ///< point-to-point spring-dampers, internal numbering
+  int loop_rows = 0;           ///< sum of the loops' equations: the rows of g and G
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map
   /// Compact copies of bodies[i].parent, .iu and .nu() for the O(n depth)
@@ -140,6 +192,10 @@ struct Model {
   std::vector<int> body_nt;    ///< translational speeds of body i's joint, the first of its nu  // (n)
 
   int n() const { return static_cast<int>(bodies.size()); }
+  /// Whether it is more than a tree of joint springs: loops, point springs or drives.
+  bool isMechanism() const { return !loops.empty() || !point_springs.empty() || has_drives; }
+  /// Whether B gains applied forces beyond gravity (joint springs, drives, point springs).
+  bool hasAppliedForces() const { return has_springs || has_drives || !point_springs.empty(); }
   /// Initial state in internal order: q (nq), u (nu).
   Eigen::VectorXd q0() const;
   Eigen::VectorXd u0() const;
@@ -163,7 +219,8 @@ struct Model {
 /// the field: an empty or duplicate name, a parent out of range, a body that
 /// is its own parent or does not reach the ground (a cycle), a coordinate
 /// prefix (joint name, else body name) used twice (field "joint.name").
-Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& bodies);
+Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& bodies,
+                 const MechanismDef& mechanism = {});
 
 /// A random state in internal order, for checks at states a run may never
 /// reach: angles uniform in [-pi, pi] (a gimbal's middle angle within +-72 deg,

@@ -102,6 +102,9 @@ std::deque<IntegratorInfo>& integrators() {
        "GSL Runge-Kutta Prince-Dormand (8, 9), adaptive", "^"},
       {Integrator::BSIMP, "bsimp", {Engine::InHouse}, false, nullptr, &gsl_odeiv2_step_bsimp,
        "GSL implicit Bulirsch-Stoer, adaptive (stiff)", "D"},
+      {Integrator::IDA, "ida", {Engine::InHouse}, false, nullptr, nullptr,
+       "SUNDIALS IDA (variable-order BDF) on the stabilized index-2 form of the equations and the loops, adaptive: "
+       "the reference of mechanisms (method classical's formation, IDA's own solves)", "*", true},
   };
   return table;
 }
@@ -129,6 +132,7 @@ const std::vector<FailureInfo>& failureTable() {
       {Failure::Engine, "engine", "another engine stopped (a Simbody exception, a MuJoCo warning)"},
       {Failure::Plugin, "plugin", "a plugin's u' returned an error code, crashed or did not return (its run is in a child process)"},
       {Failure::EndedEarly, "ended-early", "a recorded run's samples end before the comparison's grid does"},
+      {Failure::LoopsOpen, "loops-open", "a mechanism's closures opened beyond the loop tolerance, or the projection could not close them (a singular position)"},
   };
   return table;
 }

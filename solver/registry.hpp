@@ -30,7 +30,7 @@ enum class Engine : int { InHouse };
 enum class Method : int { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi };
 
 /// The in-house integrators; another engine's own schemes take the ids after them.
-enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP };
+enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP, IDA };
 
 /// Another engine's integrator, as its row names it: a name already in the
 /// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
@@ -141,6 +141,9 @@ struct IntegratorInfo {
   GslStepper gsl;   ///< in-house adaptive schemes: GSL's stepper
   const char* summary;
   const char* marker = nullptr;  ///< its marker in every figure (matplotlib); nullptr: "."
+  /// A DAE solver (IDA) that integrates the formation's A and B and the loops
+  /// itself (solver/ida.hpp): it runs with a method that has no extra state.
+  bool dae = false;
   bool runs(Engine e) const;
 };
 
@@ -162,6 +165,7 @@ enum class Failure {
   Engine,                 ///< another engine (Simbody, MuJoCo, ...) threw or warned
   Plugin,                 ///< a plugin's u' returned an error, crashed or hung (outside/plugin.hpp)
   EndedEarly,             ///< a recorded run's samples end before the grid does (outside/recorded.hpp)
+  LoopsOpen,              ///< a mechanism's closures opened beyond MethodOptions' loop_tol (or the projection did not close them)
 };
 
 /// How a run came out, as every report, CSV and table writes it: completed

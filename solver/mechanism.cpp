@@ -1,0 +1,281 @@
+// Closures, point forces and drives (docs/theory.md §15).
+#include "solver/mechanism.hpp"
+
+#include <cmath>
+
+#include "solver/text.hpp"
+
+namespace em {
+
+namespace {
+
+Mat3 rotationOf(const Workspace& ws, int body) { return body < 0 ? Mat3::Identity() : ws.R[body]; }
+Vec3 omegaOf(const Workspace& ws, int body) { return body < 0 ? Vec3::Zero() : ws.omega[body]; }
+
+// Two unit vectors perpendicular to unit n, fixed by n alone.
+void perpendicularPair(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 seed = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  t1 = n.cross(seed).normalized();
+  t2 = n.cross(t1);
+}
+
+// One row that keeps unit e (turning with body a) perpendicular to unit f
+// (turning with body b): g = e.f, G = (e x f)^T (J_w,a - J_w,b) (eq. (M4)).
+struct PairRow {
+  Vec3 e, f;
+};
+
+}  // namespace
+
+const std::vector<FormulationInfo>& formulationTable() {
+  static const std::vector<FormulationInfo> table = {
+      {Formulation::Baumgarte, "baumgarte", "Lagrange multipliers at acceleration level, Baumgarte's alpha and beta (default 0: the raw drift)"},
+      {Formulation::Projection, "projection", "the same, then after every accepted step q onto g = 0 (Gauss-Newton in A's metric) and u onto G u = 0"}};
+  return table;
+}
+
+const char* formulationName(Formulation f) {
+  for (const FormulationInfo& r : formulationTable())
+    if (r.id == f) return r.name;
+  return "?";
+}
+
+bool findFormulation(const std::string& name, Formulation& out) {
+  for (const FormulationInfo& r : formulationTable())
+    if (name == r.name) {
+      out = r.id;
+      return true;
+    }
+  return false;
+}
+
+PointMotion pointMotion(const Workspace& ws, const Attachment& p) {
+  if (p.body < 0) return {p.point, Vec3::Zero()};
+  const Vec3 rho = ws.R[p.body] * p.point;
+  return {ws.r[p.body] + rho, ws.v[p.body] + ws.omega[p.body].cross(rho)};
+}
+
+void addPointJacobian(const Model& m, const Workspace& ws, int body, const Vec3& x, double sign,
+                      Eigen::Ref<Eigen::MatrixXd> rows) {
+  for (int k = body; k >= 0; k = m.body_parent[k]) {
+    const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
+    for (int j = iu; j < iu + nt; ++j) rows.col(j) += sign * ws.P.col(j);
+    for (int j = iu + nt; j < iu + nu; ++j) rows.col(j) += sign * ws.P.col(j).cross(x - ws.o[k]);
+  }
+}
+
+void addAngularJacobian(const Model& m, const Workspace& ws, int body, double sign, Eigen::Ref<Eigen::MatrixXd> rows) {
+  for (int k = body; k >= 0; k = m.body_parent[k]) {
+    const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
+    for (int j = iu + nt; j < iu + nu; ++j) rows.col(j) += sign * ws.P.col(j);
+  }
+}
+
+Vec3 pointBias(const Model& m, const Workspace& ws, const double* u, int body, const Vec3& x, const Vec3& xdot) {
+  Vec3 a = Vec3::Zero();
+  for (int k = body; k >= 0; k = m.body_parent[k]) {
+    const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
+    for (int j = iu; j < iu + nt; ++j) a += ws.Pdot.col(j) * u[j];
+    for (int j = iu + nt; j < iu + nu; ++j)
+      a += (ws.Pdot.col(j).cross(x - ws.o[k]) + ws.P.col(j).cross(xdot - ws.vo[k])) * u[j];
+  }
+  return a;
+}
+
+Vec3 angularBias(const Model& m, const Workspace& ws, const double* u, int body) {
+  Vec3 a = Vec3::Zero();
+  for (int k = body; k >= 0; k = m.body_parent[k]) {
+    const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
+    for (int j = iu + nt; j < iu + nu; ++j) a += ws.Pdot.col(j) * u[j];
+  }
+  return a;
+}
+
+LoopState::LoopState(const Model& m)
+    : g(Eigen::VectorXd::Zero(m.loop_rows)), Gu(Eigen::VectorXd::Zero(m.loop_rows)), c(Eigen::VectorXd::Zero(m.loop_rows)),
+      G(Eigen::MatrixXd::Zero(m.loop_rows, m.nu)), Jw(3, m.nu) {}
+
+namespace {
+
+// Rows r..r+2: a's point meets b's (eqs. (M1)-(M3)).
+void ballRows(const Model& m, const Workspace& ws, const double* u, const Loop& l, int r, LoopState& ls) {
+  const PointMotion pa = pointMotion(ws, l.a), pb = pointMotion(ws, l.b);
+  ls.g.segment<3>(r) = pa.x - pb.x;
+  auto rows = ls.G.middleRows(r, 3);
+  if (l.a.body >= 0) addPointJacobian(m, ws, l.a.body, pa.x, 1.0, rows);
+  if (l.b.body >= 0) addPointJacobian(m, ws, l.b.body, pb.x, -1.0, rows);
+  ls.c.segment<3>(r) = (l.a.body < 0 ? Vec3::Zero() : pointBias(m, ws, u, l.a.body, pa.x, pa.v)) -
+                       (l.b.body < 0 ? Vec3::Zero() : pointBias(m, ws, u, l.b.body, pb.x, pb.v));
+}
+
+// Row r: e (with a) stays perpendicular to f (with b) (eq. (M4)).
+void pairRow(const Model& m, const Workspace& ws, const double* u, const Loop& l, const PairRow& p, int r, LoopState& ls) {
+  const Vec3 n = p.e.cross(p.f), wa = omegaOf(ws, l.a.body), wb = omegaOf(ws, l.b.body);
+  ls.g[r] = p.e.dot(p.f);
+  ls.Jw.setZero();
+  if (l.a.body >= 0) addAngularJacobian(m, ws, l.a.body, 1.0, ls.Jw);
+  if (l.b.body >= 0) addAngularJacobian(m, ws, l.b.body, -1.0, ls.Jw);
+  ls.G.row(r).noalias() = n.transpose() * ls.Jw;
+  const Vec3 alpha = (l.a.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.a.body)) -
+                     (l.b.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.b.body));
+  const Vec3 ndot = wa.cross(p.e).cross(p.f) + p.e.cross(wb.cross(p.f));
+  ls.c[r] = n.dot(alpha) + ndot.dot(wa - wb);
+}
+
+}  // namespace
+
+void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& ls) {
+  ls.G.setZero();
+  int r = 0;
+  for (const Loop& l : m.loops) {
+    ballRows(m, ws, u, l, r, ls);
+    r += 3;
+    const Mat3 Ra = rotationOf(ws, l.a.body), Rb = rotationOf(ws, l.b.body);
+    if (l.type == LoopType::Hinge) {
+      Vec3 t1, t2;
+      perpendicularPair(l.axis_b, t1, t2);
+      const Vec3 e = Ra * l.axis_a;
+      pairRow(m, ws, u, l, {e, Rb * t1}, r++, ls);
+      pairRow(m, ws, u, l, {e, Rb * t2}, r++, ls);
+    } else if (l.type == LoopType::Weld) {
+      const Mat3 A = Ra * l.rel;  // b's frame as a holds it
+      for (int k = 0; k < 3; ++k) pairRow(m, ws, u, l, {A.col(k), Rb.col((k + 1) % 3)}, r++, ls);
+    }
+  }
+  ls.Gu.noalias() = ls.G * Eigen::Map<const Eigen::VectorXd>(u, m.nu);
+  ls.position_m = ls.position_rad = ls.velocity_m = ls.velocity_rad = 0;
+  r = 0;
+  for (const Loop& l : m.loops) {
+    ls.position_m = std::max(ls.position_m, ls.g.segment<3>(r).cwiseAbs().maxCoeff());
+    ls.velocity_m = std::max(ls.velocity_m, ls.Gu.segment<3>(r).cwiseAbs().maxCoeff());
+    const int extra = loopRow(l.type).equations - 3;
+    if (extra > 0) {
+      ls.position_rad = std::max(ls.position_rad, ls.g.segment(r + 3, extra).cwiseAbs().maxCoeff());
+      ls.velocity_rad = std::max(ls.velocity_rad, ls.Gu.segment(r + 3, extra).cwiseAbs().maxCoeff());
+    }
+    r += loopRow(l.type).equations;
+  }
+}
+
+namespace {
+
+// A point spring's line at the formed kinematics: a's and b's points, the unit
+// vector from a to b, the length and its rate.
+struct SpringLine {
+  PointMotion a, b;
+  Vec3 n;
+  double l = 0, ldot = 0;
+};
+SpringLine springLine(const Workspace& ws, const PointSpring& s) {
+  SpringLine L{pointMotion(ws, s.a), pointMotion(ws, s.b), Vec3::Zero()};
+  const Vec3 d = L.b.x - L.a.x;
+  L.l = d.norm();
+  L.n = L.l > 0 ? Vec3(d / L.l) : Vec3::Zero();  // coincident points: no direction, no force (io refuses them at the start)
+  L.ldot = L.n.dot(L.b.v - L.a.v);
+  return L;
+}
+
+}  // namespace
+
+void addAppliedForces(const Model& m, const Workspace& ws, const double* q, const double* u, Eigen::VectorXd& Q) {
+  if (m.has_springs) addSpringForces(m, q, u, Q);
+  if (m.has_drives)
+    for (const Body& b : m.bodies)
+      if (b.joint.torque.size()) Q.segment(b.iu, b.nu()) += b.joint.torque;
+  for (const PointSpring& s : m.point_springs) {
+    const SpringLine L = springLine(ws, s);
+    const double tension = s.k * (L.l - s.length) + s.c * L.ldot;  // pulls the points together when > 0
+    // The force on b is -tension n, on a +tension n; Q = sum J^T f (eq. (M5)).
+    for (const auto& [att, f] : {std::pair<const Attachment*, Vec3>{&s.a, tension * L.n}, {&s.b, -tension * L.n}}) {
+      if (att->body < 0) continue;
+      const Vec3 x = att == &s.a ? L.a.x : L.b.x;
+      for (int k = att->body; k >= 0; k = m.body_parent[k]) {
+        const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
+        for (int j = iu; j < iu + nt; ++j) Q[j] += ws.P.col(j).dot(f);
+        for (int j = iu + nt; j < iu + nu; ++j) Q[j] += ws.P.col(j).cross(x - ws.o[k]).dot(f);
+      }
+    }
+  }
+}
+
+double pointSpringPotential(const Model& m, const Workspace& ws) {
+  double V = 0;
+  for (const PointSpring& s : m.point_springs) {
+    const double e = springLine(ws, s).l - s.length;
+    V += 0.5 * s.k * e * e;
+  }
+  return V;
+}
+
+double nonConservativePower(const Model& m, const Workspace& ws, const double* u) {
+  double P = dissipationRate(m, u);
+  for (const PointSpring& s : m.point_springs) {
+    if (s.c == 0) continue;
+    const double ldot = springLine(ws, s).ldot;
+    P += s.c * ldot * ldot;
+  }
+  if (m.has_drives)
+    for (const Body& b : m.bodies)
+      if (b.joint.torque.size()) P -= b.joint.torque.dot(Eigen::Map<const Eigen::VectorXd>(u + b.iu, b.nu()));
+  return P;
+}
+
+ConstrainedSolve::ConstrainedSolve(const Model& m)
+    : S_(m.loop_rows, m.loop_rows), r_(m.loop_rows), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), cod_(m.loop_rows, m.loop_rows) {}
+
+int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta,
+                            Eigen::Ref<Eigen::VectorXd> udot) {
+  S_.noalias() = ls.G * AinvGt;
+  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
+  r_.noalias() -= ls.G * udot;
+  cod_.setThreshold(kLoopRankTol);
+  cod_.compute(S_);
+  rank_ = static_cast<int>(cod_.rank());
+  lambda_ = cod_.solve(r_);
+  udot.noalias() += AinvGt * lambda_;
+  return rank_;
+}
+
+void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r,
+                                  Eigen::VectorXd& out) {
+  S_.noalias() = ls.G * AinvGt;
+  cod_.setThreshold(kLoopRankTol);
+  cod_.compute(S_);
+  rank_ = static_cast<int>(cod_.rank());
+  lambda_ = cod_.solve(r);
+  out.noalias() = AinvGt * lambda_;
+}
+
+void finishMechanism(Model& m) {
+  bool welds = false;
+  for (const Loop& l : m.loops) welds = welds || l.type == LoopType::Weld;
+  if (!welds) return;
+  Workspace ws(m);
+  const Eigen::VectorXd q = m.q0(), u = Eigen::VectorXd::Zero(m.nu);
+  formKinematics(m, q.data(), u.data(), ws);
+  for (Loop& l : m.loops)
+    if (l.type == LoopType::Weld) l.rel = rotationOf(ws, l.a.body).transpose() * rotationOf(ws, l.b.body);
+}
+
+LoopGap openLoop(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u, double tol) {
+  Workspace ws(m);
+  formKinematics(m, q.data(), u.data(), ws);
+  LoopState ls(m);
+  formLoops(m, ws, u.data(), ls);
+  int r = 0;
+  for (size_t i = 0; i < m.loops.size(); ++i) {
+    const Loop& l = m.loops[i];
+    const int rows = loopRow(l.type).equations;
+    const auto worst = [&](const Eigen::VectorXd& v, int from, int n) { return n > 0 ? v.segment(from, n).cwiseAbs().maxCoeff() : 0.0; };
+    const std::string what = "loop '" + l.name + "' ";
+    const int L = static_cast<int>(i);
+    if (const double e = worst(ls.g, r, 3); e > tol) return {L, what + "is open by " + gnum(e, 3) + " m"};
+    if (const double e = worst(ls.g, r + 3, rows - 3); e > tol) return {L, what + "is open by " + gnum(e, 3) + " rad"};
+    if (const double e = worst(ls.Gu, r, 3); e > tol) return {L, what + "separates at " + gnum(e, 3) + " m/s"};
+    if (const double e = worst(ls.Gu, r + 3, rows - 3); e > tol) return {L, what + "turns apart at " + gnum(e, 3) + " rad/s"};
+    r += rows;
+  }
+  return {};
+}
+
+}  // namespace em
