@@ -106,6 +106,25 @@ case("huge_angle", "bodies[1].joint.q0[0]", "beyond", setk(J1, "q0", [1e20]))
 case("gravity_huge", "gravity", "beyond 10000 (a thousand g)", setk(lambda d: d, "gravity", [0, 0, -1e308]))
 case("grid_not_whole", "simulate.t_end", "whole multiple of output_dt",
      setk(lambda d: d, "simulate", {"t_end": 1, "output_dt": 0.3}))
+# Mechanisms (docs/scene-format.md, "Mechanisms"): loops and point springs.
+def top(key, value):
+    return setk(lambda d: d, key, value)
+case("loop_unknown_body", "loops[0].body_a", "unknown body 'nobody'",
+     top("loops", [{"name": "l", "type": "ball", "body_a": "nobody", "body_b": "ground"}]))
+case("loop_to_itself", "loops[0].body_b", "joins body 'upper' to itself",
+     top("loops", [{"name": "l", "type": "ball", "body_a": "upper", "body_b": "upper"}]))
+case("loop_zero_axis", "loops[0].axis_a", "zero axis",
+     top("loops", [{"name": "l", "type": "hinge", "body_a": "lower", "body_b": "ground", "axis_a": [0, 0, 0], "axis_b": [1, 0, 0]}]))
+case("loop_open_at_start", "loops[0]", "loop 'l' is open by 0.488 m at the initial state",
+     top("loops", [{"name": "l", "type": "ball", "body_a": "upper", "body_b": "ground"}]))
+case("loop_unknown_type", "loops[0].type", "unknown loop type 'slider'",
+     top("loops", [{"name": "l", "type": "slider", "body_a": "upper", "body_b": "ground"}]))
+case("force_negative_k", "forces[0].k", "must be >= 0",
+     top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": -1, "length": 1}]))
+case("force_zero_length", "forces[0].length", "a rest length must be > 0",
+     top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": 1, "length": 0}]))
+case("force_coincident_points", "forces[0]", "its two points coincide",
+     top("forces", [{"name": "s", "type": "spring", "body_a": "upper", "point_a": [0, 0, 0.5], "body_b": "ground", "k": 1, "length": 1}]))
 with open(os.path.join(OUT, "expected.json"), "w") as f:
     json.dump(cases, f, indent=1, sort_keys=True)
     f.write("\n")

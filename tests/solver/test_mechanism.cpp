@@ -1,0 +1,198 @@
+// Mechanisms (docs/theory.md §15): the closures' G against finite differences
+// of g, the published Andrews solution, a parallelogram four-bar against its
+// elliptic-integral period, the energy balance with a drive and a point
+// spring, and malformed loops and forces.
+#include <cmath>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <gsl/gsl_sf_ellint.h>
+
+#include "io/json_input.hpp"
+#include "io/scene_json.hpp"
+#include "solver/integrate.hpp"
+#include "solver/mechanism.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// The IVP test set's SOLN for Andrews' squeezer at t = 0.03 s (PSIDE at
+// rtol = atol = 1e-14; data/scenes/mechanisms/andrews.json's x-reference):
+// beta, Theta, gamma, Phi, delta, Omega, epsilon, the scene's body order.
+const double kAndrewsAt003[7] = {15.81077119629904,   -15.75637105984298, 0.04082224013073101, -0.5347301163226948,
+                                 0.5244099658805304,  0.5347301163226948, 1.048080741042263};
+// The issue's bar: every angle within 1e-9 relative of the published one.
+// (Measured: 2.8e-10 at worst, gamma, for every route below; the published
+// digits themselves carry PSIDE's 1e-14 tolerance over 0.03 s.)
+constexpr double kPublishedRel = 1e-9;
+
+// g at q, with G and c (formLoops) at (q, u).
+LoopState loopsAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  Workspace ws(m);
+  formKinematics(m, q.data(), u.data(), ws);
+  LoopState ls(m);
+  formLoops(m, ws, u.data(), ls);
+  return ls;
+}
+
+// q moved along u-space direction v for time h (qdot(q, v) h; quaternions renormalized).
+Eigen::VectorXd moved(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double h) {
+  Eigen::VectorXd qd(m.nq);
+  formQdot(m, q.data(), v.data(), qd.data());
+  Eigen::VectorXd out = q + h * qd;
+  for (const Body& b : m.bodies)
+    if (const int at = jointQuat(b.joint.type); at >= 0) out.segment<4>(b.iq + at).normalize();
+  return out;
+}
+
+// A 3D mechanism of every closure kind and every joint kind the loops read:
+// a ball-jointed arm, a universal, a prismatic and a free body, closed by a
+// ball, a hinge and a weld. Its state is random (the loops need not be closed
+// for G and c to be g's derivatives).
+Model everyLoopKind() {
+  const std::string text = R"({"format": "eigenmass-scene/1", "name": "loops3d", "gravity": [0, 0, -9.81],
+    "bodies": [
+      {"name": "a", "parent": "ground", "mass": 1.2, "inertia": [0.02, 0.03, 0.025, 0.001, 0, 0.002],
+       "joint": {"type": "ball", "in_parent": [0, 0, 0], "in_body": [0, 0, 0.3]}},
+      {"name": "b", "parent": "a", "mass": 0.8, "inertia": [0.01, 0.012, 0.008],
+       "joint": {"type": "universal", "axes": [[1, 0, 0], [0, 1, 0]], "in_parent": [0.05, 0, -0.3], "in_body": [0, 0.1, 0.2]}},
+      {"name": "c", "parent": "b", "mass": 0.5, "inertia": [0.004, 0.005, 0.006],
+       "joint": {"type": "prismatic", "axis": [0, 0, 1], "in_parent": [0, -0.1, -0.2], "in_body": [0.02, 0, 0.1]}},
+      {"name": "d", "parent": "ground", "mass": 0.7, "inertia": [0.003, 0.004, 0.005],
+       "joint": {"type": "free", "in_parent": [0.5, 0, 0], "in_body": [0, 0, 0]}}],
+    "loops": [
+      {"name": "ball", "type": "ball", "body_a": "c", "point_a": [0, 0.05, -0.1], "body_b": "d", "point_b": [0.1, 0, 0]},
+      {"name": "hinge", "type": "hinge", "body_a": "b", "point_a": [0.1, 0, 0], "body_b": "ground", "point_b": [0.2, 0.1, -0.4],
+       "axis_a": [0, 0, 1], "axis_b": [0, 0.6, 0.8]},
+      {"name": "weld", "type": "weld", "body_a": "d", "point_a": [0, 0.1, 0], "body_b": "a", "point_b": [0.1, 0, 0]}],
+    "simulate": {"t_end": 1, "output_dt": 0.1}})";
+  SceneSpec spec = parseSceneSpec(text);
+  MechanismDef mech;
+  // The loops read straight into the model (the scene's start is not closed, so io/ would refuse it).
+  const auto index = [&](const std::string& name) {
+    if (name == "ground") return -1;
+    for (int f = 0; f < static_cast<int>(spec.bodies.size()); ++f)
+      if (spec.bodies[f].name == name) return f;
+    return -2;
+  };
+  for (const LoopSpec& l : spec.loops)
+    mech.loops.push_back({l.name, l.type, {index(l.body_a), l.point_a}, {index(l.body_b), l.point_b}, l.axis_a, l.axis_b,
+                          Mat3(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()))});
+  std::vector<BodyDef> defs;
+  for (const BodySpec& b : spec.bodies) defs.push_back({b.name, index(b.parent) == -2 ? -1 : index(b.parent), b.mass, b.inertia, b.joint});
+  return buildModel(spec.name, spec.gravity, defs, mech);
+}
+
+Trajectory run(const Model& m, Method method, Integrator integrator, double tol, double t_end, double output_dt) {
+  return simulate(m, checked(test::runSpec(method, integrator, t_end, tol, output_dt)));
+}
+
+}  // namespace
+
+TEST_CASE("G is the derivative of g, and c of G u, for every closure kind", "[mechanism]") {
+  const Model m = everyLoopKind();
+  REQUIRE(m.loop_rows == 3 + 5 + 6);
+  std::mt19937 rng(7);
+  // Central differences: truncation h^2 |g'''| ~ 1e-12, round-off eps |g| / h ~ 1e-11.
+  const double h = 1e-5, tol = 1e-8;
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd q, u;
+    randomState(m, rng, q, u);
+    const LoopState at = loopsAt(m, q, u);
+    const LoopState plus = loopsAt(m, moved(m, q, u, h), u), minus = loopsAt(m, moved(m, q, u, -h), u);
+    INFO("trial " << trial);
+    CHECK(((plus.g - minus.g) / (2 * h) - at.G * u).cwiseAbs().maxCoeff() < tol);  // g' = G u
+    CHECK(((plus.Gu - minus.Gu) / (2 * h) - at.c).cwiseAbs().maxCoeff() < tol);   // (G u)' at u' = 0 is c
+  }
+}
+
+TEST_CASE("Andrews' squeezer: IDA and the in-house formulations meet the published solution at t = 0.03 s", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/andrews.json");
+  REQUIRE(m.loop_rows == 9);  // three balls in the plane: 9 rows, 6 independent
+  struct Route {
+    Method method;
+    Integrator integrator;
+    double tol;
+  };
+  for (const Route& r : {Route{Method::Classical, Integrator::IDA, 1e-12}, Route{Method::Classical, Integrator::RK8PD, 1e-13},
+                         Route{Method::Articulated, Integrator::RK8PD, 1e-13}, Route{Method::EigenBlock, Integrator::RK8PD, 1e-13}}) {
+    INFO(methodName(r.method) << "/" << integratorName(r.integrator));
+    const Trajectory tr = run(m, r.method, r.integrator, r.tol, 0.03, 0.03);
+    REQUIRE_FALSE(tr.failed());
+    for (int k = 0; k < 7; ++k) {
+      INFO("angle " << k << ": " << tr.q.back()[k] << " against " << kAndrewsAt003[k]);
+      CHECK(std::abs(tr.q.back()[k] - kAndrewsAt003[k]) <= kPublishedRel * std::abs(kAndrewsAt003[k]));
+    }
+    // E + W_diss is conserved, W_diss counting the drive's work negative (theory.md eq. (M6)):
+    // the spring's potential and the drive's work are each ~1 J here.
+    for (size_t s = 0; s < tr.size(); ++s) CHECK(std::abs(tr.energy[s] + tr.dissipated[s] - tr.energy[0]) < 1e-8);
+  }
+}
+
+TEST_CASE("a parallelogram four-bar swings as a physical pendulum: its half period from the complete elliptic integral", "[mechanism]") {
+  // Crank and follower: uniform rods of length L hanging from (0,0) and (d,0);
+  // the coupler (length d) joins their tips by a pin at the crank and a ball
+  // closure at the follower, so it translates. One degree of freedom theta:
+  // T = (I_c + I_f + m_2 L^2) theta'^2 / 2, V = -g (m_1 L/2 + m_3 L/2 + m_2 L) cos theta.
+  const double L = 0.8, d = 0.5, m1 = 1.0, m2 = 0.6, m3 = 1.4, g = 9.81, theta0 = 1.0;
+  const double Ieff = m1 * L * L / 3 + m3 * L * L / 3 + m2 * L * L, Mgl = g * (m1 * L / 2 + m3 * L / 2 + m2 * L);
+  const double half_period = 2 * std::sqrt(Ieff / Mgl) * gsl_sf_ellint_Kcomp(std::sin(theta0 / 2), GSL_PREC_DOUBLE);
+  const auto rod = [](double mass, double len) { return mass * len * len / 12; };
+  char text[2048];
+  std::snprintf(text, sizeof text, R"({"format": "eigenmass-scene/1", "name": "parallelogram", "gravity": [0, %.17g, 0],
+    "bodies": [
+      {"name": "crank", "parent": "ground", "mass": %.17g, "inertia": [%.17g, 1e-6, %.17g],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [0, %.17g, 0], "q0": [%.17g]}},
+      {"name": "coupler", "parent": "crank", "mass": %.17g, "inertia": [1e-6, %.17g, %.17g],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, %.17g, 0], "in_body": [%.17g, 0, 0], "q0": [%.17g]}},
+      {"name": "follower", "parent": "ground", "mass": %.17g, "inertia": [%.17g, 1e-6, %.17g],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [%.17g, 0, 0], "in_body": [0, %.17g, 0], "q0": [%.17g]}}],
+    "loops": [{"name": "tip", "type": "ball", "body_a": "coupler", "point_a": [%.17g, 0, 0], "body_b": "follower", "point_b": [0, %.17g, 0]}],
+    "simulate": {"t_end": 1, "output_dt": 0.1}})",
+                -g, m1, rod(m1, L), rod(m1, L), L / 2, theta0, m2, rod(m2, d), rod(m2, d), -L / 2, -d / 2, -theta0, m3, rod(m3, L),
+                rod(m3, L), d, L / 2, theta0, d / 2, -L / 2);
+  const Model m = buildModel(parseSceneSpec(text));
+  for (Integrator integrator : {Integrator::IDA, Integrator::RK8PD}) {
+    INFO(integratorName(integrator));
+    const Trajectory tr = run(m, Method::Classical, integrator, 1e-12, half_period, half_period / 2);
+    REQUIRE_FALSE(tr.failed());
+    // At a quarter period the crank passes the bottom; at half it stands at -theta0, at rest.
+    // 1e-8 rad: the integrators' 1e-12 tolerance over ~1e3 steps, with room.
+    CHECK(std::abs(tr.q[1][0]) < 1e-8);
+    CHECK(std::abs(tr.q[2][0] + theta0) < 1e-8);
+    CHECK(std::abs(tr.u[2][0]) < 1e-7);
+    CHECK(std::abs(tr.q[2][1] - theta0) < 1e-8);     // the coupler turned back by as much: it translates
+    CHECK(std::abs(tr.q[2][2] + theta0) < 1e-8);     // the follower moved with the crank
+  }
+}
+
+TEST_CASE("a mechanism's bad loops and forces: one line naming the JSON path", "[mechanism][io]") {
+  const std::string head = R"({"format": "eigenmass-scene/1", "name": "bad", "gravity": [0, -9.81, 0],
+    "bodies": [{"name": "a", "parent": "ground", "mass": 1, "inertia": [0.1, 0.1, 0.1],
+                "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [0, 0.5, 0]}}])";
+  struct Case {
+    const char* extra;
+    const char* message;
+  };
+  const Case cases[] = {
+      {R"("loops": [{"name": "l", "type": "ball", "body_a": "x", "body_b": "ground"}])", "loops[0].body_a: unknown body 'x'"},
+      {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "body_b": "a"}])", "loops[0].body_b: joins body 'a' to itself"},
+      {R"("loops": [{"name": "l", "type": "hinge", "body_a": "a", "body_b": "ground", "axis_a": [0, 0, 0], "axis_b": [0, 0, 1]}])", "loops[0].axis_a"},
+      {R"("loops": [{"name": "l", "type": "slot", "body_a": "a", "body_b": "ground"}])", "loops[0].type: unknown loop type 'slot' (ball, hinge, weld)"},
+      {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "body_b": "ground", "axis_a": [0, 0, 1]}])", "loops[0]"},
+      {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "point_a": [0, -0.5, 0], "body_b": "ground", "point_b": [0, -1.5, 0]}])",
+       "loops[0]: loop 'l' is open by 0.5 m at the initial state"},
+      {R"("forces": [{"name": "s", "type": "spring", "body_a": "a", "body_b": "ground", "k": -1, "length": 1}])", "forces[0].k: must be >= 0"},
+      {R"("forces": [{"name": "s", "type": "spring", "body_a": "a", "body_b": "ground", "k": 1, "length": 0}])", "forces[0].length: a rest length must be > 0"},
+      {R"("forces": [{"name": "s", "type": "spring", "body_a": "a", "point_a": [0, 0.5, 0], "body_b": "ground", "k": 1, "length": 1}])",
+       "forces[0]: spring 's': its two points coincide"},
+      {R"("forces": [{"name": "s", "type": "rope", "body_a": "a", "body_b": "ground", "k": 1, "length": 1}])", "forces[0].type: unknown force type 'rope'"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.extra);
+    const std::string text = head + ", " + c.extra + "}";
+    CHECK_THROWS_WITH(buildModel(parseSceneSpec(text)), Catch::StartsWith(c.message) || Catch::Contains(c.message));
+  }
+}
