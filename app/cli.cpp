@@ -17,6 +17,8 @@
 #include "compare/progress.hpp"
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
+#include "io/run_spec_json.hpp"
+#include "solver/mechanism.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 #include "solver/text.hpp"
@@ -113,6 +115,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"rhs_evals", tr.rhs_evals},
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
+  if (tr.has_loops) meta["loops"] = loopsJson(tr, tr.run);
   if (!regularOutput(path)) {  // a device, a FIFO (/dev/stdout, /dev/null): no sidecar beside it, the metadata on stderr
     std::fprintf(stderr, "eigenmass: %s is not a regular file, so no %s.json beside it; its metadata: %s\n", path.c_str(),
                  path.c_str(), meta.dump().c_str());
@@ -165,6 +168,8 @@ void RunArgs::applyTo(MethodOptions& options) const {
   if (allow_long_run) options.max_steps = options.max_samples = HUGE_VAL;
   options.params = params;
   options.retry_failed_steps = !no_step_retry;
+  options.loops = loops;
+  findFormulation(formulation, options.loops.formulation);  // the option's validator admitted only table names
 }
 
 namespace {
@@ -223,11 +228,30 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
     double& value = g.params[p.name] = p.fallback;
     cmd->add_option(optionName(p), value, p.help)->check(paramValidator(p))->capture_default_str();
   }
+  std::vector<std::string> formulations;
+  for (const FormulationInfo& f : formulationTable()) formulations.push_back(std::string(f.name) + ": " + f.summary);
+  cmd->add_option("--formulation", g.formulation, "A mechanism's formulation (docs/theory.md §15): " + joined(formulations))
+      ->check(CLI::IsMember([] {
+        std::vector<std::string> n;
+        for (const FormulationInfo& f : formulationTable()) n.emplace_back(f.name);
+        return n;
+      }()))
+      ->capture_default_str();
+  cmd->add_option("--baumgarte-alpha", g.loops.alpha, "A mechanism's Baumgarte alpha (1/s): G u' = -c - 2 alpha G u - beta^2 g")
+      ->check(CLI::Range(0.0, 1e12))
+      ->capture_default_str();
+  cmd->add_option("--baumgarte-beta", g.loops.beta, "A mechanism's Baumgarte beta (1/s)")->check(CLI::Range(0.0, 1e12))->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
   auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },
                                      "Never show the progress of long runs (default: on a terminal only)");
   on->excludes(off);
+}
+
+void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m) {
+  if (!m.loops.empty()) return;
+  for (const char* option : {"--formulation", "--baumgarte-alpha", "--baumgarte-beta"})
+    if (cmd.count(option)) throw std::invalid_argument(std::string(option) + ": scene '" + m.name + "' has no loops");
 }
 
 void addSceneArg(CLI::App* cmd, SceneArg& s) {

@@ -120,6 +120,8 @@ struct RunArgs {
   bool allow_long_run = false;
   bool no_step_retry = false;
   std::map<std::string, double> params;  ///< every method option by name, at its row's fallback unless given
+  LoopOptions loops;                     ///< --formulation, --baumgarte-alpha, --baumgarte-beta (a mechanism's)
+  std::string formulation = "projection";
   /// The grid as asked on `cmd`: what was not given stays absent (the scene's).
   Grid asked(const CLI::App& cmd) const;
   /// --allow-long-run lifts the step budget of `spec` (MethodOptions::max_steps);
@@ -131,6 +133,9 @@ struct RunArgs {
 /// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --no-step-retry, one option per
 /// method option of the registry (methodParams()), --progress, --no-progress.
 void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help);
+/// --formulation, --baumgarte-alpha and --baumgarte-beta given on a scene
+/// without loops are refused in one line, not ignored.
+void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m);
 
 /// What a user brings on the command line (docs/plugins.md): --plugin
 /// NAME=path/libx.so (repeatable), --plugin-timeout, and where a command

@@ -73,6 +73,12 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
   const double reference_tol = o.reference.tol;
   o.reference = defaultReferenceSpec(parseMethod(a.reference));
   o.reference.tol = reference_tol;
+  // A mechanism's reference is in-house (no engine maps loops yet): classical under ida (docs/theory.md §15).
+  if (model.isMechanism() && !cmd.count("--reference")) {
+    o.reference = defaultReferenceSpec(Method::Classical);
+    o.reference.tol = reference_tol;
+    o.reference.integrator = Integrator::IDA;
+  }
   if (!a.reference_integrator.empty()) o.reference.integrator = parseIntegrator(a.reference_integrator);
   // --tol alone selects an adaptive integrator for the in-house methods.
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
@@ -102,6 +108,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
   });
   const bool reference_adaptive_inhouse = o.reference.engine() == Engine::InHouse;  // an in-house reference is adaptive
   refuseUnreadRunOptions(cmd, o.methods, inhouse_adaptive || reference_adaptive_inhouse);
+  refuseUnreadLoopOptions(cmd, model);
   o.grid = a.run.asked(cmd);
   for (RunSpec* s : o.allSpecs()) a.run.applyTo(*s);
   return o;

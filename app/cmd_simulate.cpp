@@ -30,6 +30,12 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
               drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));
   if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
+  if (tr.has_loops) {
+    const LoopStats& l = tr.loops;
+    std::printf("\nloops: largest violation %.3g m and %.3g rad, %.3g m/s and %.3g rad/s; rank %d", l.position_m, l.position_rad,
+                l.velocity_m, l.velocity_rad, l.rank_max);
+    if (l.projections) std::printf("; %ld projections, %ld Gauss-Newton iterations", l.projections, l.projection_iterations);
+  }
   if (regularOutput(path)) std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
   else std::printf("\ntrajectory: %s (run, status and provenance: on standard error)\n", path.c_str());
 }
@@ -46,6 +52,7 @@ CheckedRunSpec checkedOption(const RunSpec& spec) {
 int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
+  refuseUnreadLoopOptions(cmd, scene.model);
   if (a.outside.plugins.size() > 1) throw std::invalid_argument("--plugin: simulate runs one method; one plugin at a time");
   if (!a.outside.plugins.empty() && cmd.count("--method"))
     throw std::invalid_argument("--method: with --plugin, the plugin is the method run");

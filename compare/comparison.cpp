@@ -47,7 +47,7 @@ bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
 void CompareOptions::leaveOutRefused(const Model& m) {
   std::vector<Method> kept;
   for (Method method : methods) {
-    const std::string why = engineRefusal(info(method).engine, m);
+    const std::string why = methodRefusal(method, m);
     if (why.empty()) kept.push_back(method);
     else left_out.emplace_back(method, why);
   }
@@ -87,7 +87,7 @@ std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
 // the specs come back checked, the only form a run takes.
 std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
-  for (const RunSpec& s : specs) requireEngineTakes(s.engine(), m);  // a joint kind it lacks: named, before any run
+  for (const RunSpec& s : specs) requireMethodTakes(s.method, m);  // a joint kind it lacks: named, before any run
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
   for (size_t i = 0; i < opt.methods.size(); ++i)

@@ -23,7 +23,7 @@ bool followsInHouse(Engine e);
 struct CompareOptions {
   std::vector<Method> methods;  ///< default: every method of the registry, in table order
   /// Methods of the default list left out because their engine cannot take
-  /// the scene (engineRefusal: "engine: why"), each said in the table and the report.
+  /// the scene (methodRefusal: "method: why"), each said in the table and the report.
   std::vector<std::pair<Method, std::string>> left_out;
   /// Leave out of `methods` those whose engine cannot take `m` (a default
   /// list: a method named by the user is refused instead), into left_out.

@@ -37,23 +37,28 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
   return tolerance_given ? adaptiveIntegrator(engine) : defaultIntegrator(engine);
 }
 
-std::string engineRefusal(Engine e, const Model& m) {
-  if (e == Engine::InHouse) return "";
+std::string methodRefusal(Method method, const Model& m) {
+  const MethodInfo& row = info(method);
+  // A u' from outside the formation (an engine's under our integrators, a
+  // plugin's, a recorded run's) is a tree's: it knows no point springs or drives.
+  if (m.isMechanism() && row.tree_only)
+    return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
+  if (row.engine == Engine::InHouse) return "";
   // No engine row maps loops, point springs or drives yet: such a scene is
   // refused for every engine, never run as the tree it would be without them.
   if (m.isMechanism())
-    return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house formulations and ida run it)";
-  const EngineCode& code = engineCode(e);
+    return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods and ida run it)";
+  const EngineCode& code = engineCode(row.engine);
   return code.refusal ? code.refusal(m) : "";
 }
 
-void requireEngineTakes(Engine e, const Model& m) {
-  if (const std::string why = engineRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
+void requireMethodTakes(Method method, const Model& m) {
+  if (const std::string why = methodRefusal(method, m); !why.empty()) throw std::invalid_argument(std::string(methodName(method)) + ": " + why);
 }
 
 Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
   const RunSpec& spec = checked_spec;
-  requireEngineTakes(spec.engine(), m);
+  requireMethodTakes(spec.method, m);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
   if (recordedRun(spec.method)) return recordedTrajectory(m, checked_spec);  // a run made elsewhere: nothing runs

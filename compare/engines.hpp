@@ -43,11 +43,13 @@ Trajectory runTrajectory(const Model& m, const CheckedRunSpec& spec);
 /// What engine `e` does to this scene that bounds its agreement with the
 /// exact equations (its row's scene_note), or "" (the in-house engine: none).
 std::string engineSceneNote(Engine e, const Model& m);
-/// Why engine `e` cannot take this scene at all (its row's refusal: a joint
-/// kind it has no mapping for), or "" when it can.
-std::string engineRefusal(Engine e, const Model& m);
-/// Throws std::invalid_argument "engine: why" when engine `e` cannot take `m`.
-void requireEngineTakes(Engine e, const Model& m);
+/// Why method `method` cannot take this scene at all, or "" when it can: an
+/// engine's refusal (a joint kind it has no mapping for), or a mechanism for a
+/// method whose u' is a tree's (MethodInfo::tree_only) or for any engine (no
+/// engine maps loops, point springs or drives yet).
+std::string methodRefusal(Method method, const Model& m);
+/// Throws std::invalid_argument "method: why" when `method` cannot take `m`.
+void requireMethodTakes(Method method, const Model& m);
 
 /// Equations at the initial state, in the source's order.
 struct Equations {

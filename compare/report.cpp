@@ -77,6 +77,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"dissipated_final_J", finiteOrNull(m.dissipated_final)},
             {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
   putSetting(j, m.run);
+  if (m.has_loops) j["loops"] = loopsJson(m, m.run);
   if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
     j["source"] = from;
     j["colour"] = methodColour(m.run.method);  // plot's process does not know the method

@@ -26,6 +26,7 @@ void addUdotMethod(const EngineUdotMethod& u) {
   m.make = u.make;
   m.summary = u.summary;
   m.colour = u.colour;
+  m.tree_only = true;
   addMethod(m);
 }
 

@@ -1,5 +1,7 @@
 #include "io/run_spec_json.hpp"
 
+#include "solver/mechanism.hpp"
+
 #include "io/json_input.hpp"
 
 namespace em {
@@ -18,6 +20,29 @@ std::string settingKeyIn(const nlohmann::json& v, const std::string& path, Integ
   const std::string other = settingKindName(kind == SettingKind::Dt ? SettingKind::Tolerance : SettingKind::Dt);
   if (v.contains(other)) throw InputError(jsonPath(path, other), std::string(integratorName(i)) + " takes " + key + ", not " + other);
   return key;
+}
+
+nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
+  if (!r.has_loops) return nullptr;
+  const LoopStats& l = r.loops;
+  const LoopOptions& o = s.options.loops;
+  nlohmann::json j = {{"max_position_violation_m", l.position_m}, {"max_position_violation_rad", l.position_rad},
+                      {"max_velocity_violation_m_per_s", l.velocity_m}, {"max_velocity_violation_rad_per_s", l.velocity_rad},
+                      {"rank", l.rank_max}, {"rank_min", l.rank_min}};
+  if (info(s.integrator).dae) {
+    j["formulation"] = "ida-ggl-index2";  // the DAE solver's own: no multipliers formulation of ours
+    return j;
+  }
+  j["formulation"] = formulationName(o.formulation);
+  j["baumgarte_alpha"] = o.alpha;
+  j["baumgarte_beta"] = o.beta;
+  j["loop_tol"] = o.loop_tol;
+  if (o.formulation == Formulation::Projection) {
+    j["projections"] = l.projections;
+    j["projection_iterations"] = l.projection_iterations;
+    j["projection_tol"] = o.projection_tol;
+  }
+  return j;
 }
 
 }  // namespace em

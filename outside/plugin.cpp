@@ -193,6 +193,7 @@ Method addPlugin(const std::string& name, const std::string& path) {
   added.make = makePluginMethod;
   added.summary = row.summary.c_str();
   added.isolated = true;
+  added.tree_only = true;  // the ABI's model is a tree's (loops, point springs, drives: not in it)
   row.id = addMethod(added);
   return row.id;
 }

@@ -379,6 +379,7 @@ Method addRecordedRun(const std::string& name, const std::string& path, const Mo
   MethodInfo added;  // no factory: nothing runs, its samples are read (runTrajectory)
   added.name = row.run.name.c_str();
   added.summary = summaries.back().c_str();
+  added.tree_only = true;  // its W_diss and checks are a tree's
   row.id = addMethod(added);
   return row.id;
 }

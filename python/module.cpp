@@ -122,6 +122,7 @@ Method pythonMethod(const std::string& name, py::object f) {
   row.name = names.back().c_str();
   row.make = makePythonMethod;
   row.summary = "a Python function f(t, q, u) -> u' (eigenmass.compare)";
+  row.tree_only = true;  // f sees (t, q, u) alone: a tree's u'
   id = addMethod(row);
   pythonFunctions()[id] = new py::object(std::move(f));
   return id;

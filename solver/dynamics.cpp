@@ -162,10 +162,10 @@ Status Dynamics::projectOntoLoops(double t, double* y) {
   return {};
 }
 
-std::pair<double, double> Dynamics::loopViolationAt(const double* y) {
+void Dynamics::recordLoopsAt(const double* y) {
   formKinematics(model_, y, y + model_.nq, ws_);
   formLoops(model_, ws_, y + model_.nq, loops_);
-  return {std::max(loops_.position_m, loops_.position_rad), std::max(loops_.velocity_m, loops_.velocity_rad)};
+  recordLoops();
 }
 
 void Dynamics::kinematicsAt(const double* y) {

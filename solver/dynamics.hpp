@@ -9,19 +9,10 @@
 #include <memory>
 
 #include "solver/mechanism.hpp"
+#include "solver/trajectory.hpp"
 #include "solver/method.hpp"
 
 namespace em {
-
-/// What keeping a mechanism's loops closed took and left over a run (at the
-/// accepted steps): the largest violations, the rank of G A^-1 G^T, and the
-/// projections (docs/theory.md §15).
-struct LoopStats {
-  double position_m = 0, position_rad = 0;  ///< largest |g| over the point rows (m) and the axis rows (rad)
-  double velocity_m = 0, velocity_rad = 0;  ///< largest |G u|, m/s and rad/s
-  int rank_min = -1, rank_max = -1;         ///< of G A^-1 G^T over the evaluations (-1: none yet)
-  long projections = 0, projection_iterations = 0;
-};
 
 class Dynamics {
  public:
@@ -36,8 +27,8 @@ class Dynamics {
   /// Whether afterStep projects onto the loops (the projection formulation on a model with loops).
   bool projects() const { return !model_.loops.empty() && opt_.loops.formulation == Formulation::Projection; }
   const LoopStats& loopStats() const { return loop_stats_; }
-  /// max |g| and max |G u| (all rows; m and rad, m/s and rad/s) at y, for an output sample.
-  std::pair<double, double> loopViolationAt(const double* y);
+  /// Form the loops at y and count their violation in loopStats() (an output sample).
+  void recordLoopsAt(const double* y);
   int size() const { return size_; }
   /// Where the extra state starts in y (laid out as info(method()).extra says).
   int offsetExtra() const { return model_.nq + model_.nu; }

@@ -88,6 +88,7 @@ class Integration {
     dyn_.kinematicsAt(y);
     const Workspace& ws = dyn_.workspace();
     for (int i = 0; i < m.n(); ++i) poses_[i] = {ws.r[i], matrixToQuat(ws.R[i])};
+    if (!m.loops.empty()) dyn_.recordLoopsAt(y);  // after the poses: it re-forms the workspace at the same y
     appendSample(tr_, m, t, y, y + m.nq, poses_, {ws.energy(), ws.kinetic, dyn_.dissipated(y)});
     if (spec_.diagnostics && dyn_.eigenfactor()) {
       const EigenDiagnostics d = dyn_.diagnosticsAt(y);
@@ -102,6 +103,8 @@ class Integration {
   void finish(const double* y) {
     tr_.rhs_evals = rhs_evals_;
     if (dyn_.eigenfactor()) tr_.eigen = stats_;
+    tr_.has_loops = !dyn_.model().loops.empty();
+    if (tr_.has_loops) tr_.loops = dyn_.loopStats();
     if (failure_.ok) return;
     markFailed(tr_, failure_.t, failure_.kind, failure_.cause);
     tr_.failure_cond_A = dyn_.conditionAt(y);
@@ -243,7 +246,8 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
 
 // A DAE run: IDA integrates the formation and the loops itself (solver/ida.hpp);
 // each output sample is its state there, sampled as every run's is.
-void runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y, Trajectory& tr) {
+// Returns the rank of G it integrated (-1 without loops).
+int runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y, Trajectory& tr) {
   const Model& m = run.dynamics().model();
   IdaRun ida(m, spec.tol, spec.output_dt);
   for (long k = 1; k <= n_out; ++k) {
@@ -257,6 +261,7 @@ void runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& 
   }
   tr.steps = ida.steps();
   run.countEvaluations(ida.residualEvaluations());
+  return m.loops.empty() ? -1 : ida.rank();
 }
 
 }  // namespace
@@ -279,8 +284,9 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
   tr.sample_time_s = 0;
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts
   const double c0 = cpuSeconds();
+  int dae_rank = -1;
   if (scheme.dae)
-    runIda(run, spec, n_out, y, tr);
+    dae_rank = runIda(run, spec, n_out, y, tr);
   else if (spec.fixedStep())
     runFixed(run, spec, n_out, per_output, y);
   else
@@ -288,6 +294,7 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
   tr.run_time_s = cpuSeconds() - c0 - tr.sample_time_s;
   gsl_set_error_handler(old);
   run.finish(y.data());
+  if (scheme.dae && tr.has_loops) tr.loops.rank_min = tr.loops.rank_max = dae_rank;
   return tr;
 }
 

@@ -122,6 +122,10 @@ struct MethodInfo {
   /// methods, an engine's name for its method; nullptr: its own name (an
   /// engine's u' under the in-house integrators, a plugin).
   const char* owner = nullptr;
+  /// Its u' comes from outside the formation (an engine's under the in-house
+  /// integrators, a plugin's, a Python function's, a recorded run): a tree's,
+  /// so a mechanism is refused for it (compare/engines.hpp's methodRefusal).
+  bool tree_only = false;
 
   /// Whether the row has the option `name`.
   bool takes(const std::string& name) const;

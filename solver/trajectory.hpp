@@ -39,6 +39,16 @@ struct EigenStats {
   long block_merges = 0, block_splits = 0;  ///< eigen-block: clusters joined and broken up
 };
 
+/// What keeping a mechanism's loops closed took and left over a run, at its
+/// accepted steps and output samples (docs/theory.md §15): the largest
+/// violations, the rank of G A^-1 G^T (of G for ida), and the projections.
+struct LoopStats {
+  double position_m = 0, position_rad = 0;  ///< largest |g| over the point rows (m) and the axis rows (rad)
+  double velocity_m = 0, velocity_rad = 0;  ///< largest |G u|, m/s and rad/s
+  int rank_min = -1, rank_max = -1;         ///< over the evaluations (-1: none)
+  long projections = 0, projection_iterations = 0;
+};
+
 /// How a run ended and what it cost: one struct that a trajectory, its
 /// metrics (compare/metrics.hpp) and the gallery's entry (extreme/) share,
 /// assigned whole instead of copied field by field.
@@ -52,6 +62,8 @@ struct RunEnd {
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   long steps = 0, rhs_evals = 0;
   long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
+  bool has_loops = false;  ///< a mechanism's run: `loops` says how closed it stayed
+  LoopStats loops;
 
   bool failed() const { return failure_kind != Failure::None; }
   /// Ok or Failed (outcomeName writes it).

@@ -42,12 +42,12 @@ TEST_CASE("ODE's bodies read back as our coordinates give the initial state to r
   for (const Model& m : models) {
     INFO(m.name);
     if (hasJointOf(m, JointType::Planar)) {
-      CHECK_THAT(engineRefusal(test::engine("ode"), m), Catch::Contains("no planar joint") && Catch::Contains("body '"));
+      CHECK_THAT(methodRefusal(test::method("ode"), m), Catch::Contains("no planar joint") && Catch::Contains("body '"));
       CHECK_THROWS_WITH(runTrajectory(m, checked(odeSpec("ode-step", 0.01, 1e-3))), Catch::StartsWith("ode: ") && Catch::Contains("planar"));
       ++refused;
       continue;
     }
-    CHECK(engineRefusal(test::engine("ode"), m).empty());
+    CHECK(methodRefusal(test::method("ode"), m).empty());
     ++ran;
     const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 0.01, 1e-3)));
     REQUIRE_FALSE(o.failed());
