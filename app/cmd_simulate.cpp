@@ -34,7 +34,9 @@ void printSummary(const Trajectory& tr, const std::string& path) {
     const LoopStats& l = tr.loops;
     std::printf("\nloops: largest violation %.3g m and %.3g rad, %.3g m/s and %.3g rad/s; rank %d", l.position_m, l.position_rad,
                 l.velocity_m, l.velocity_rad, l.rank_max);
-    if (l.projections) std::printf("; %ld projections, %ld Gauss-Newton iterations", l.projections, l.projection_iterations);
+    if (l.projections)
+      std::printf("; %ld projections, %ld Gauss-Newton iterations, %ld unconverged", l.projections, l.projection_iterations,
+                  l.projections_unconverged);
   }
   if (regularOutput(path)) std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
   else std::printf("\ntrajectory: %s (run, status and provenance: on standard error)\n", path.c_str());

@@ -40,6 +40,7 @@ nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
   if (o.formulation == Formulation::Projection) {
     j["projections"] = l.projections;
     j["projection_iterations"] = l.projection_iterations;
+    j["projections_unconverged"] = l.projections_unconverged;
     j["projection_tol"] = o.projection_tol;
   }
   return j;

@@ -19,7 +19,7 @@ struct LoopOptions {
   Formulation formulation = Formulation::Projection;
   double alpha = 0, beta = 0;    ///< Baumgarte's (1/s): 0 and 0 integrate the raw index-1 form and show its drift
   double projection_tol = 1e-12; ///< the projection stops when max |g| <= this (m, rad)
-  int projection_iterations = 10;  ///< Gauss-Newton iterations at most per step
+  int projection_iterations = 10;  ///< Gauss-Newton iterations at most per step (then it goes on unconverged, counted)
   double loop_tol = 1e-6;        ///< a run whose loops open beyond this (m, rad) fails (loops-open)
 };
 

@@ -47,6 +47,7 @@ struct LoopStats {
   double velocity_m = 0, velocity_rad = 0;  ///< largest |G u|, m/s and rad/s
   int rank_min = -1, rank_max = -1;         ///< over the evaluations (-1: none)
   long projections = 0, projection_iterations = 0;
+  long projections_unconverged = 0;  ///< projections that stopped at the iteration bound above projection_tol (singular positions)
 };
 
 /// How a run ended and what it cost: one struct that a trajectory, its

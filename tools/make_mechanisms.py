@@ -1,0 +1,78 @@
+#!/usr/bin/python3
+"""Writes IFToMM's benchmark problems A01 and A02 as eigenmass scenes
+(data/scenes/mechanisms/): the numbers are the library's specifications
+(González, Dopico, Lugrís and Cuadrado; library of computational benchmark
+problems for multibody system dynamics, problems A01 and A02)."""
+import json
+import math
+import os
+import sys
+
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "scenes", "mechanisms")
+ROD = 1.0 / 12.0  # a uniform 1 kg, 1 m rod about its CM, kg m^2
+THIN = 1e-6       # its moment about its own axis: any small value, the motion is planar about z
+
+
+def rod(name, parent, in_parent, q0, u0):
+    return {"name": name, "parent": parent, "mass": 1.0, "inertia": [THIN, ROD, ROD],
+            "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": in_parent, "in_body": [-0.5, 0, 0],
+                      "q0": [q0], "u0": [u0]}}
+
+
+def a02(n, t_end=20.0, output_dt=0.05):
+    """N four-bars in a row: N+1 cranks of 1 m, 1 kg from the ground points (i, 0),
+    vertical at the start; N couplers of 1 m, 1 kg joining their tips; B0 (the
+    first crank's tip) moves at 1 m/s along x. Each coupler hangs from the tip
+    of the crank before it and is closed on the next crank's tip by a ball."""
+    bodies, loops = [], []
+    for i in range(n + 1):
+        bodies.append(rod("crank%d" % i, "ground", [float(i), 0, 0], math.pi / 2, -1.0))
+    for i in range(1, n + 1):
+        bodies.append(rod("coupler%d" % i, "crank%d" % (i - 1), [0.5, 0, 0], -math.pi / 2, 1.0))
+        loops.append({"name": "B%d" % i, "type": "ball", "body_a": "coupler%d" % i, "point_a": [0.5, 0, 0],
+                      "body_b": "crank%d" % i, "point_b": [0.5, 0, 0]})
+    return {
+        "format": "eigenmass-scene/1", "name": "iftomm_a02_n%d" % n,
+        "x-comment": "IFToMM benchmark A02, the N four-bar mechanism, N = %d: %d cranks and %d couplers, every link a "
+                     "uniform 1 m, 1 kg rod; gravity 9.81 m/s^2 along -y; at the start the cranks stand vertical and B0 "
+                     "moves at 1 m/s along +x (every crank turns at -1 rad/s, the couplers translate). Where the cranks "
+                     "lie along the ground line (every half turn) the closures lose rank: the degrees of freedom jump "
+                     "from 1 to N+1, and a formulation must pass through on the branch where the cranks stay parallel." % (n, n + 1, n),
+        "x-source": "Specification of problem A02 (IFToMM library of computational benchmark problems; Gonzalez, Dopico, "
+                    "Lugris, Cuadrado, Multibody System Dynamics 16 (2006) 179-190): N = 40, L = 1 m, m = 1 kg per link, "
+                    "g = 9.81, B0's initial x-velocity 1 m/s, 20 s; its error measure is B0's x over 400 output steps at "
+                    "the precision levels 1e-1 and 1e-3 m. Written by tools/make_mechanisms.py.",
+        "gravity": [0, -9.81, 0], "bodies": bodies, "loops": loops,
+        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+
+
+def a01():
+    """A 1 kg point mass on a massless 1 m link, released at rest from the horizontal."""
+    return {
+        "format": "eigenmass-scene/1", "name": "iftomm_a01",
+        "x-comment": "IFToMM benchmark A01, the simple pendulum: a point mass of 1 kg on a massless link of 1 m, released "
+                     "at rest with the link horizontal (the mass at x = +1 m), gravity 9.81 m/s^2 along -y, 2000 s. A tree: "
+                     "the revolute joint at the origin. The point mass is a body with a vanishing inertia about its CM "
+                     "(1e-9 kg m^2 about every axis: 1e-9 of m L^2).",
+        "x-source": "Specification of problem A01 (IFToMM library; Gonzalez, Dopico, Lugris, Cuadrado 2006): m = 1 kg, "
+                    "L = 1 m, g = 9.81, x0 = (1, 0) at rest, 2000 s; its error measure is the mass's x and y.",
+        "gravity": [0, -9.81, 0],
+        "bodies": [{"name": "mass", "parent": "ground", "mass": 1.0, "inertia": [1e-9, 1e-9, 1e-9],
+                    "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [-1.0, 0, 0],
+                              "q0": [0.0], "u0": [0.0]}}],
+        "simulate": {"t_end": 2000, "output_dt": 0.01}}
+
+
+def write(doc):
+    path = os.path.join(OUT, doc["name"] + ".json")
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    print(path)
+
+
+if __name__ == "__main__":
+    write(a01())
+    write(a02(40))
+    write(a02(2))
+    sys.exit(0)
