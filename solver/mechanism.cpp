@@ -55,13 +55,25 @@ PointMotion pointMotion(const Workspace& ws, const Attachment& p) {
   return {ws.r[p.body] + rho, ws.v[p.body] + ws.omega[p.body].cross(rho)};
 }
 
-void addPointJacobian(const Model& m, const Workspace& ws, int body, const Vec3& x, double sign,
-                      Eigen::Ref<Eigen::MatrixXd> rows) {
+namespace {
+
+// Calls visit(j, column) for every speed j on body's path to the ground, with
+// the column of J for the world point x (eq. (M2)): the one walk of the point
+// Jacobian and of a point force's J^T f.
+template <class Visit>
+void forPointColumns(const Model& m, const Workspace& ws, int body, const Vec3& x, Visit&& visit) {
   for (int k = body; k >= 0; k = m.body_parent[k]) {
     const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
-    for (int j = iu; j < iu + nt; ++j) rows.col(j) += sign * ws.P.col(j);
-    for (int j = iu + nt; j < iu + nu; ++j) rows.col(j) += sign * ws.P.col(j).cross(x - ws.o[k]);
+    for (int j = iu; j < iu + nt; ++j) visit(j, Vec3(ws.P.col(j)));
+    for (int j = iu + nt; j < iu + nu; ++j) visit(j, Vec3(ws.P.col(j).cross(x - ws.o[k])));
   }
+}
+
+}  // namespace
+
+void addPointJacobian(const Model& m, const Workspace& ws, int body, const Vec3& x, double sign,
+                      Eigen::Ref<Eigen::MatrixXd> rows) {
+  forPointColumns(m, ws, body, x, [&](int j, const Vec3& col) { rows.col(j) += sign * col; });
 }
 
 void addAngularJacobian(const Model& m, const Workspace& ws, int body, double sign, Eigen::Ref<Eigen::MatrixXd> rows) {
@@ -108,18 +120,27 @@ void ballRows(const Model& m, const Workspace& ws, const double* u, const Loop& 
                        (l.b.body < 0 ? Vec3::Zero() : pointBias(m, ws, u, l.b.body, pb.x, pb.v));
 }
 
-// Row r: e (with a) stays perpendicular to f (with b) (eq. (M4)).
-void pairRow(const Model& m, const Workspace& ws, const double* u, const Loop& l, const PairRow& p, int r, LoopState& ls) {
-  const Vec3 n = p.e.cross(p.f), wa = omegaOf(ws, l.a.body), wb = omegaOf(ws, l.b.body);
-  ls.g[r] = p.e.dot(p.f);
+// The relative turn of a loop's bodies: J_w,a - J_w,b into ls.Jw, and
+// omega_a, omega_b and alpha_a - alpha_b, shared by its direction rows.
+struct RelativeTurn {
+  Vec3 wa, wb, alpha;
+};
+RelativeTurn relativeTurn(const Model& m, const Workspace& ws, const double* u, const Loop& l, LoopState& ls) {
   ls.Jw.setZero();
   if (l.a.body >= 0) addAngularJacobian(m, ws, l.a.body, 1.0, ls.Jw);
   if (l.b.body >= 0) addAngularJacobian(m, ws, l.b.body, -1.0, ls.Jw);
+  return {omegaOf(ws, l.a.body), omegaOf(ws, l.b.body),
+          Vec3((l.a.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.a.body)) -
+               (l.b.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.b.body)))};
+}
+
+// Row r: e (with a) stays perpendicular to f (with b) (eq. (M4)).
+void pairRow(const RelativeTurn& turn, const PairRow& p, int r, LoopState& ls) {
+  const Vec3 n = p.e.cross(p.f);
+  ls.g[r] = p.e.dot(p.f);
   ls.G.row(r).noalias() = n.transpose() * ls.Jw;
-  const Vec3 alpha = (l.a.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.a.body)) -
-                     (l.b.body < 0 ? Vec3::Zero() : angularBias(m, ws, u, l.b.body));
-  const Vec3 ndot = wa.cross(p.e).cross(p.f) + p.e.cross(wb.cross(p.f));
-  ls.c[r] = n.dot(alpha) + ndot.dot(wa - wb);
+  const Vec3 ndot = turn.wa.cross(p.e).cross(p.f) + p.e.cross(turn.wb.cross(p.f));
+  ls.c[r] = n.dot(turn.alpha) + ndot.dot(turn.wa - turn.wb);
 }
 
 }  // namespace
@@ -130,16 +151,18 @@ void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& 
   for (const Loop& l : m.loops) {
     ballRows(m, ws, u, l, r, ls);
     r += 3;
+    if (l.type == LoopType::Ball) continue;
     const Mat3 Ra = rotationOf(ws, l.a.body), Rb = rotationOf(ws, l.b.body);
+    const RelativeTurn turn = relativeTurn(m, ws, u, l, ls);
     if (l.type == LoopType::Hinge) {
       Vec3 t1, t2;
       perpendicularPair(l.axis_b, t1, t2);
       const Vec3 e = Ra * l.axis_a;
-      pairRow(m, ws, u, l, {e, Rb * t1}, r++, ls);
-      pairRow(m, ws, u, l, {e, Rb * t2}, r++, ls);
-    } else if (l.type == LoopType::Weld) {
+      pairRow(turn, {e, Rb * t1}, r++, ls);
+      pairRow(turn, {e, Rb * t2}, r++, ls);
+    } else {  // weld
       const Mat3 A = Ra * l.rel;  // b's frame as a holds it
-      for (int k = 0; k < 3; ++k) pairRow(m, ws, u, l, {A.col(k), Rb.col((k + 1) % 3)}, r++, ls);
+      for (int k = 0; k < 3; ++k) pairRow(turn, {A.col(k), Rb.col((k + 1) % 3)}, r++, ls);
     }
   }
   ls.Gu.noalias() = ls.G * Eigen::Map<const Eigen::VectorXd>(u, m.nu);
@@ -189,11 +212,7 @@ void addAppliedForces(const Model& m, const Workspace& ws, const double* q, cons
     for (const auto& [att, f] : {std::pair<const Attachment*, Vec3>{&s.a, tension * L.n}, {&s.b, -tension * L.n}}) {
       if (att->body < 0) continue;
       const Vec3 x = att == &s.a ? L.a.x : L.b.x;
-      for (int k = att->body; k >= 0; k = m.body_parent[k]) {
-        const int iu = m.body_iu[k], nt = m.body_nt[k], nu = m.body_nu[k];
-        for (int j = iu; j < iu + nt; ++j) Q[j] += ws.P.col(j).dot(f);
-        for (int j = iu + nt; j < iu + nu; ++j) Q[j] += ws.P.col(j).cross(x - ws.o[k]).dot(f);
-      }
+      forPointColumns(m, ws, att->body, x, [&](int j, const Vec3& col) { Q[j] += col.dot(f); });
     }
   }
 }
