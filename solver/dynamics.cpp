@@ -25,7 +25,8 @@ std::unique_ptr<MethodImpl> make(const Model& m, Method method, const MethodOpti
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
       size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)),
-      loops_(m), solve_(m), Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows), llt_(m.nu), dv_(m.nu), dq_(m.nq) {}
+      loops_(m), solve_(m), project_(m), Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows),
+      M_(m.loops.empty() ? 0 : m.nu, m.loops.empty() ? 0 : m.nu), llt_(m.nu) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(size_);
@@ -72,13 +73,8 @@ Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
   return s;
 }
 
-void Dynamics::normalizeQuaternions(double* y) const {
-  for (const Body& b : model_.bodies)
-    if (const int at = jointQuat(b.joint.type); at >= 0) Eigen::Map<Vec4>(y + b.iq + at).normalize();
-}
-
 Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
-  normalizeQuaternions(y);
+  normalizeQuaternions(model_, y);
   const int nq = model_.nq, N = model_.nu;
   if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
   const double umax = Eigen::Map<const Eigen::VectorXd>(y + nq, N).cwiseAbs().maxCoeff();
@@ -111,12 +107,30 @@ const Eigen::MatrixXd& Dynamics::inverseATimesGt(const double* x) {
   return AinvGt_;
 }
 
-// u' = a + A^-1 G^T lambda (docs/theory.md eq. (M7)), a the tree's u' in udot.
+const Eigen::MatrixXd& Dynamics::inverseSquareRoot(const double* x) {
+  if (f_->inverseSquareRoot(x, M_)) return M_;
+  llt_.compute(ws_.A);
+  M_.setIdentity();
+  llt_.matrixU().solveInPlace(M_);
+  return M_;
+}
+
+// u' = a + A^-1 G^T lambda (docs/theory.md eq. (M7)), a the tree's u' in udot;
+// or Udwadia-Kalaba's u' = a + M (G M)^+ (b - G a) (eq. (M11)).
 Status Dynamics::closeLoops(double t, const double* y, double* udot) {
   formLoops(model_, ws_, y + model_.nq, loops_);
-  const Eigen::MatrixXd& AinvGt = inverseATimesGt(y + offsetExtra());
-  if (!AinvGt.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^-1 G^T not finite (A not positive definite)");
-  const int rank = solve_.solve(loops_, AinvGt, opt_.loops.alpha, opt_.loops.beta, Eigen::Map<Eigen::VectorXd>(udot, model_.nu));
+  const LoopOptions& lo = opt_.loops;
+  Eigen::Map<Eigen::VectorXd> a(udot, model_.nu);
+  int rank = 0;
+  if (lo.formulation == Formulation::UdwadiaKalaba) {
+    const Eigen::MatrixXd& M = inverseSquareRoot(y + offsetExtra());
+    if (!M.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^(-1/2) not finite (A not positive definite)");
+    rank = solve_.solveUdwadiaKalaba(loops_, M, lo.alpha, lo.beta, a);
+  } else {
+    const Eigen::MatrixXd& AinvGt = inverseATimesGt(y + offsetExtra());
+    if (!AinvGt.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^-1 G^T not finite (A not positive definite)");
+    rank = solve_.solve(loops_, AinvGt, lo.alpha, lo.beta, a);
+  }
   loop_stats_.rank_min = loop_stats_.rank_min < 0 ? rank : std::min(loop_stats_.rank_min, rank);
   loop_stats_.rank_max = std::max(loop_stats_.rank_max, rank);
   return {};
@@ -131,38 +145,17 @@ void Dynamics::recordLoops() {
 }
 
 // q onto g(q) = 0 by Gauss-Newton in A's metric, then u onto G u = 0
-// (docs/theory.md eqs. (M8), (M9)): dq from dv = -A^-1 G^T (G A^-1 G^T)^+ g.
+// (docs/theory.md eqs. (M8), (M9)).
 Status Dynamics::projectOntoLoops(double t, double* y) {
-  double* q = y;
-  double* u = y + model_.nq;
   const LoopOptions& lo = opt_.loops;
   ++loop_stats_.projections;
-  for (int it = 0;; ++it) {
-    formKinematics(model_, q, u, ws_);
-    formLoops(model_, ws_, u, loops_);
-    formSubtrees(model_, ws_);
-    formA(model_, ws_);
-    llt_.compute(ws_.A);
-    Gt_.noalias() = loops_.G.transpose();
-    AinvGt_ = llt_.solve(Gt_);
-    const double gap = loops_.g.size() ? loops_.g.cwiseAbs().maxCoeff() : 0.0;
-    if (gap <= lo.projection_tol) break;
-    if (!std::isfinite(gap)) return Status::failure(t, Failure::NonFinite, "the projection met a non-finite loop gap");
-    // Near a singular position Gauss-Newton converges slowly: the step goes on
-    // unconverged, counted, and fails only where the gap passes loop_tol (afterStep).
-    if (it == lo.projection_iterations) {
-      ++loop_stats_.projections_unconverged;
-      break;
-    }
-    solve_.correction(loops_, AinvGt_, loops_.g, dv_);
-    dv_ = -dv_;
-    formQdot(model_, q, dv_.data(), dq_.data());
-    Eigen::Map<Eigen::VectorXd>(q, model_.nq) += dq_;
-    normalizeQuaternions(y);
-    ++loop_stats_.projection_iterations;
-  }
-  solve_.correction(loops_, AinvGt_, loops_.Gu, dv_);
-  Eigen::Map<Eigen::VectorXd>(u, model_.nu) -= dv_;
+  const LoopProjector::Result r = project_.positions(model_, ws_, y, y + model_.nq, lo.projection_tol, lo.projection_iterations);
+  loop_stats_.projection_iterations += r.iterations;
+  if (!r.finite) return Status::failure(t, Failure::NonFinite, "the projection met a non-finite loop gap");
+  // Near a singular position Gauss-Newton converges slowly: the step goes on
+  // unconverged, counted, and fails only where the gap passes loop_tol (afterStep).
+  if (!r.converged) ++loop_stats_.projections_unconverged;
+  project_.velocities(y + model_.nq);
   return {};
 }
 

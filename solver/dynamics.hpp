@@ -53,11 +53,11 @@ class Dynamics {
   Workspace& workspace() { return ws_; }
 
  private:
-  void normalizeQuaternions(double* y) const;
   Status closeLoops(double t, const double* y, double* udot);
   Status projectOntoLoops(double t, double* y);
   void recordLoops();
   const Eigen::MatrixXd& inverseATimesGt(const double* x);  // A^-1 G^T at the formed A (the method's factors, else Cholesky)
+  const Eigen::MatrixXd& inverseSquareRoot(const double* x);  // M M^T = A^-1 at the formed A (the same)
 
   const Model& model_;
   Method method_;
@@ -69,9 +69,10 @@ class Dynamics {
   // A mechanism's loops (docs/theory.md §15), sized once; 0 rows for a tree.
   LoopState loops_;
   ConstrainedSolve solve_;
+  LoopProjector project_;
   Eigen::MatrixXd Gt_, AinvGt_;  // (nu x m)
+  Eigen::MatrixXd M_;            // (nu x nu): M M^T = A^-1 (Udwadia-Kalaba)
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::VectorXd dv_, dq_;      // (nu), (nq): a projection's correction
   LoopStats loop_stats_;
 };
 

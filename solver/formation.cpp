@@ -369,6 +369,11 @@ void formQdot(const Model& m, const double* q, const double* u, double* qdot) {
   for (const Body& body : m.bodies) jointQdot(body.joint, q + body.iq, u + body.iu, qdot + body.iq);
 }
 
+void normalizeQuaternions(const Model& m, double* q) {
+  for (const Body& b : m.bodies)
+    if (const int at = jointQuat(b.joint.type); at >= 0) Eigen::Map<Vec4>(q + b.iq + at).normalize();
+}
+
 double conditionNumber(const Eigen::MatrixXd& A) {
   if (!A.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A, Eigen::EigenvaluesOnly).eigenvalues();

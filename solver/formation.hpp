@@ -93,5 +93,7 @@ double potentialEnergy(const Model& m, const double* q, const Workspace& ws);
 double conditionNumber(const Eigen::MatrixXd& A);
 /// q' from u for all joints.  // q, u -> qdot (nq)
 void formQdot(const Model& m, const double* q, const double* u, double* qdot);
+/// Every quaternion joint's q to unit length.  // q: (nq)
+void normalizeQuaternions(const Model& m, double* q);
 
 }  // namespace em

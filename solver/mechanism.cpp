@@ -2,6 +2,7 @@
 #include "solver/mechanism.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "solver/text.hpp"
 
@@ -30,7 +31,10 @@ struct PairRow {
 const std::vector<FormulationInfo>& formulationTable() {
   static const std::vector<FormulationInfo> table = {
       {Formulation::Baumgarte, "baumgarte", "Lagrange multipliers at acceleration level, Baumgarte's alpha and beta (default 0: the raw drift)"},
-      {Formulation::Projection, "projection", "the same, then after every accepted step q onto g = 0 (Gauss-Newton in A's metric) and u onto G u = 0"}};
+      {Formulation::Projection, "projection", "the same, then after every accepted step q onto g = 0 (Gauss-Newton in A's metric) and u onto G u = 0"},
+      {Formulation::UdwadiaKalaba, "udwadia-kalaba",
+       "u' = a + M (G M)^+ (b - G a) with M M^T = A^-1 from the method's own factors (eigenfactors: M = C^T Lambda^(-1/2)), "
+       "Baumgarte's b, no projection"}};
   return table;
 }
 
@@ -209,7 +213,10 @@ void addAppliedForces(const Model& m, const Workspace& ws, const double* q, cons
     const SpringLine L = springLine(ws, s);
     const double tension = s.k * (L.l - s.length) + s.c * L.ldot;  // pulls the points together when > 0
     // The force on b is -tension n, on a +tension n; Q = sum J^T f (eq. (M5)).
-    for (const auto& [att, f] : {std::pair<const Attachment*, Vec3>{&s.a, tension * L.n}, {&s.b, -tension * L.n}}) {
+    // (A named pair, not a structured binding: C++17 cannot capture a binding in a lambda, and clang refuses it.)
+    for (const auto& end : {std::pair<const Attachment*, Vec3>{&s.a, tension * L.n}, {&s.b, -tension * L.n}}) {
+      const Attachment* att = end.first;
+      const Vec3 f = end.second;
       if (att->body < 0) continue;
       const Vec3 x = att == &s.a ? L.a.x : L.b.x;
       forPointColumns(m, ws, att->body, x, [&](int j, const Vec3& col) { Q[j] += col.dot(f); });
@@ -240,7 +247,8 @@ double nonConservativePower(const Model& m, const Workspace& ws, const double* u
 }
 
 ConstrainedSolve::ConstrainedSolve(const Model& m)
-    : S_(m.loop_rows, m.loop_rows), r_(m.loop_rows), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), cod_(m.loop_rows, m.loop_rows) {}
+    : S_(m.loop_rows, m.loop_rows), GM_(m.loop_rows, m.nu), r_(m.loop_rows), lambda_(Eigen::VectorXd::Zero(m.loop_rows)),
+      w_(m.nu), cod_(m.loop_rows, m.loop_rows), cod_gm_(m.loop_rows, m.nu) {}
 
 int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta,
                             Eigen::Ref<Eigen::VectorXd> udot) {
@@ -255,6 +263,19 @@ int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, 
   return rank_;
 }
 
+int ConstrainedSolve::solveUdwadiaKalaba(const LoopState& ls, const Eigen::MatrixXd& M, double alpha, double beta,
+                                         Eigen::Ref<Eigen::VectorXd> udot) {
+  GM_.noalias() = ls.G * M;
+  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
+  r_.noalias() -= ls.G * udot;
+  cod_gm_.setThreshold(kLoopRankTolUK);
+  cod_gm_.compute(GM_);
+  rank_ = static_cast<int>(cod_gm_.rank());
+  w_ = cod_gm_.solve(r_);  // the least-norm w with (G M) w = r on G M's range
+  udot.noalias() += M * w_;
+  return rank_;
+}
+
 void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r,
                                   Eigen::VectorXd& out) {
   S_.noalias() = ls.G * AinvGt;
@@ -263,6 +284,57 @@ void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& Ai
   rank_ = static_cast<int>(cod_.rank());
   lambda_ = cod_.solve(r);
   out.noalias() = AinvGt * lambda_;
+}
+
+LoopProjector::LoopProjector(const Model& m)
+    : loops_(m), solve_(m), llt_(m.nu), AinvGt_(m.nu, m.loop_rows), dv_(m.nu), dq_(m.nq) {}
+
+LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, double* q, const double* u, double tol,
+                                               int iterations) {
+  Result r;
+  for (;;) {
+    formKinematics(m, q, u, ws);
+    formLoops(m, ws, u, loops_);
+    formSubtrees(m, ws);
+    formA(m, ws);
+    llt_.compute(ws.A);
+    AinvGt_.noalias() = llt_.solve(loops_.G.transpose());
+    const double gap = loops_.g.size() ? loops_.g.cwiseAbs().maxCoeff() : 0.0;
+    if (gap <= tol) {
+      r.converged = true;
+      return r;
+    }
+    if (!std::isfinite(gap)) {
+      r.finite = false;
+      return r;
+    }
+    if (r.iterations == iterations) return r;
+    // dv = -A^-1 G^T (G A^-1 G^T)^+ g, q <- q + qdot(q, dv) (eq. (M8)).
+    solve_.correction(loops_, AinvGt_, loops_.g, dv_);
+    dv_ = -dv_;
+    formQdot(m, q, dv_.data(), dq_.data());
+    Eigen::Map<Eigen::VectorXd>(q, m.nq) += dq_;
+    normalizeQuaternions(m, q);
+    ++r.iterations;
+  }
+}
+
+void LoopProjector::velocities(double* u) {
+  solve_.correction(loops_, AinvGt_, loops_.Gu, dv_);  // eq. (M9)
+  Eigen::Map<Eigen::VectorXd>(u, dv_.size()) -= dv_;
+}
+
+ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u) {
+  ConstrainedEquations out(m);
+  formLoops(m, ws, u, out.loops);
+  const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite");
+  out.udot = llt.solve(ws.B);
+  const Eigen::MatrixXd AinvGt = llt.solve(out.loops.G.transpose());
+  ConstrainedSolve solve(m);
+  out.rank = solve.solve(out.loops, AinvGt, 0.0, 0.0, out.udot);
+  out.lambda = solve.lambda();
+  return out;
 }
 
 void finishMechanism(Model& m) {
@@ -274,6 +346,31 @@ void finishMechanism(Model& m) {
   formKinematics(m, q.data(), u.data(), ws);
   for (Loop& l : m.loops)
     if (l.type == LoopType::Weld) l.rel = rotationOf(ws, l.a.body).transpose() * rotationOf(ws, l.b.body);
+}
+
+Assembly assembleStart(Model& m, double tol, int iterations) {
+  Assembly a;
+  Eigen::VectorXd q = m.q0(), u = m.u0();
+  const Eigen::VectorXd q0 = q, u0 = u;
+  Workspace ws(m);
+  formKinematics(m, q.data(), u.data(), ws);
+  LoopState before(m);
+  formLoops(m, ws, u.data(), before);
+  a.gap = before.g.size() ? before.g.cwiseAbs().maxCoeff() : 0.0;
+  LoopProjector project(m);
+  const LoopProjector::Result r = project.positions(m, ws, q.data(), u.data(), tol, iterations);
+  a.iterations = r.iterations;
+  a.converged = r.converged && r.finite;
+  if (!a.converged) return a;
+  a.velocity_gap = before.Gu.size() ? before.Gu.cwiseAbs().maxCoeff() : 0.0;
+  project.velocities(u.data());
+  a.moved_q = (q - q0).cwiseAbs().maxCoeff();
+  a.moved_u = (u - u0).cwiseAbs().maxCoeff();
+  for (Body& b : m.bodies) {
+    b.joint.q0 = q.segment(b.iq, b.nq());
+    b.joint.u0 = u.segment(b.iu, b.nu());
+  }
+  return a;
 }
 
 LoopGap openLoop(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u, double tol) {

@@ -72,6 +72,9 @@ double nonConservativePower(const Model& m, const Workspace& ws, const double* u
 /// The rank threshold of G A^-1 G^T, relative to its largest pivot: rows
 /// beyond the rank are redundant (a planar mechanism closed by balls, Bricard).
 inline constexpr double kLoopRankTol = 1e-10;
+/// The same decision for G M (M M^T = A^-1), whose singular values are the
+/// square roots of G A^-1 G^T's: sqrt(1e-10).
+inline constexpr double kLoopRankTolUK = 1e-5;
 
 /// How the multipliers are had (docs/theory.md §15): u' = a + A^-1 G^T lambda,
 /// (G A^-1 G^T) lambda = -c - 2 alpha G u - beta^2 g - G a, a = A^-1 B, solved
@@ -83,6 +86,11 @@ class ConstrainedSolve {
   /// u' in place (the tree's a on entry), lambda, given AinvGt = A^-1 G^T.
   /// Returns the rank of G A^-1 G^T.
   int solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta, Eigen::Ref<Eigen::VectorXd> udot);
+  /// Udwadia-Kalaba: u' += M (G M)^+ (b - G a), b = -c - 2 alpha G u - beta^2 g,
+  /// M M^T = A^-1 (docs/theory.md eq. (M11)). Rank from G M's complete orthogonal
+  /// decomposition at kLoopRankTolUK. Returns that rank; lambda() is not formed.
+  int solveUdwadiaKalaba(const LoopState& ls, const Eigen::MatrixXd& M, double alpha, double beta,
+                         Eigen::Ref<Eigen::VectorXd> udot);
   /// out = A^-1 G^T (G A^-1 G^T)^+ r: the least change in A's metric that
   /// takes G's rows by r (a projection's step).  // r: (m), out: (nu)
   void correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r, Eigen::VectorXd& out);
@@ -90,15 +98,68 @@ class ConstrainedSolve {
   int rank() const { return rank_; }
 
  private:
-  Eigen::MatrixXd S_;
-  Eigen::VectorXd r_, lambda_;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
+  Eigen::MatrixXd S_, GM_;
+  Eigen::VectorXd r_, lambda_, w_;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_, cod_gm_;
   int rank_ = 0;
 };
+
+/// Projections onto the loops (theory.md eqs. (M8), (M9)), with scratch
+/// preallocated for one model: no allocation per call.
+class LoopProjector {
+ public:
+  explicit LoopProjector(const Model& m);
+  struct Result {
+    int iterations = 0;      ///< Gauss-Newton steps taken
+    bool converged = false;  ///< max |g| <= tol reached
+    bool finite = true;      ///< false: a gap was not finite (q is then left as it was at that iterate)
+  };
+  /// q onto g(q) = 0 by Gauss-Newton in A's metric, at most `iterations`
+  /// steps; forms ws's kinematics and A at every iterate.  // q: (nq), u: (nu)
+  Result positions(const Model& m, Workspace& ws, double* q, const double* u, double tol, int iterations);
+  /// Then u onto G u = 0, the least change in A's metric, at the q that
+  /// positions() left (its last G and A).  // u: (nu)
+  void velocities(double* u);
+  /// The closures at positions()' last iterate (before velocities()).
+  const LoopState& loops() const { return loops_; }
+
+ private:
+  LoopState loops_;
+  ConstrainedSolve solve_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd AinvGt_;     // (nu x m)
+  Eigen::VectorXd dv_, dq_;    // (nu), (nq)
+};
+
+/// A mechanism's equations at one state (theory.md eq. (M7), solved by
+/// Cholesky): the closures (g, G, c), the rank of G A^-1 G^T, the multipliers
+/// lambda (the force on body a's point, and for a direction row the moment
+/// along e x f; the least-norm one on redundant rows) and the constrained u'.
+struct ConstrainedEquations {
+  explicit ConstrainedEquations(const Model& m) : loops(m) {}
+  LoopState loops;
+  Eigen::VectorXd udot, lambda;
+  int rank = 0;
+};
+/// From a Workspace whose A and B are formed at (q, u) (formEquations).  // u: (nu)
+ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u);
 
 /// Set each weld's relative orientation from the model's initial state
 /// (Loop::rel); a model without welds is left as it is.
 void finishMechanism(Model& m);
+
+/// What assembling a start did (the scene's simulate.assemble, --assemble):
+/// the gaps it found and how far it moved q0 and u0.
+struct Assembly {
+  double gap = 0, velocity_gap = 0;  ///< max |g| (m or rad) and max |G u| (m/s or rad/s) before
+  double moved_q = 0, moved_u = 0;   ///< max |q - q0| (rad or m; quaternion parts), max |u - u0|
+  int iterations = 0;                ///< Gauss-Newton steps
+  bool converged = false;            ///< max |g| <= tol reached (else the model is left as it was)
+};
+/// q0 onto g = 0, then u0 onto G u = 0 (theory.md eqs. (M8), (M9): the least
+/// change in A's metric), written into the model's joints when it converges.
+/// Part of building a model, as finishMechanism is (call that first).
+Assembly assembleStart(Model& m, double tol, int iterations);
 
 /// The first closure a state leaves open by more than `tol` (m or rad, m/s or
 /// rad/s): its index in Model::loops and "loop 'name' is open by 3.2e-4 m"

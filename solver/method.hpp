@@ -63,6 +63,10 @@ class MethodImpl {
   /// had (classical: its Cholesky; the eigenfactor methods: C^T Lambda^-1 C
   /// from x), for a mechanism's multipliers; false: Dynamics factors A itself.  // X, out: (nu x m)
   virtual bool solveWithA(const double* /*x*/, const Eigen::MatrixXd& /*X*/, Eigen::MatrixXd& /*out*/) { return false; }
+  /// M with M M^T = A^-1 from the same factors (classical: L^-T; the
+  /// eigenfactor methods: C^T Lambda^(-1/2)), for Udwadia-Kalaba's constrained
+  /// acceleration; false: Dynamics factors A itself.  // M: (nu x nu)
+  virtual bool inverseSquareRoot(const double* /*x*/, Eigen::MatrixXd& /*M*/) { return false; }
   /// Whether afterStep changes the state (the integrator must then restart).
   virtual bool correctsAfterStep() const { return false; }
   /// Whether afterStep needs A formed at the accepted state.

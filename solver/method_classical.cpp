@@ -32,6 +32,13 @@ class Classical final : public MethodImpl {
     return true;
   }
 
+  // A = L L^T, so M = L^-T has M M^T = A^-1.
+  bool inverseSquareRoot(const double*, Eigen::MatrixXd& M) override {
+    M.setIdentity();
+    llt_.matrixU().solveInPlace(M);
+    return true;
+  }
+
  private:
   MethodOptions opt_;
   Eigen::LLT<Eigen::MatrixXd> llt_;

@@ -67,6 +67,15 @@ class EigenMethod final : public MethodImpl {
     return true;
   }
 
+  // The paper's parameterization carried to mechanisms: M = C^T Lambda^(-1/2)
+  // has M M^T = C^T Lambda^-1 C = A^-1 (eq. (17)), with no factorization.
+  bool inverseSquareRoot(const double* x, Eigen::MatrixXd& M) override {
+    Eigen::Map<const RowMatrix> C(x, N_, N_);
+    Eigen::Map<const Eigen::VectorXd> lambda(x + N_ * N_, N_);
+    M.noalias() = C.transpose() * lambda.cwiseSqrt().cwiseInverse().asDiagonal();
+    return true;
+  }
+
   Status afterStep(double t, const Workspace& ws, double* x, StepInfo& info) override {
     Eigen::Map<RowMatrix> C(x, N_, N_);
     Eigen::Map<Eigen::VectorXd> lambda(x + N_ * N_, N_);

@@ -12,6 +12,7 @@ namespace em {
 enum class Formulation {
   Baumgarte,   ///< multipliers at acceleration level, G u' = -c - 2 alpha G u - beta^2 g
   Projection,  ///< the same, and after every accepted step q onto g = 0 and u onto G u = 0 in A's metric
+  UdwadiaKalaba,  ///< u' = a + A^(-1/2) (G A^(-1/2))^+ (b - G a), A^(-1/2) from the method's factors; Baumgarte's b
 };
 
 /// A mechanism's formulation and its options, with their defaults.
