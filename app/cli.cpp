@@ -97,7 +97,7 @@ void prepareOutput(const std::string& option, const std::string& path, const std
   else if (!writableFolder(dir)) throw std::runtime_error(option + " " + path + ": cannot write into the current folder");
 }
 
-void writeTrajectory(const Trajectory& tr, const std::string& path) {
+void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneSource* source) {
   writeCsv(tr, path);
   const RunSpec& r = tr.run;
   nlohmann::json meta = {{"format", "eigenmass-trajectory-meta/1"},
@@ -116,6 +116,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path) {
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
   if (tr.has_loops) meta["loops"] = loopsJson(tr, tr.run);
+  if (source) meta["scene_source"] = sceneSourceJson(*source);  // the file's digest, import notes, an assembly
   if (!regularOutput(path)) {  // a device, a FIFO (/dev/stdout, /dev/null): no sidecar beside it, the metadata on stderr
     std::fprintf(stderr, "eigenmass: %s is not a regular file, so no %s.json beside it; its metadata: %s\n", path.c_str(),
                  path.c_str(), meta.dump().c_str());
@@ -265,6 +266,9 @@ void addSceneArg(CLI::App* cmd, SceneArg& s) {
   cmd->add_option("--lock-joint", s.urdf.lock_joints,
                   "URDF: hold this joint at zero, merged like a fixed joint (repeatable or comma-separated)")
       ->delimiter(',');
+  cmd->add_flag("--assemble", s.assemble,
+                "A mechanism: project the written start onto the loops (q0 by Gauss-Newton in A's metric, then u0), as the "
+                "scene's simulate.assemble does, and say by how much in the outputs; without it an open start is refused");
 }
 
 void progress(const std::string& what) {

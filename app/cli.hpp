@@ -68,7 +68,7 @@ void progress(const std::string& what);
 
 /// Write a trajectory as CSV and, beside it, `<path>.json`: the run that made
 /// it (RunSpec), its status and failure, and the provenance.
-void writeTrajectory(const Trajectory& tr, const std::string& path);
+void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneSource* source = nullptr);
 /// Whether `path` (followed through links) is, or will be, a regular file:
 /// no sidecar is written beside a device or a FIFO (--out /dev/stdout).
 bool regularOutput(const std::string& path);
@@ -77,7 +77,8 @@ bool regularOutput(const std::string& path);
 struct SceneArg {
   std::string path;
   UrdfOptions urdf;
-  Scene load() const { return loadScene(path, urdf); }
+  bool assemble = false;  ///< --assemble
+  Scene load() const { return loadScene(path, urdf, assemble); }
 };
 /// The positional `scene`, --balance-inertia and --lock-joint.
 void addSceneArg(CLI::App* cmd, SceneArg& s);

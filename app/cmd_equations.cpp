@@ -19,6 +19,25 @@ nlohmann::json toJson(const Eigen::MatrixXd& A) {
   return rows;
 }
 
+// A mechanism's closures at the state: G, its rank, and per loop its rows' gaps
+// g and multipliers lambda (theory.md eq. (M7)); udot is then the constrained u'.
+nlohmann::json loopsJson(const Model& m, const Equations& e) {
+  nlohmann::json loops = nlohmann::json::array();
+  int row = 0;
+  for (const Loop& l : m.loops) {
+    const int n = loopRow(l.type).equations;
+    loops.push_back({{"name", l.name}, {"type", loopRow(l.type).name}, {"rows", {row, row + n}},
+                     {"g", toJson(Eigen::VectorXd(e.g.segment(row, n)))},
+                     {"lambda", toJson(Eigen::VectorXd(e.lambda.segment(row, n)))}});
+    row += n;
+  }
+  return {{"G", toJson(e.G)},
+          {"rank", e.rank},
+          {"rows", e.G.rows()},
+          {"lambda_note", "lambda: the force on body_a's point (N; a direction row's moment, N m), the least-norm one on redundant rows"},
+          {"closures", loops}};
+}
+
 int printEquations(const SceneArg& file, Engine engine) {
   const Scene scene = file.load();
   checkInitialState(scene);
@@ -34,6 +53,7 @@ int printEquations(const SceneArg& file, Engine engine) {
   j["udot"] = toJson(e.udot);
   j["energy"] = {{"kinetic", e.kinetic}, {"potential", e.potential}, {"total", e.kinetic + e.potential}};
   j["eigenvalues"] = toJson(e.eigenvalues);
+  if (e.has_loops) j["loops"] = loopsJson(m, e);
   std::cout << j.dump(2) << "\n";
   return 0;
 }
@@ -41,7 +61,8 @@ int printEquations(const SceneArg& file, Engine engine) {
 }  // namespace
 
 void addEquations(CLI::App& app) {
-  auto* cmd = app.add_subcommand("equations", "Print A, B, u', energy and eigenvalues of A at the scene's initial state (JSON)");
+  auto* cmd = app.add_subcommand("equations", "Print A, B, u', energy and eigenvalues of A at the scene's initial state (JSON); for a mechanism also G, its rank "
+                                               "and the multipliers lambda, and u' is the constrained one");
   auto scene = std::make_shared<SceneArg>();
   auto engine = std::make_shared<std::string>(engineName(Engine::InHouse));
   addSceneArg(cmd, *scene);

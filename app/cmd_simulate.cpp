@@ -73,7 +73,10 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
   refuseUnreadRunOptions(cmd, {s.method}, s.engine() == Engine::InHouse && !s.fixedStep());
   const Trajectory tr = runTrajectory(scene.model, checkedOption(onGrid(s, scene, a.run.asked(cmd))));
-  writeTrajectory(tr, path);
+  writeTrajectory(tr, path, &scene.source);
+  if (const auto& a = scene.source.assembly)
+    std::printf("assembled: the written start was open by %.3g (m or rad) and %.3g (m/s or rad/s); q0 moved by at most %.3g, "
+                "u0 by %.3g, in %d Gauss-Newton steps\n", a->gap, a->velocity_gap, a->moved_q, a->moved_u, a->iterations);
   printSummary(tr, path);
   return tr.failed() ? 1 : 0;
 }

@@ -10,6 +10,7 @@
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -124,13 +125,26 @@ Equations inhouseEquations(const Model& m) {
   const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
   if (llt.info() != Eigen::Success)
     throw std::runtime_error("mass matrix A is not positive definite at the initial state" + gimbalLockHint(m, m.q0().data()));
-  return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
+  if (m.loops.empty()) return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
+  const Eigen::VectorXd u = m.u0();
+  const ConstrainedEquations c = constrainedAt(m, ws, u.data());
+  Equations e = toFileOrder(m, ws.A, ws.B, c.udot, ws.kinetic, ws.potential);
+  const std::vector<int> p = m.uFilePermutation();
+  e.has_loops = true;
+  e.G.resize(m.loop_rows, m.nu);
+  for (int j = 0; j < m.nu; ++j) e.G.col(j) = c.loops.G.col(p[j]);
+  e.g = c.loops.g;
+  e.lambda = c.lambda;
+  e.rank = c.rank;
+  return e;
 }
 
 Equations engineEquations(const Model& m, Engine e) {
   if (e == Engine::InHouse) return inhouseEquations(m);
   const EngineCode& code = engineCode(e);
   if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
+  if (m.isMechanism())
+    throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism here: its row maps no loops, point springs or drives yet");
   const EngineEquations q = code.model(m)->at(m.q0(), m.u0());
   return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
 }

@@ -51,12 +51,17 @@ std::string methodRefusal(Method method, const Model& m);
 /// Throws std::invalid_argument "method: why" when `method` cannot take `m`.
 void requireMethodTakes(Method method, const Model& m);
 
-/// Equations at the initial state, in the source's order.
+/// Equations at the initial state, in the source's order. For a mechanism,
+/// udot is the constrained u' and the closures come with it (theory.md eq. (M7)).
 struct Equations {
   int nq = 0, nu = 0;
   Eigen::MatrixXd A;
   Eigen::VectorXd B, udot, eigenvalues;
   double kinetic = 0, potential = 0;
+  bool has_loops = false;
+  Eigen::MatrixXd G;          ///< (loop_rows x nu), columns in the file's order
+  Eigen::VectorXd g, lambda;  ///< (loop_rows): the gaps and the multipliers
+  int rank = 0;               ///< of G A^-1 G^T
 };
 Equations inhouseEquations(const Model& m);
 /// The same from engine `e` (its row's model; throws std::invalid_argument

@@ -93,7 +93,12 @@ std::string versionText() {
 }
 
 nlohmann::json sceneSourceJson(const SceneSource& s) {
-  return {{"file", s.file}, {"format", s.format}, {"sha256", s.sha256}, {"import_notes", s.notes}};
+  nlohmann::json j = {{"file", s.file}, {"format", s.format}, {"sha256", s.sha256}, {"import_notes", s.notes}};
+  if (s.assembly)
+    j["assembly"] = {{"gap_before", s.assembly->gap},         {"velocity_gap_before", s.assembly->velocity_gap},
+                     {"max_change_q", s.assembly->moved_q},   {"max_change_u", s.assembly->moved_u},
+                     {"gauss_newton_steps", s.assembly->iterations}};
+  return j;
 }
 
 }  // namespace em

@@ -19,9 +19,12 @@ auto inFile(const std::string& source, Read&& read) -> decltype(read()) {
   }
 }
 
-Scene fromSpec(const SceneSpec& spec, const std::string& source) {
+Scene fromSpec(SceneSpec spec, const std::string& source, bool assemble = false) {
   Scene s;
-  s.model = buildModel(spec);
+  spec.assemble = spec.assemble || assemble;
+  Assembly a;
+  s.model = buildModel(spec, &a);
+  if (spec.assemble) s.source.assembly = a;
   s.t_end = spec.t_end;
   s.output_dt = spec.output_dt;
   s.source.file = source;
@@ -30,8 +33,8 @@ Scene fromSpec(const SceneSpec& spec, const std::string& source) {
 
 }  // namespace
 
-Scene loadSceneText(const std::string& text, const std::string& source) {
-  return inFile(source, [&] { return fromSpec(parseSceneSpec(text), source); });
+Scene loadSceneText(const std::string& text, const std::string& source, bool assemble) {
+  return inFile(source, [&] { return fromSpec(parseSceneSpec(text), source, assemble); });
 }
 
 Scene loadUrdfText(const std::string& text, const std::string& source, const UrdfOptions& options) {
@@ -50,12 +53,13 @@ UrdfScene importUrdfFile(const std::string& path, const UrdfOptions& options) {
   return inFile(path, [&] { return importUrdf(text, path, options); });
 }
 
-Scene loadScene(const std::string& path, const UrdfOptions& urdf) {
+Scene loadScene(const std::string& path, const UrdfOptions& urdf, bool assemble) {
   const bool is_urdf = isUrdfPath(path);
   if (!is_urdf && urdf.any())
     throw std::runtime_error(urdf.firstOption() + ": applies to URDF files only, not to " + path);
   const std::string text = readFile(path, is_urdf ? "URDF file" : "scene file");
-  Scene s = is_urdf ? loadUrdfText(text, path, urdf) : loadSceneText(text, path);
+  if (is_urdf && assemble) throw std::runtime_error("--assemble: a URDF robot has no loops to assemble onto (" + path + ")");
+  Scene s = is_urdf ? loadUrdfText(text, path, urdf) : loadSceneText(text, path, assemble);
   s.source.sha256 = sha256Hex(text);
   return s;
 }

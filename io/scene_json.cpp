@@ -277,7 +277,11 @@ BodySpec body(const json& v, const std::string& path) {
 
 void simulateDefaults(const json& sim, SceneSpec& s) {
   if (!sim.is_object()) throw Err("simulate", "expected an object");
-  onlyKeys(sim, "simulate", {"t_end", "output_dt"});
+  onlyKeys(sim, "simulate", {"t_end", "output_dt", "assemble"});
+  if (sim.contains("assemble")) {
+    if (!sim["assemble"].is_boolean()) throw Err("simulate.assemble", "expected true or false");
+    s.assemble = sim["assemble"].get<bool>();
+  }
   if (sim.contains("t_end")) s.t_end = numberAt(sim["t_end"], "simulate.t_end");
   if (!(s.t_end > 0)) throw Err("simulate.t_end", "must be > 0");
   if (sim.contains("output_dt")) s.output_dt = numberAt(sim["output_dt"], "simulate.output_dt");
@@ -334,9 +338,22 @@ std::string bodyPath(int file_index, const std::string& key) { return "bodies[" 
 // A mechanism's initial state (docs/scene-format.md, "Mechanisms"): its welds
 // take their orientation from it; a loop it leaves open, or a point spring
 // whose points coincide, is refused naming the item.
-void checkMechanismStart(Model& m) {
+// Gauss-Newton steps an assembly may take: from a start off by ~1e-3 it needs
+// ~4 (quadratic convergence); 50 leaves room for starts off by a degree or more.
+constexpr int kAssembleIterations = 50;
+
+void checkMechanismStart(Model& m, bool assemble, Assembly* assembled) {
+  if (assemble && m.loops.empty())
+    throw Err("simulate.assemble", "the scene has no loops to assemble its start onto (or --assemble was given for a tree)");
   if (!m.isMechanism()) return;
   finishMechanism(m);
+  if (assemble) {
+    const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
+    if (!a.converged)
+      throw Err("simulate.assemble", "Gauss-Newton did not close the loops from the written start (gap " + gnum(a.gap, 3) + ") in " +
+                                         std::to_string(kAssembleIterations) + " steps: start nearer an assembled position");
+    if (assembled) *assembled = a;
+  }
   const Eigen::VectorXd q = m.q0(), u = m.u0();
   Workspace ws(m);
   formKinematics(m, q.data(), u.data(), ws);
@@ -346,7 +363,8 @@ void checkMechanismStart(Model& m) {
       throw Err(at("forces", i), "spring '" + s.name + "': its two points coincide at the initial state (no line to act along)");
   }
   if (const LoopGap gap = openLoop(m, q, u, kLoopStartTol); gap.loop >= 0)
-    throw Err(at("loops", static_cast<size_t>(gap.loop)), gap.what + " at the initial state, beyond " + gnum(kLoopStartTol));
+    throw Err(at("loops", static_cast<size_t>(gap.loop)), gap.what + " at the initial state, beyond " + gnum(kLoopStartTol) +
+                                                               " (simulate.assemble or --assemble projects the start onto the loops)");
 }
 
 }  // namespace
@@ -422,11 +440,13 @@ std::string sceneJson(const SceneSpec& s) {
   for (size_t i = 0; i < s.bodies.size(); ++i)
     text += "    " + bodyJson(s.bodies[i]).dump() + (i + 1 < s.bodies.size() ? ",\n" : "\n");
   text += "  ],\n" + listText("loops", s.loops, loopJson) + listText("forces", s.forces, forceJson);
-  text += "  \"simulate\": " + json({{"t_end", s.t_end}, {"output_dt", s.output_dt}}).dump() + "\n}\n";
+  json sim = {{"t_end", s.t_end}, {"output_dt", s.output_dt}};
+  if (s.assemble) sim["assemble"] = true;
+  text += "  \"simulate\": " + sim.dump() + "\n}\n";
   return text;
 }
 
-Model buildModel(const SceneSpec& spec) {
+Model buildModel(const SceneSpec& spec, Assembly* assembled) {
   const int n = static_cast<int>(spec.bodies.size());
   if (n == 0) throw Err("bodies", "empty body list");
   requireMemoryFor(spec.bodies);
@@ -471,7 +491,7 @@ Model buildModel(const SceneSpec& spec) {
   } catch (const ModelError& e) {
     throw Err(bodyPath(e.index, e.field), e.detail);
   }
-  checkMechanismStart(m);
+  checkMechanismStart(m, spec.assemble, assembled);
   return m;
 }
 

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "solver/mechanism.hpp"
 #include "solver/model.hpp"
 
 namespace em {
@@ -60,6 +61,7 @@ struct SceneSpec {
   std::vector<LoopSpec> loops;    ///< closures (docs/scene-format.md, "Mechanisms")
   std::vector<ForceSpec> forces;  ///< point spring-dampers
   double t_end = 10.0, output_dt = 0.01;  ///< simulate.t_end, simulate.output_dt
+  bool assemble = false;  ///< simulate.assemble: project q0, then u0, onto the loops instead of refusing an open start
   nlohmann::json extra = nlohmann::json::object();  ///< top-level "x-" keys, kept as written
 };
 
@@ -76,6 +78,8 @@ bool isSceneName(const std::string& name);
 /// The model of a scene as written: parents resolved by name, then the
 /// solver's buildModel. Throws InputError naming `bodies[i].name` or
 /// `bodies[i].parent` (file indices).
-Model buildModel(const SceneSpec& spec);
+/// With spec.assemble, the start is assembled onto the loops first
+/// (assembleStart) and `assembled` (when given) says by how much.
+Model buildModel(const SceneSpec& spec, Assembly* assembled = nullptr);
 
 }  // namespace em
