@@ -21,6 +21,8 @@ namespace em::test {
 inline std::string sourcePath(const std::string& rel) { return std::string(EM_SOURCE_DIR) + "/" + rel; }
 inline Scene sceneData(const std::string& scene) { return loadScene(sourcePath("data/scenes/" + scene)); }
 inline Model loadData(const std::string& scene) { return sceneData(scene).model; }
+/// data/scenes/<scene> as written, for tests that alter it before building.
+inline SceneSpec loadSpec(const std::string& scene) { return parseSceneSpec(readFile(sourcePath("data/scenes/" + scene), "scene")); }
 
 /// Whether a temporary of an atomic write of `path` (`<path>.tmp.<pid>`) is left beside it.
 inline bool temporaryLeft(const std::string& path) {

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Writes IFToMM's benchmark problems A01 and A02 as eigenmass scenes
+"""Writes IFToMM's benchmark problems A01, A02 and A04 as eigenmass scenes
 (data/scenes/mechanisms/): the numbers are the library's specifications
 (González, Dopico, Lugrís and Cuadrado; library of computational benchmark
-problems for multibody system dynamics, problems A01 and A02)."""
+problems for multibody system dynamics, problems A01, A02 and A04)."""
 import json
 import math
 import os
@@ -63,6 +63,47 @@ def a01():
         "simulate": {"t_end": 2000, "output_dt": 0.01}}
 
 
+def bar(name, parent, along, in_parent, in_body, axis):
+    """A uniform 1 m, 1 kg bar of square section 0.1 m along body axis `along`
+    (0, 1, 2), hinged on `axis`; every frame is the world's at q = 0."""
+    side, length = 0.1, 1.0
+    inertia = [(length ** 2 + side ** 2) / 12.0] * 3
+    inertia[along] = 2 * side ** 2 / 12.0
+    return {"name": name, "parent": parent, "mass": 1.0, "inertia": inertia,
+            "joint": {"type": "revolute", "axis": axis, "in_parent": in_parent, "in_body": in_body,
+                      "q0": [0.0], "u0": [0.0]}}
+
+
+def a04(t_end=10.0, output_dt=0.01):
+    """Bricard's linkage: five bars O1-P1 (x), P1-P2 (-y), P2-P3 (z), P3-P4 (-x),
+    P4-O2 (+y) between the ground points O1 = (0,0,0) and O2 = (0,0,1), each
+    hinge's axis square to both bars it joins; the fifth bar is hinged to the
+    ground at O2 on x by a closure: 5 coordinates, 5 closure equations, rank 4."""
+    bodies = [
+        bar("bar1", "ground", 0, [0, 0, 0], [-0.5, 0, 0], [0, 1, 0]),
+        bar("bar2", "bar1", 1, [0.5, 0, 0], [0, 0.5, 0], [0, 0, 1]),
+        bar("bar3", "bar2", 2, [0, -0.5, 0], [0, 0, -0.5], [1, 0, 0]),
+        bar("bar4", "bar3", 0, [0, 0, 0.5], [0.5, 0, 0], [0, 1, 0]),
+        bar("bar5", "bar4", 1, [-0.5, 0, 0], [0, -0.5, 0], [0, 0, 1]),
+    ]
+    loops = [{"name": "O2", "type": "hinge", "body_a": "bar5", "point_a": [0, 0.5, 0], "body_b": "ground",
+              "point_b": [0, 0, 1], "axis_a": [1, 0, 0], "axis_b": [1, 0, 0]}]
+    return {
+        "format": "eigenmass-scene/1", "name": "iftomm_a04",
+        "x-comment": "IFToMM benchmark A04, Bricard's overconstrained linkage: five bars of 1 m, 1 kg, square section "
+                     "0.1 m, six revolute pairs, each axis square to the two bars it joins; O1 = (0,0,0), P1 = (1,0,0), "
+                     "P2 = (1,-1,0), P3 = (1,-1,1), P4 = (0,-1,1), O2 = (0,0,1); gravity 9.81 m/s^2 along -y; released "
+                     "at rest. Grubler counts 0 degrees of freedom, it has 1: the hinge closure's 5 equations have rank 4 "
+                     "at every position, which a formulation must handle as redundant.",
+        "x-source": "Specification of problem A04 (IFToMM library; Gonzalez, Dopico, Lugris, Cuadrado 2006): bars 1 m, "
+                    "1 kg, section 0.1 m, gravity along -y; the geometry and the start at rest as the OpenSim port builds it "
+                    "(RehabEngGroup/MBSbenchmarksInOpenSim, src/A04-BricardsMechanism: pin axes y, z, x, y, z, x, no initial "
+                    "speed), its horizon 10 s as that port runs it (the specification's own horizon and error point P3 "
+                    "were not reachable here). Written by tools/make_mechanisms.py.",
+        "gravity": [0, -9.81, 0], "bodies": bodies, "loops": loops,
+        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+
+
 def write(doc):
     path = os.path.join(OUT, doc["name"] + ".json")
     with open(path, "w") as f:
@@ -75,4 +116,5 @@ if __name__ == "__main__":
     write(a01())
     write(a02(40))
     write(a02(2))
+    write(a04())
     sys.exit(0)

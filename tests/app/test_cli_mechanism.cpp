@@ -65,3 +65,39 @@ TEST_CASE("simulate a mechanism: the loops line and sidecar, loop options on a t
   CHECK(bad.status == 2);
   CHECK_THAT(bad.out, Catch::Contains("--formulation"));
 }
+
+TEST_CASE("assemble: an open start refused, then assembled and said how far, and equations print G, rank and lambda", "[cli][mechanism]") {
+  // A02 with N = 2, crank 1 turned by 0.01 rad: both closures open by ~0.01 m.
+  nlohmann::json doc;
+  std::ifstream(std::string(EM_SOURCE_DIR) + "/data/scenes/mechanisms/iftomm_a02_n2.json") >> doc;
+  doc["bodies"][1]["joint"]["q0"][0] = doc["bodies"][1]["joint"]["q0"][0].get<double>() + 0.01;
+  const std::string open = tempDir() + "/open.json", csv = tempDir() + "/open.csv";
+  std::ofstream(open) << doc.dump();
+  std::remove((csv + ".json").c_str());
+  const Run refused = eigenmass("simulate " + open + " --t-end 0.1 --out " + csv, true);
+  CHECK(refused.status == 2);
+  CHECK_THAT(refused.out, Catch::Contains("loops[0]: loop 'B1' is open by") && Catch::Contains("--assemble"));
+  const Run assembled = eigenmass("simulate " + open + " --t-end 0.1 --out " + csv + " --assemble");
+  REQUIRE(assembled.status == 0);
+  CHECK_THAT(assembled.out, Catch::Contains("assembled: the written start was open by 0.01"));
+  nlohmann::json meta;
+  std::ifstream(csv + ".json") >> meta;
+  CHECK(meta["scene_source"]["assembly"]["gap_before"].get<double>() > 5e-3);
+  CHECK(meta["scene_source"]["assembly"]["max_change_q"].get<double>() > 1e-3);
+  CHECK(meta["loops"]["max_position_violation_m"].get<double>() < 1e-12);
+  // A tree has nothing to assemble onto.
+  const Run tree = eigenmass("simulate " + scene("pendulum5.json") + " --assemble --out " + tempDir() + "/p.csv", true);
+  CHECK(tree.status == 2);
+  CHECK_THAT(tree.out, Catch::Contains("simulate.assemble") && Catch::Contains("no loops"));
+  // equations: Bricard's 5 hinge rows of rank 4, lambda per closure, and an engine refused on a mechanism.
+  const Run eq = eigenmass("equations " + scene("mechanisms/iftomm_a04.json"));
+  REQUIRE(eq.status == 0);
+  const nlohmann::json j = nlohmann::json::parse(eq.out);
+  CHECK(j["loops"]["rank"] == 4);
+  CHECK(j["loops"]["rows"] == 5);
+  CHECK(j["loops"]["G"].size() == 5);
+  CHECK(j["loops"]["closures"][0]["lambda"].size() == 5);
+  const Run engine = eigenmass("equations " + scene("mechanisms/iftomm_a04.json") + " --engine simbody", true);
+  CHECK(engine.status == 2);
+  CHECK_THAT(engine.out, Catch::Contains("simbody gives no equations of a mechanism"));
+}

@@ -86,8 +86,11 @@ Model everyLoopKind() {
   return buildModel(spec.name, spec.gravity, defs, mech);
 }
 
-Trajectory run(const Model& m, Method method, Integrator integrator, double tol, double t_end, double output_dt) {
-  return simulate(m, checked(test::runSpec(method, integrator, t_end, tol, output_dt)));
+Trajectory run(const Model& m, Method method, Integrator integrator, double tol, double t_end, double output_dt,
+               Formulation formulation = Formulation::Projection) {
+  RunSpec spec = test::runSpec(method, integrator, t_end, tol, output_dt);
+  spec.options.loops.formulation = formulation;
+  return simulate(m, checked(spec));
 }
 
 }  // namespace
@@ -116,11 +119,17 @@ TEST_CASE("Andrews' squeezer: IDA and the in-house formulations meet the publish
     Method method;
     Integrator integrator;
     double tol;
+    Formulation formulation = Formulation::Projection;
   };
+  // Udwadia-Kalaba through classical's L^-T and through eigen-block's
+  // C^T Lambda^(-1/2) (theory.md eq. (M11)), with no projection: over 0.03 s
+  // the index-1 drift stays below the bar.
   for (const Route& r : {Route{Method::Classical, Integrator::IDA, 1e-12}, Route{Method::Classical, Integrator::RK8PD, 1e-13},
-                         Route{Method::Articulated, Integrator::RK8PD, 1e-13}, Route{Method::EigenBlock, Integrator::RK8PD, 1e-13}}) {
-    INFO(methodName(r.method) << "/" << integratorName(r.integrator));
-    const Trajectory tr = run(m, r.method, r.integrator, r.tol, 0.03, 0.03);
+                         Route{Method::Articulated, Integrator::RK8PD, 1e-13}, Route{Method::EigenBlock, Integrator::RK8PD, 1e-13},
+                         Route{Method::Classical, Integrator::RK8PD, 1e-13, Formulation::UdwadiaKalaba},
+                         Route{Method::EigenBlock, Integrator::RK8PD, 1e-13, Formulation::UdwadiaKalaba}}) {
+    INFO(methodName(r.method) << "/" << integratorName(r.integrator) << "/" << formulationName(r.formulation));
+    const Trajectory tr = run(m, r.method, r.integrator, r.tol, 0.03, 0.03, r.formulation);
     REQUIRE_FALSE(tr.failed());
     for (int k = 0; k < 7; ++k) {
       INFO("angle " << k << ": " << tr.q.back()[k] << " against " << kAndrewsAt003[k]);
@@ -282,4 +291,99 @@ TEST_CASE("a slider-crank keeps its kinematics: the slider where the crank angle
     swing = std::max(swing, std::abs(th - theta0));
   }
   CHECK(swing > 1.0);  // the crank really turned: the check saw the kinematics, not a mechanism at rest
+}
+
+TEST_CASE("Bricard's linkage (IFToMM A04): 5 closure equations of rank 4 at every state, one degree of freedom", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/iftomm_a04.json");
+  REQUIRE(m.nu == 5);
+  REQUIRE(m.loop_rows == 5);  // Grubler: 5 coordinates - 5 equations = 0
+  // The hinge's five rows have rank 4 everywhere on the linkage's one
+  // branch: the projection, Udwadia-Kalaba and the multipliers all see it, and
+  // each keeps the loop shut and the energy (no dissipation here).
+  for (const Formulation f : {Formulation::Projection, Formulation::UdwadiaKalaba, Formulation::Baumgarte}) {
+    INFO(formulationName(f));
+    const Trajectory tr = run(m, Method::Classical, Integrator::RK8PD, 1e-11, 2.0, 0.01, f);
+    REQUIRE_FALSE(tr.failed());
+    REQUIRE(tr.has_loops);
+    CHECK(tr.loops.rank_min == 4);
+    CHECK(tr.loops.rank_max == 4);
+    // It moves: bar 1 turns by more than 0.1 rad (at rest on q = 0 it would stay).
+    double turned = 0;
+    for (size_t s = 0; s < tr.size(); ++s) turned = std::max(turned, std::abs(tr.q[s][0]));
+    CHECK(turned > 0.1);
+    // Drift without projection at rk8pd 1e-11: measured 6.3e-14 m over 10 s
+    // (baumgarte; udwadia-kalaba 3.0e-14); the bar leaves round-off room.
+    CHECK(tr.loops.position_m < 1e-10);
+    for (size_t s = 0; s < tr.size(); ++s) CHECK(std::abs(tr.energy[s] - tr.energy[0]) < 1e-8);
+  }
+}
+
+TEST_CASE("a static four-bar: lambda at the closure against the hand calculation, u' = 0", "[mechanism]") {
+  // A parallelogram four-bar held still by a drive: cranks of L = 1 m, m_c = 1
+  // kg at theta = 60 deg from the ground points (0,0) and (2,0); a coupler of
+  // 2 m, m_k = 1.5 kg, hanging from crank 1's tip and closed on crank 2's by
+  // a ball; gravity g along -y. The drive on crank 1 that holds it is
+  // tau = dV/dtheta = (m_c + m_k) g L cos(theta) (virtual work).
+  // By hand (statics): the coupler's moment balance about its CM gives each
+  // tip m_k g / 2 upwards; crank 2's moment balance about its pivot then
+  // gives the horizontal force on the coupler's end, (m_c + m_k) g cot(theta) / 2.
+  // So lambda (the force on body_a, the coupler, from crank 2) is
+  // ((m_c + m_k) g cot(theta) / 2, m_k g / 2, 0): z is the redundant row of a
+  // planar ball closure, whose least-norm multiplier is 0.
+  const double g = 9.81, L = 1.0, mc = 1.0, mk = 1.5, th = M_PI / 3;
+  const double tau = (mc + mk) * g * L * std::cos(th);
+  // The joints as a scene writes them; the angles and the drive are set exactly below.
+  const std::string text = R"({"format": "eigenmass-scene/1", "name": "static_fourbar", "gravity": [0, -9.81, 0],
+    "bodies": [
+      {"name": "crank1", "parent": "ground", "mass": 1.0, "inertia": [1e-6, 0.0833333333333333, 0.0833333333333333],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [-0.5, 0, 0]}},
+      {"name": "crank2", "parent": "ground", "mass": 1.0, "inertia": [1e-6, 0.0833333333333333, 0.0833333333333333],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [2, 0, 0], "in_body": [-0.5, 0, 0]}},
+      {"name": "coupler", "parent": "crank1", "mass": 1.5, "inertia": [1e-6, 0.5, 0.5],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0.5, 0, 0], "in_body": [-1, 0, 0]}}],
+    "simulate": {"t_end": 1, "output_dt": 0.1}})";
+  const SceneSpec spec = parseSceneSpec(text);
+  MechanismDef mech;
+  mech.loops.push_back({"Q", LoopType::Ball, {2, Vec3(1, 0, 0)}, {1, Vec3(0.5, 0, 0)}, Vec3::UnitZ(), Vec3::UnitZ(), Mat3::Identity()});
+  std::vector<BodyDef> defs;
+  for (int f = 0; f < 3; ++f) defs.push_back({spec.bodies[f].name, f == 2 ? 0 : -1, spec.bodies[f].mass, spec.bodies[f].inertia, spec.bodies[f].joint});
+  for (BodyDef& d : defs) d.joint.q0 = Eigen::VectorXd::Constant(1, d.name == "coupler" ? -th : th);
+  defs[0].joint.torque = Eigen::VectorXd::Constant(1, tau);
+  const Model m = buildModel("static_fourbar", Vec3(0, -g, 0), defs, mech);
+  const Workspace ws = equationsAtStart(m);
+  const Eigen::VectorXd u = m.u0();
+  const ConstrainedEquations c = constrainedAt(m, ws, u.data());
+  REQUIRE(c.loops.g.cwiseAbs().maxCoeff() < 1e-14);  // the start is closed
+  CHECK(c.rank == 2);                                // planar: z is redundant
+  // Tolerance: round-off of a 3x3 solve with cond ~1e2, on forces of ~10 N.
+  const double tol = 1e-10;
+  CHECK(std::abs(c.lambda[0] - (mc + mk) * g / std::tan(th) / 2) < tol);
+  CHECK(std::abs(c.lambda[1] - mk * g / 2) < tol);
+  CHECK(std::abs(c.lambda[2]) < tol);
+  // Held: the constrained u' vanishes (the tree's u' alone does not: the coupler would fall).
+  CHECK(c.udot.cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(Eigen::LLT<Eigen::MatrixXd>(ws.A).solve(ws.B).cwiseAbs().maxCoeff() > 1.0);
+}
+
+TEST_CASE("an open start is refused naming the loop, and assembled onto the loops when asked", "[mechanism][io]") {
+  SceneSpec spec = test::loadSpec("mechanisms/iftomm_a02_n2.json");
+  spec.bodies[1].joint.q0[0] += 0.01;  // crank 1 turned by 0.01 rad: both couplers' closures open
+  spec.bodies[0].joint.u0[0] += 0.2;   // and crank 0 faster than the others allow
+  CHECK_THROWS_WITH(buildModel(spec), Catch::StartsWith("loops[0]") && Catch::Contains("simulate.assemble"));
+  spec.assemble = true;
+  Assembly a;
+  const Model m = buildModel(spec, &a);
+  REQUIRE(a.converged);
+  CHECK(a.gap > 5e-3);  // crank 1's tip moved by ~0.01 m
+  CHECK(a.velocity_gap > 0.1);
+  CHECK(a.iterations >= 2);
+  CHECK(a.moved_q > 1e-3);
+  CHECK(a.moved_q < 0.05);  // the least change: of the order of the gap, not a new branch
+  // What it built is closed, in position and in velocity.
+  CHECK(openLoop(m, m.q0(), m.u0(), 1e-12).loop == -1);
+  // The written start survives the round trip, and a tree refuses the key.
+  CHECK(parseSceneSpec(sceneJson(spec)).assemble);
+  SceneSpec tree = test::loadSpec("pendulum5.json");
+  tree.assemble = true;
+  CHECK_THROWS_WITH(buildModel(tree), Catch::StartsWith("simulate.assemble"));
 }
