@@ -32,8 +32,10 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
   if (tr.has_loops) {
     const LoopStats& l = tr.loops;
-    std::printf("\nloops: largest violation %.3g m and %.3g rad, %.3g m/s and %.3g rad/s; rank %d", l.position_m, l.position_rad,
-                l.velocity_m, l.velocity_rad, l.rank_max);
+    std::printf("\nloops: largest violation %.3g m and %.3g rad, %.3g m/s and %.3g rad/s", l.position_m, l.position_rad, l.velocity_m,
+                l.velocity_rad);
+    if (l.rank_max >= 0) std::printf("; rank %d", l.rank_max);
+    else std::printf(" (at the samples, by eigenmass's g(q); the engine closes the loops its own way)");
     if (l.projections)
       std::printf("; %ld projections, %ld Gauss-Newton iterations, %ld unconverged", l.projections, l.projection_iterations,
                   l.projections_unconverged);

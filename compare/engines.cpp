@@ -45,11 +45,14 @@ std::string methodRefusal(Method method, const Model& m) {
   if (m.isMechanism() && row.tree_only)
     return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
   if (row.engine == Engine::InHouse) return "";
-  // No engine row maps loops, point springs or drives yet: such a scene is
-  // refused for every engine, never run as the tree it would be without them.
-  if (m.isMechanism())
-    return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods and ida run it)";
   const EngineCode& code = engineCode(row.engine);
+  // A mechanism runs only on an engine whose row maps its loops, point
+  // springs and drives: never as the tree it would be without them.
+  if (m.isMechanism()) {
+    if (!code.mechanism_refusal)
+      return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods, ida and simbody run it)";
+    if (std::string why = code.mechanism_refusal(m); !why.empty()) return why;
+  }
   return code.refusal ? code.refusal(m) : "";
 }
 
@@ -143,8 +146,10 @@ Equations engineEquations(const Model& m, Engine e) {
   if (e == Engine::InHouse) return inhouseEquations(m);
   const EngineCode& code = engineCode(e);
   if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
-  if (m.isMechanism())
+  if (m.isMechanism() && !code.mechanism_refusal)
     throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism here: its row maps no loops, point springs or drives yet");
+  if (m.isMechanism())
+    if (const std::string why = code.mechanism_refusal(m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
   const EngineEquations q = code.model(m)->at(m.q0(), m.u0());
   return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
 }

@@ -97,6 +97,10 @@ struct EngineCode {
   /// Why it cannot take `m` (a joint kind it has no mapping for), or "" (also
   /// when nullptr): such a run is refused in one line before any run starts.
   std::string (*refusal)(const Model& m) = nullptr;
+  /// Why it cannot run this mechanism (a closure kind it cannot express,
+  /// named with the loop), or "" when it maps every loop, point spring and
+  /// drive of `m`; nullptr: it maps no mechanism yet, and every one is refused.
+  std::string (*mechanism_refusal)(const Model& m) = nullptr;
 };
 
 /// One engine: its registry row and its code, written in its own file

@@ -1,6 +1,7 @@
 #include "engines/simbody.hpp"
 
 #include "engines/engine.hpp"
+#include "solver/mechanism.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -95,40 +96,60 @@ Mobilizer mobilizer(const Joint& j) {
 // Where Simbody keeps our k-th of n (a coordinate or a speed) of a joint whose mapping shifts them.
 int shifted(int k, int shift, int n) { return (k + shift) % n; }
 
-// One damped mobility: its body, which of its speeds, and c.
+// One damped mobility (c > 0: power c u^2 taken out) or one drive (its
+// constant tau: power tau u put in, counted as -tau u): its body, which of its
+// speeds, and the coefficient.
 struct Damper {
   MobilizedBody mb;
   int which;
+  double c;     // damping, or 0 for a drive
+  double tau;   // a drive's force, or 0 for a damper
+};
+
+// A point damper between two stations: power c l'^2.
+struct PointDamper {
+  MobilizedBody a, b;
+  SimTK::Vec3 pa, pb;
   double c;
 };
 
-// W_diss' = sum of c u^2 over the dampers (docs/theory.md §5), a Simbody
-// measure of Velocity stage that Measure::Integrate turns into a z variable.
+// W_diss' = sum c u^2 + sum c l'^2 - sum tau u (docs/theory.md eq. (M6)), a
+// Simbody measure of Velocity stage that Measure::Integrate turns into a z variable.
 class DissipationRate : public SimTK::Measure::Implementation {
  public:
-  explicit DissipationRate(std::vector<Damper> dampers) : SimTK::Measure::Implementation(1), dampers_(std::move(dampers)) {}
+  DissipationRate(std::vector<Damper> dampers, std::vector<PointDamper> points)
+      : SimTK::Measure::Implementation(1), dampers_(std::move(dampers)), points_(std::move(points)) {}
   Implementation* cloneVirtual() const override { return new DissipationRate(*this); }
   int getNumTimeDerivativesVirtual() const override { return 0; }
   SimTK::Stage getDependsOnStageVirtual(int) const override { return SimTK::Stage::Velocity; }
   void calcCachedValueVirtual(const State& s, int, double& value) const override {
     value = 0;
-    for (const Damper& d : dampers_) value += d.c * SimTK::square(d.mb.getOneU(s, d.which));
+    for (const Damper& d : dampers_) {
+      const double u = d.mb.getOneU(s, d.which);
+      value += d.c * u * u - d.tau * u;
+    }
+    for (const PointDamper& p : points_) {
+      const SimTK::Vec3 d = p.b.findStationLocationInGround(s, p.pb) - p.a.findStationLocationInGround(s, p.pa);
+      const SimTK::Vec3 v = p.b.findStationVelocityInGround(s, p.pb) - p.a.findStationVelocityInGround(s, p.pa);
+      value += p.c * SimTK::square(SimTK::dot(d, v) / d.norm());
+    }
   }
 
  private:
   std::vector<Damper> dampers_;
+  std::vector<PointDamper> points_;
 };
 
 // Its handle (SetHandle, the tag that adopts an implementation, is protected).
 struct DissipationMeasure : SimTK::Measure {
-  DissipationMeasure(SimTK::Subsystem& sub, std::vector<Damper> dampers)
-      : SimTK::Measure(sub, new DissipationRate(std::move(dampers)), SetHandle()) {}
+  DissipationMeasure(SimTK::Subsystem& sub, std::vector<Damper> dampers, std::vector<PointDamper> points)
+      : SimTK::Measure(sub, new DissipationRate(std::move(dampers), std::move(points)), SetHandle()) {}
 };
 
 }  // namespace
 
 struct SimbodySystem::Impl {
-  explicit Impl(const Model& m) : model(m), matter(system), forces(system) {
+  explicit Impl(const Model& m) : model(m), matter(system), forces(system), meter(m) {
     for (const Body& b : m.bodies) {
       MobilizedBody& parent = b.parent < 0 ? matter.updGround() : mobods[b.parent];
       const SimTK::Body::Rigid body(SimTK::MassProperties(b.mass, SimTK::Vec3(0), toInertia(b.J)));
@@ -136,11 +157,15 @@ struct SimbodySystem::Impl {
       const Transform X_PF(mob.frame, toSimTK(b.joint.in_parent)), X_BM(mob.frame, toSimTK(b.joint.in_body));
       mobods.push_back(mob.make(parent, X_PF, body, X_BM));
       addSpring(b, mob.u_shift, mobods.back());
+      addDrive(b, mob.u_shift, mobods.back());
     }
+    // A mechanism's closures and point spring-dampers (docs/reference-engines.md, "Mechanisms").
+    for (const Loop& l : m.loops) addLoop(l);
+    for (const PointSpring& s : m.point_springs) addPointSpring(s);
     // Only what the scene declares (docs/theory.md §5).
     if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
-    if (!dampers.empty()) {
-      const DissipationMeasure rate(forces, dampers);
+    if (!dampers.empty() || !point_dampers.empty()) {
+      const DissipationMeasure rate(forces, dampers, point_dampers);
       dissipated = SimTK::Measure::Integrate(forces, rate, SimTK::Measure::Zero(forces));
     }
     system.realizeTopology();
@@ -164,8 +189,56 @@ struct SimbodySystem::Impl {
       if (s.k[k] != 0) SimTK::Force::MobilityLinearSpring(forces, mb, at, s.k[k], s.q_rest[k]);
       if (s.c[k] == 0) continue;
       SimTK::Force::MobilityLinearDamper(forces, mb, at, s.c[k]);
-      dampers.push_back({mb, at, s.c[k]});
+      dampers.push_back({mb, at, s.c[k], 0.0});
     }
+  }
+
+  // A drive: our coordinate k's constant force on Simbody's mobility (k + shift) mod nu.
+  void addDrive(const Body& b, int shift, MobilizedBody& mb) {
+    for (int k = 0; k < b.joint.torque.size(); ++k) {
+      const int at = shifted(k, shift, b.nu());
+      SimTK::Force::MobilityConstantForce(forces, mb, at, b.joint.torque[k]);
+      dampers.push_back({mb, at, 0.0, b.joint.torque[k]});
+    }
+  }
+
+  MobilizedBody& bodyOf(int i) { return i < 0 ? matter.updGround() : mobods[i]; }
+
+  // Bodies' frames sit at their CMs here, so a loop's points are Simbody stations as written.
+  void addLoop(const Loop& l) {
+    MobilizedBody &a = bodyOf(l.a.body), &b = bodyOf(l.b.body);
+    const SimTK::Vec3 pa = toSimTK(l.a.point), pb = toSimTK(l.b.point);
+    switch (l.type) {
+      case LoopType::Ball:
+        SimTK::Constraint::Ball(a, pa, b, pb);
+        return;
+      case LoopType::Hinge: {
+        // The points meet, and axis_a stays square to two perpendiculars of axis_b.
+        SimTK::Constraint::Ball(a, pa, b, pb);
+        const SimTK::UnitVec3 axis_b(toSimTK(l.axis_b)), axis_a(toSimTK(l.axis_a));
+        const SimTK::UnitVec3 p1 = axis_b.perp(), p2(SimTK::cross(axis_b, p1));
+        SimTK::Constraint::ConstantAngle(b, p1, a, axis_a);
+        SimTK::Constraint::ConstantAngle(b, p2, a, axis_a);
+        return;
+      }
+      case LoopType::Weld: {
+        // b's frame at R_a rel: Simbody's weld makes frame F (on a) and M (on b) coincide.
+        SimTK::Mat33 R;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) R(i, j) = l.rel(i, j);
+        SimTK::Constraint::Weld(a, Transform(Rotation(R), pa), b, Transform(pb));
+        return;
+      }
+    }
+  }
+
+  void addPointSpring(const PointSpring& s) {
+    MobilizedBody &a = bodyOf(s.a.body), &b = bodyOf(s.b.body);
+    const SimTK::Vec3 pa = toSimTK(s.a.point), pb = toSimTK(s.b.point);
+    if (s.k != 0) SimTK::Force::TwoPointLinearSpring(forces, a, pa, b, pb, s.k, s.length);
+    if (s.c == 0) return;
+    SimTK::Force::TwoPointLinearDamper(forces, a, pa, b, pb, s.c);
+    point_dampers.push_back({a, b, pa, pb, s.c});
   }
 
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
@@ -217,10 +290,12 @@ struct SimbodySystem::Impl {
   SimTK::SimbodyMatterSubsystem matter;
   SimTK::GeneralForceSubsystem forces;
   std::vector<MobilizedBody> mobods;  // internal order
-  std::vector<Damper> dampers;
+  std::vector<Damper> dampers;  // and drives
+  std::vector<PointDamper> point_dampers;
   SimTK::Measure::Integrate dissipated;  // W_diss; empty handle without dampers
   State state;
   std::vector<int> q_index, u_index;  // Simbody index of in-house q[i], u[i]
+  LoopMeter meter;                     // a mechanism's violation at the samples, by our g(q)
 };
 
 SimbodySystem::SimbodySystem(const Model& m) : impl_(std::make_unique<Impl>(m)) {}
@@ -279,8 +354,12 @@ void SimbodySystem::Impl::sample(Trajectory& tr, double t, const State& s) {
   Eigen::VectorXd q, u;
   getState(q, u);
   const double T = kineticEnergy();
-  const double W = dampers.empty() ? 0.0 : dissipated.getValue(state);
+  const double W = dampers.empty() && point_dampers.empty() ? 0.0 : dissipated.getValue(state);
   appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
+  if (!model.loops.empty()) {
+    tr.has_loops = true;
+    meter.record(q.data(), u.data(), tr.loops);
+  }
 }
 
 Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserver& observe) {
@@ -358,6 +437,8 @@ EngineRow simbodyEngine() {
   };
   r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<SimbodyModel>(m); };
   r.code.forward_call = "Simbody realize(Acceleration)";
+  // Every closure kind, point spring-damper and drive maps (addLoop, addPointSpring, addDrive).
+  r.code.mechanism_refusal = [](const Model&) { return std::string(); };
   r.code.version = [] { return std::string(EM_SIMBODY_VERSION); };
   return r;
 }

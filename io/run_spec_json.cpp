@@ -28,9 +28,16 @@ nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
   const LoopOptions& o = s.options.loops;
   nlohmann::json j = {{"max_position_violation_m", l.position_m}, {"max_position_violation_rad", l.position_rad},
                       {"max_velocity_violation_m_per_s", l.velocity_m}, {"max_velocity_violation_rad_per_s", l.velocity_rad},
-                      {"rank", l.rank_max}, {"rank_min", l.rank_min}};
+                      {"rank", l.rank_max < 0 ? nlohmann::json(nullptr) : nlohmann::json(l.rank_max)},
+                      {"rank_min", l.rank_min < 0 ? nlohmann::json(nullptr) : nlohmann::json(l.rank_min)}};  // null: an engine's run
   if (info(s.integrator).dae) {
     j["formulation"] = "ida-ggl-index2";  // the DAE solver's own: no multipliers formulation of ours
+    return j;
+  }
+  if (s.engine() != Engine::InHouse) {
+    // The engine closes the loops its own way; the violation is eigenmass's g(q), G u at its samples.
+    j["formulation"] = std::string(engineName(s.engine())) + "'s own";
+    j["measured_at"] = "the output samples, by eigenmass's g(q) and G u";
     return j;
   }
   j["formulation"] = formulationName(o.formulation);

@@ -136,13 +136,7 @@ Status Dynamics::closeLoops(double t, const double* y, double* udot) {
   return {};
 }
 
-void Dynamics::recordLoops() {
-  LoopStats& s = loop_stats_;
-  s.position_m = std::max(s.position_m, loops_.position_m);
-  s.position_rad = std::max(s.position_rad, loops_.position_rad);
-  s.velocity_m = std::max(s.velocity_m, loops_.velocity_m);
-  s.velocity_rad = std::max(s.velocity_rad, loops_.velocity_rad);
-}
+void Dynamics::recordLoops() { recordViolation(loops_, loop_stats_); }
 
 // q onto g(q) = 0 by Gauss-Newton in A's metric, then u onto G u = 0
 // (docs/theory.md eqs. (M8), (M9)).

@@ -286,6 +286,19 @@ void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& Ai
   out.noalias() = AinvGt * lambda_;
 }
 
+void LoopMeter::record(const double* q, const double* u, LoopStats& s) {
+  formKinematics(m_, q, u, ws_);
+  formLoops(m_, ws_, u, loops_);
+  recordViolation(loops_, s);
+}
+
+void recordViolation(const LoopState& ls, LoopStats& s) {
+  s.position_m = std::max(s.position_m, ls.position_m);
+  s.position_rad = std::max(s.position_rad, ls.position_rad);
+  s.velocity_m = std::max(s.velocity_m, ls.velocity_m);
+  s.velocity_rad = std::max(s.velocity_rad, ls.velocity_rad);
+}
+
 LoopProjector::LoopProjector(const Model& m)
     : loops_(m), solve_(m), llt_(m.nu), AinvGt_(m.nu, m.loop_rows), dv_(m.nu), dq_(m.nq) {}
 

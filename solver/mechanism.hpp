@@ -11,6 +11,7 @@
 
 #include "solver/formation.hpp"
 #include "solver/method_options.hpp"
+#include "solver/trajectory.hpp"
 
 namespace em {
 
@@ -129,6 +130,22 @@ class LoopProjector {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::MatrixXd AinvGt_;     // (nu x m)
   Eigen::VectorXd dv_, dq_;    // (nu), (nq)
+};
+
+/// s's largest violations grow by ls's (what a report calls the violation).
+void recordViolation(const LoopState& ls, LoopStats& s);
+
+/// The loops' violation at a state another engine reached (its samples), by
+/// our g(q) and G u: LoopStats' largest values grow; rank is not touched.
+class LoopMeter {
+ public:
+  explicit LoopMeter(const Model& m) : m_(m), ws_(m), loops_(m) {}
+  void record(const double* q, const double* u, LoopStats& s);  // q: (nq), u: (nu)
+
+ private:
+  const Model& m_;
+  Workspace ws_;
+  LoopState loops_;
 };
 
 /// A mechanism's equations at one state (theory.md eq. (M7), solved by
