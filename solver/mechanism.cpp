@@ -246,19 +246,34 @@ double nonConservativePower(const Model& m, const Workspace& ws, const double* u
   return P;
 }
 
+namespace {
+
+// x = X^+ r by a complete orthogonal decomposition at relative threshold tol; its rank.
+int leastNorm(Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod, const Eigen::MatrixXd& X, double tol,
+              const Eigen::VectorXd& r, Eigen::VectorXd& x) {
+  cod.setThreshold(tol);
+  cod.compute(X);
+  x = cod.solve(r);
+  return static_cast<int>(cod.rank());
+}
+
+}  // namespace
+
 ConstrainedSolve::ConstrainedSolve(const Model& m)
     : S_(m.loop_rows, m.loop_rows), GM_(m.loop_rows, m.nu), r_(m.loop_rows), lambda_(Eigen::VectorXd::Zero(m.loop_rows)),
       w_(m.nu), cod_(m.loop_rows, m.loop_rows), cod_gm_(m.loop_rows, m.nu) {}
 
+// r = b - G a, b = -c - 2 alpha G u - beta^2 g: what the constraint force must add to g''.
+void ConstrainedSolve::residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a) {
+  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
+  r_.noalias() -= ls.G * a;
+}
+
 int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta,
                             Eigen::Ref<Eigen::VectorXd> udot) {
   S_.noalias() = ls.G * AinvGt;
-  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
-  r_.noalias() -= ls.G * udot;
-  cod_.setThreshold(kLoopRankTol);
-  cod_.compute(S_);
-  rank_ = static_cast<int>(cod_.rank());
-  lambda_ = cod_.solve(r_);
+  residual(ls, alpha, beta, udot);
+  rank_ = leastNorm(cod_, S_, kLoopRankTol, r_, lambda_);
   udot.noalias() += AinvGt * lambda_;
   return rank_;
 }
@@ -266,12 +281,8 @@ int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, 
 int ConstrainedSolve::solveUdwadiaKalaba(const LoopState& ls, const Eigen::MatrixXd& M, double alpha, double beta,
                                          Eigen::Ref<Eigen::VectorXd> udot) {
   GM_.noalias() = ls.G * M;
-  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
-  r_.noalias() -= ls.G * udot;
-  cod_gm_.setThreshold(kLoopRankTolUK);
-  cod_gm_.compute(GM_);
-  rank_ = static_cast<int>(cod_gm_.rank());
-  w_ = cod_gm_.solve(r_);  // the least-norm w with (G M) w = r on G M's range
+  residual(ls, alpha, beta, udot);
+  rank_ = leastNorm(cod_gm_, GM_, kLoopRankTolUK, r_, w_);  // the least-norm w with (G M) w = r on G M's range
   udot.noalias() += M * w_;
   return rank_;
 }
@@ -279,10 +290,7 @@ int ConstrainedSolve::solveUdwadiaKalaba(const LoopState& ls, const Eigen::Matri
 void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r,
                                   Eigen::VectorXd& out) {
   S_.noalias() = ls.G * AinvGt;
-  cod_.setThreshold(kLoopRankTol);
-  cod_.compute(S_);
-  rank_ = static_cast<int>(cod_.rank());
-  lambda_ = cod_.solve(r);
+  rank_ = leastNorm(cod_, S_, kLoopRankTol, r, lambda_);
   out.noalias() = AinvGt * lambda_;
 }
 

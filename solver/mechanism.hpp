@@ -99,6 +99,7 @@ class ConstrainedSolve {
   int rank() const { return rank_; }
 
  private:
+  void residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a);
   Eigen::MatrixXd S_, GM_;
   Eigen::VectorXd r_, lambda_, w_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_, cod_gm_;
