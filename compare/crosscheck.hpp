@@ -12,7 +12,9 @@
 namespace em {
 
 /// Largest differences at one state, relative to the in-house value's largest
-/// entry: max|X_engine - X_inhouse| / max|X_inhouse| for A, B and u'.
+/// entry: max|X_engine - X_inhouse| / max|X_inhouse| for A, B and u' (on a
+/// mechanism: the constrained u', relative to the larger of its largest entry
+/// and the free u' = A^-1 B's, at states projected onto the loops).
 struct CrossCheckRow {
   int state = 0;  ///< 0: the initial state; k > 0: the k-th random one
   std::string engine;

@@ -109,7 +109,7 @@ Vec3 angularBias(const Model& m, const Workspace& ws, const double* u, int body)
 
 LoopState::LoopState(const Model& m)
     : g(Eigen::VectorXd::Zero(m.loop_rows)), Gu(Eigen::VectorXd::Zero(m.loop_rows)), c(Eigen::VectorXd::Zero(m.loop_rows)),
-      G(Eigen::MatrixXd::Zero(m.loop_rows, m.nu)), Jw(3, m.nu) {}
+      G(Eigen::MatrixXd::Zero(m.loop_rows, m.nu)), Jw(3, m.nu), turn(m.loops.size(), 0.0) {}
 
 namespace {
 
@@ -147,12 +147,22 @@ void pairRow(const RelativeTurn& turn, const PairRow& p, int r, LoopState& ls) {
   ls.c[r] = n.dot(turn.alpha) + ndot.dot(turn.wa - turn.wb);
 }
 
+// The angle between unit vectors e and f, accurate near 0 (theory.md eq. (M4b)).
+double angleBetween(const Vec3& e, const Vec3& f) { return std::atan2(e.cross(f).norm(), e.dot(f)); }
+
+// The angle of the rotation Q (accurate near 0: from its skew part and its trace).
+double rotationAngle(const Mat3& Q) {
+  const Vec3 s(Q(2, 1) - Q(1, 2), Q(0, 2) - Q(2, 0), Q(1, 0) - Q(0, 1));
+  return std::atan2(0.5 * s.norm(), 0.5 * (Q.trace() - 1));
+}
+
 }  // namespace
 
 void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& ls) {
   ls.G.setZero();
   int r = 0;
-  for (const Loop& l : m.loops) {
+  for (size_t i = 0; i < m.loops.size(); ++i) {
+    const Loop& l = m.loops[i];
     ballRows(m, ws, u, l, r, ls);
     r += 3;
     if (l.type == LoopType::Ball) continue;
@@ -164,20 +174,23 @@ void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& 
       const Vec3 e = Ra * l.axis_a;
       pairRow(turn, {e, Rb * t1}, r++, ls);
       pairRow(turn, {e, Rb * t2}, r++, ls);
+      ls.turn[i] = angleBetween(e, Rb * l.axis_b);
     } else {  // weld
       const Mat3 A = Ra * l.rel;  // b's frame as a holds it
       for (int k = 0; k < 3; ++k) pairRow(turn, {A.col(k), Rb.col((k + 1) % 3)}, r++, ls);
+      ls.turn[i] = rotationAngle(A.transpose() * Rb);
     }
   }
   ls.Gu.noalias() = ls.G * Eigen::Map<const Eigen::VectorXd>(u, m.nu);
   ls.position_m = ls.position_rad = ls.velocity_m = ls.velocity_rad = 0;
   r = 0;
-  for (const Loop& l : m.loops) {
+  for (size_t i = 0; i < m.loops.size(); ++i) {
+    const Loop& l = m.loops[i];
     ls.position_m = std::max(ls.position_m, ls.g.segment<3>(r).cwiseAbs().maxCoeff());
     ls.velocity_m = std::max(ls.velocity_m, ls.Gu.segment<3>(r).cwiseAbs().maxCoeff());
+    ls.position_rad = std::max(ls.position_rad, ls.turn[i]);
     const int extra = loopRow(l.type).equations - 3;
     if (extra > 0) {
-      ls.position_rad = std::max(ls.position_rad, ls.g.segment(r + 3, extra).cwiseAbs().maxCoeff());
       ls.velocity_rad = std::max(ls.velocity_rad, ls.Gu.segment(r + 3, extra).cwiseAbs().maxCoeff());
     }
     r += loopRow(l.type).equations;
@@ -320,7 +333,8 @@ LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, do
     formA(m, ws);
     llt_.compute(ws.A);
     AinvGt_.noalias() = llt_.solve(loops_.G.transpose());
-    const double gap = loops_.g.size() ? loops_.g.cwiseAbs().maxCoeff() : 0.0;
+    // The true gap: g's direction rows also vanish at turns that are not the closure's (formLoops' turn).
+    const double gap = std::max(loops_.position_m, loops_.position_rad);
     if (gap <= tol) {
       r.converged = true;
       return r;
@@ -407,7 +421,7 @@ LoopGap openLoop(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd
     const std::string what = "loop '" + l.name + "' ";
     const int L = static_cast<int>(i);
     if (const double e = worst(ls.g, r, 3); e > tol) return {L, what + "is open by " + gnum(e, 3) + " m"};
-    if (const double e = worst(ls.g, r + 3, rows - 3); e > tol) return {L, what + "is open by " + gnum(e, 3) + " rad"};
+    if (const double e = ls.turn[i]; e > tol) return {L, what + "is open by " + gnum(e, 3) + " rad"};
     if (const double e = worst(ls.Gu, r, 3); e > tol) return {L, what + "separates at " + gnum(e, 3) + " m/s"};
     if (const double e = worst(ls.Gu, r + 3, rows - 3); e > tol) return {L, what + "turns apart at " + gnum(e, 3) + " rad/s"};
     r += rows;

@@ -54,8 +54,15 @@ struct LoopState {
   Eigen::VectorXd g, Gu, c;
   Eigen::MatrixXd G;
   Eigen::Matrix3Xd Jw;  ///< scratch: an angular Jacobian (3 x nu)
-  /// The largest |g| over the ball rows (m) and over the axis rows (rad), and
-  /// the same of G u (m/s, rad/s): what a report calls the violation.
+  /// Per loop, how far its directions are turned from where the closure holds
+  /// them (rad; 0 for a ball): a hinge's angle between axis_a and axis_b, a
+  /// weld's angle of R_b against R_a rel (eq. (M4b)). The direction rows g
+  /// vanish also at turns that are not the closure's (a weld's frame turned
+  /// 120 degrees about its diagonal, a hinge's axes opposed); this does not.
+  std::vector<double> turn;
+  /// The largest |g| over the ball rows (m), the largest turn (rad), and the
+  /// largest |G u| over the ball and the axis rows (m/s, rad/s): what a
+  /// report calls the violation.
   double position_m = 0, position_rad = 0, velocity_m = 0, velocity_rad = 0;
 };
 /// g, G, G u and c at the formed kinematics.  // u: (nu)
