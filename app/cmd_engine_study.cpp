@@ -46,12 +46,26 @@ json studyPlan(const StudyArgs& a, const json& tmpl, const std::string& name) {
   return p;
 }
 
-// Write the study's plan into the results folder; one written before by another study is never replaced.
+// Where the study's plan goes in the results folder.
+std::string studyPlanPath(const json& plan, const std::string& dir) {
+  return (fs::path(dir) / (plan.at("name").get<std::string>() + ".plan.json")).string();
+}
+
+// Write the study's plan (checked before: checkStudyPlan) into the results
+// folder; one written before by another study, or a file there that is no
+// plan, is never replaced.
 std::string writeStudyPlan(const json& plan, const std::string& dir) {
-  const std::string path = (fs::path(dir) / (plan.at("name").get<std::string>() + ".plan.json")).string();
+  const std::string path = studyPlanPath(plan, dir);
   const std::string text = plan.dump(2) + "\n";
   if (fs::exists(path)) {
-    if (readFile(path, "study plan") == text) return path;
+    const std::string there = readFile(path, "study plan");
+    if (there == text) return path;
+    try {
+      parsePlan(there, path, path);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument("--results " + dir + ": holds " + path + ", which is not a readable plan (" + std::string(e.what()) +
+                                  "); remove it or choose another folder");
+    }
     throw std::invalid_argument("--results " + dir + ": holds " + path + ", the plan of another study (other options, "
                                 "another template); choose another folder or remove it");
   }
@@ -70,8 +84,11 @@ int runStudy(StudyArgs& a) {
   const std::string name = "engine-study-" + stem;
   const std::string dir = a.results.empty() ? "results/" + name : a.results;
   if (a.list) refuseLineBreaks({{"--results", dir}});
+  const json study = studyPlan(a, tmpl, name);
+  // The plan is checked before any file or folder is written: its errors name the template (--plan), not a copy.
+  parsePlan(study.dump(2) + "\n", studyPlanPath(study, dir), "--plan " + a.plan + " (the study's plan made from it)");
   prepareFolder("--results", dir);
-  const std::string path = writeStudyPlan(studyPlan(a, tmpl, name), dir);
+  const std::string path = writeStudyPlan(study, dir);
   const Plan plan = loadPlan(path);
   if (!a.list) refuseSweepOverInputs(plan, path, dir);
   std::fprintf(stderr, "engine-study: %s (%d speeds), %zu cases of %s\n", scene.source.file.c_str(), scene.model.nu,

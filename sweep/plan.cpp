@@ -327,17 +327,19 @@ const char* planTableName(PlanTable t) {
 
 bool Plan::hasTable(PlanTable t) const { return std::find(tables.begin(), tables.end(), t) != tables.end(); }
 
-Plan loadPlan(const std::string& path) {
+Plan parsePlan(const std::string& text, const std::string& path, const std::string& named) {
   Plan p;
   p.file = path;
   try {
-    readPlanKeys(parseJsonStrict(readFile(path, "plan")), p);
+    readPlanKeys(parseJsonStrict(text), p);
     checkPlanRuns(p);
   } catch (const InputError& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    throw std::runtime_error(named + ": " + e.what());
   }
   return p;
 }
+
+Plan loadPlan(const std::string& path) { return parsePlan(readFile(path, "plan"), path, path); }
 
 namespace {
 

@@ -50,6 +50,9 @@ struct Plan {
 /// Read and check a plan. Throws one line naming the file and the key
 /// ("plan.json: lines[0].dt[2]: must be a finite number > 0").
 Plan loadPlan(const std::string& path);
+/// The same of a plan's text that is to be written at `path` (relative files
+/// resolve from there), its errors prefixed by `named` instead of the path.
+Plan parsePlan(const std::string& text, const std::string& path, const std::string& named);
 
 /// What a case is.
 enum class CaseRole { Reference, Check, Run };

@@ -469,6 +469,31 @@ TEST_CASE("sweep and engine-study --list refuse a path with a line break: each c
   fs::remove_all(dir);
 }
 
+TEST_CASE("engine-study checks its plan before writing it, and names a file in the results folder that is no plan as such", "[cli][hostile][sweep]") {
+  // Issue 53, bug 7: --plan BAD wrote X/engine-study-....plan.json first, and the error named that copy; a
+  // corrupt plan in a results folder was called "the plan of another study".
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "eigenmass_test_study_plan";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = std::string(EM_SOURCE_DIR) + "/data/scenes/chain03.json";
+  { std::ofstream(dir / "bad.json") << "{\"format\": \"x\"}"; }
+  const Run r = eigenmass("engine-study " + scene + " --list --plan " + (dir / "bad.json").string() + " --results " + (dir / "x").string(), true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--plan " + (dir / "bad.json").string()) && Catch::Contains("format"));
+  CHECK_FALSE(fs::exists(dir / "x"));  // nothing written: a corrected rerun is not blocked
+  const Run ok = eigenmass("engine-study " + scene + " --list --results " + (dir / "x").string(), true);
+  CHECK(ok.status == 0);
+  // A corrupt plan where the study's belongs: named as unreadable, and left as it is.
+  fs::create_directories(dir / "y");
+  { std::ofstream(dir / "y" / "engine-study-chain03.plan.json") << "garbage"; }
+  const Run c = eigenmass("engine-study " + scene + " --list --results " + (dir / "y").string(), true);
+  CHECK(c.status == 2);
+  CHECK_THAT(c.out, Catch::Contains("which is not a readable plan"));
+  CHECK(em::readFile((dir / "y" / "engine-study-chain03.plan.json").string(), "plan") == "garbage");
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a JSON syntax error names the file it is in", "[cli][hostile]") {
   // Issue 42, bug 5: plot and extreme --expect said "(document): invalid JSON" without the file.
   const std::string dir = std::string(EM_BINARY_DIR) + "/cli_json";
