@@ -94,12 +94,12 @@ export SLURM_CONF="$work/slurm.conf"
 pids+=($!)
 /usr/sbin/slurmd -D -f "$SLURM_CONF" >"$work/log/slurmd.out" 2>&1 &
 pids+=($!)
-for _ in $(seq 100); do
+for _ in $(seq 300); do  # up to 60 s: the node may start slowly beside a loaded -j2 suite
   state=$(sinfo --noheader --format=%t 2>/dev/null || true)
   [ "$state" = idle ] && break
   sleep 0.2
 done
-[ "$state" = idle ] || fail "the node is not idle (sinfo: '$state'); $(tail -5 "$work/log/slurmctld.log" "$work/log/slurmd.log" 2>&1)"
+[ "$state" = idle ] || fail "the node is not idle (sinfo: '$state'); $(tail -n 5 "$work/log/slurmctld.log" "$work/log/slurmd.log" 2>&1)"
 echo "slurm: $(sinfo --version), node $host idle: $node"
 
 # The README's Slurm task, as written, in a folder that sees what the README's
@@ -109,7 +109,7 @@ block=$("$src/tests/docs/readme_block.sh" "$src/README.md" "Run a sweep on a Slu
 [ -n "$block" ] || fail "README.md has no block under '### Run a sweep on a Slurm cluster'"
 cd "$work/readme"
 start=$SECONDS
-bash -euo pipefail -c "$block" >"$work/readme.log" 2>&1 || fail "the README's Slurm task: $(tail -5 "$work/readme.log")"
+bash -euo pipefail -c "$block" >"$work/readme.log" 2>&1 || fail "the README's Slurm task: $(tail -n 5 "$work/readme.log")"
 n=$(wc -l <out/cases.txt)
 tasks=$(ls slurm-*_*.out | wc -l)
 [ "$tasks" -eq "$n" ] || fail "expected $n array task outputs, got $tasks"
