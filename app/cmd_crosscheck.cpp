@@ -37,10 +37,12 @@ int runCrossCheck(const CrossCheckArgs& a) {
   // amplified by up to cond(A) (printed, explained in docs/urdf.md); its
   // "-mass" row, given those masses, is judged whole.
   std::vector<std::string> rows, unjudged_udot;
+  const bool mechanism = scene.model.isMechanism();
   for (Engine e : otherEngines()) {
     const std::string name = engineName(e);
     rows.push_back(name);
-    if (engineCode(e).mass_note) rows.push_back(massRowName(name)), unjudged_udot.push_back(name);
+    if (engineCode(e).mass_note && !mechanism) rows.push_back(massRowName(name)), unjudged_udot.push_back(name);
+    if (engineCode(e).soft_closures && mechanism) unjudged_udot.push_back(name);  // soft closures: u' printed, not judged
   }
   for (Method p : plugins) {  // a plugin's u' against the in-house one, then against each engine's
     rows.emplace_back(methodName(p));
@@ -60,7 +62,8 @@ int runCrossCheck(const CrossCheckArgs& a) {
     else if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
   }
   for (Engine e : otherEngines()) {
-    if (const char* note = engineCode(e).mass_note) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
+    if (const char* note = engineCode(e).mass_note; note && !mechanism) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
+    if (const char* note = engineCode(e).soft_closures; note && mechanism) std::printf("(%s: %s)\n", engineName(e), note);
     if (const char* note = engineCode(e).equations_note) std::printf("(%s: %s)\n", engineName(e), note);
   }
   double worst = 0;

@@ -132,7 +132,7 @@ std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf,
     try {
       Checked k{engineName(e), engineModel(e, scene, urdf, c.notes), std::nullopt};
       const std::vector<CompiledMass> mass = k.model->compiledMass();
-      if (!mass.empty()) k.with_mass = withMass(scene.model, mass);
+      if (!mass.empty() && !scene.model.isMechanism()) k.with_mass = withMass(scene.model, mass);  // withMass builds the tree alone
       out.push_back(std::move(k));
     } catch (const std::exception& ex) {
       c.skipped.push_back(std::string(engineName(e)) + ": " + ex.what());

@@ -101,6 +101,10 @@ struct EngineCode {
   /// named with the loop), or "" when it maps every loop, point spring and
   /// drive of `m`; nullptr: it maps no mechanism yet, and every one is refused.
   std::string (*mechanism_refusal)(const Model& m) = nullptr;
+  /// One line on how its closures are soft (MuJoCo's equalities), so that its
+  /// u' of a mechanism at a state is not the exact constrained one: crosscheck
+  /// prints it and does not judge that u'; nullptr: its closures are exact.
+  const char* soft_closures = nullptr;
 };
 
 /// One engine: its registry row and its code, written in its own file

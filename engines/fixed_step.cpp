@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <ctime>
+#include <optional>
+
+#include "solver/mechanism.hpp"
 
 namespace em {
 
@@ -29,11 +32,14 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
   Eigen::VectorXd q(m.nq), u(m.nu);
   std::vector<Pose> poses(m.n());
   double W = 0, P = 0, Pdot = 0, cpu = 0;  // W_diss, and the dampers' power and its rate at the current state
+  std::optional<LoopMeter> meter;  // a mechanism's violation at the samples, by our g(q) and G u
+  if (!m.loops.empty()) meter.emplace(m), tr.has_loops = true;
   auto sample = [&](double t) {
     double T = 0, V = 0;
     engine.sample(poses, T, V);  // first: an engine may complete its state here (MuJoCo's forward)
     engine.state(q, u);
     appendSample(tr, m, t, q.data(), u.data(), poses, {T + V, T, W});
+    if (meter) meter->record(q.data(), u.data(), tr.loops);
   };
   sample(0.0);
   if (m.has_dampers) engine.dissipation(P, Pdot);

@@ -109,6 +109,20 @@ std::string fullInertiaNote(const Model& m) {
   return "";
 }
 
+// What of a mechanism MuJoCo's row does not map (engines/mujoco_system.cpp maps
+// ball, hinge and weld closures as connects, point springs as spatial tendons,
+// drives as qfrc_applied).
+std::string mechanismRefusal(const Model& m) {
+  for (const Body& b : m.bodies)
+    if (b.joint.torque.size() > 0 && (b.joint.type == JointType::Ball || b.joint.type == JointType::Free))
+      return "the drive on body '" + b.name + "': MuJoCo reads a " + jointTypeName(b.joint.type) +
+             " joint's angular speed in the child's frame, where a constant torque of ours is not constant";
+  for (const PointSpring& s : m.point_springs)
+    if (s.c != 0)
+      return "point spring '" + s.name + "' has a damper (c > 0): its dissipated work is not tracked for MuJoCo yet";
+  return "";
+}
+
 }  // namespace
 
 EngineRow mujocoEngine() {
@@ -138,6 +152,10 @@ EngineRow mujocoEngine() {
       "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
       " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md";
   r.code.scene_note = fullInertiaNote;
+  r.code.mechanism_refusal = mechanismRefusal;
+  r.code.soft_closures =
+      "MuJoCo closes loops by soft equality constraints (connects; its default solref 0.02 1, solimp 0.9 0.95 0.001): "
+      "its u' of a mechanism is the regularized one, not the exact constrained u', and is printed, not judged";
   return r;
 }
 

@@ -84,6 +84,77 @@ void joints(std::ostream& o, const Body& b) {
   }
 }
 
+// A mechanism's closures as MuJoCo connect equalities (docs/reference-engines.md,
+// "Mechanisms"): a ball is one, a hinge two (the points, and the points one
+// lever along the axes), a weld three (the points, and one lever along a's x
+// and y, held by b where the weld holds them). MuJoCo's compiler computes body
+// 2's anchor at qpos0; eq_data is rewritten after compiling with both anchors
+// as the scene gives them (each body's frame is at its CM, as ours).
+constexpr double kLever = 1.0;  // m: the second and third points' distance along the axes
+struct MjConnect {
+  int a, b;      // internal bodies, -1 the ground (MuJoCo's world)
+  Vec3 pa, pb;   // anchors in a's and b's frames
+};
+std::vector<MjConnect> mjConnects(const Model& m) {
+  std::vector<MjConnect> out;
+  for (const Loop& l : m.loops) {
+    const auto add = [&](const Vec3& da, const Vec3& db) { out.push_back({l.a.body, l.b.body, l.a.point + da, l.b.point + db}); };
+    add(Vec3::Zero(), Vec3::Zero());
+    switch (l.type) {
+      case LoopType::Ball: break;
+      case LoopType::Hinge: add(kLever * l.axis_a, kLever * l.axis_b); break;
+      case LoopType::Weld:  // a vector d of a's frame is rel^T d in b's at the weld (R_b = R_a rel)
+        for (const Vec3& d : {Vec3(kLever * Vec3::UnitX()), Vec3(kLever * Vec3::UnitY())}) add(d, l.rel.transpose() * d);
+        break;
+    }
+  }
+  return out;
+}
+
+// A point spring's two ends as MuJoCo sites: "<spring>.a" on body a, "<spring>.b" on body b.
+struct MjSite {
+  std::string name;
+  Vec3 pos;
+};
+std::vector<std::vector<MjSite>> mjSites(const Model& m) {  // [body + 1]: [0] the world
+  std::vector<std::vector<MjSite>> out(m.n() + 1);
+  for (size_t k = 0; k < m.point_springs.size(); ++k) {
+    const PointSpring& s = m.point_springs[k];
+    out[s.a.body + 1].push_back({"ps" + std::to_string(k) + ".a", s.a.point});
+    out[s.b.body + 1].push_back({"ps" + std::to_string(k) + ".b", s.b.point});
+  }
+  return out;
+}
+
+void sites(std::ostream& o, const std::vector<MjSite>& list) {
+  for (const MjSite& s : list) o << "<site name=\"" << s.name << "\" pos=\"" << vec(s.pos) << "\"/>";
+}
+
+// The equalities and tendons of a mechanism (empty for a tree).
+std::string mechanismXml(const Model& m) {
+  std::ostringstream o;
+  const auto name = [&](int body) { return body < 0 ? std::string("world") : m.bodies[body].name; };
+  const std::vector<MjConnect> connects = mjConnects(m);
+  if (!connects.empty()) {
+    o << "<equality>";
+    for (const MjConnect& c : connects)
+      o << "<connect body1=\"" << name(c.a) << "\" body2=\"" << name(c.b) << "\" anchor=\"" << vec(c.pa) << "\"/>";
+    o << "</equality>";
+  }
+  if (!m.point_springs.empty()) {
+    o << "<tendon>";
+    for (size_t k = 0; k < m.point_springs.size(); ++k) {
+      const PointSpring& s = m.point_springs[k];
+      char buf[200];
+      std::snprintf(buf, sizeof buf, " stiffness=\"%.17g\" damping=\"%.17g\" springlength=\"%.17g\"", s.k, s.c, s.length);
+      o << "<spatial name=\"" << s.name << "\"" << buf << "><site site=\"ps" << k << ".a\"/><site site=\"ps" << k
+        << ".b\"/></spatial>";
+    }
+    o << "</tendon>";
+  }
+  return o.str();
+}
+
 // MuJoCo's XML parser (tinyxml2) refuses elements nested deeper than 100,
 // which a 100-link chain is: bodies deeper than this in one file go to an
 // included file of their own (the includes are merged after parsing).
@@ -92,6 +163,7 @@ constexpr int kDepthPerFile = 40;
 struct MjcfWriter {
   const Model& m;
   std::vector<std::pair<std::string, std::string>> files;  // (name, text); [0] is the main file
+  std::vector<std::vector<MjSite>> body_sites;              // mjSites(m)
 
   void body(std::ostream& o, int i, int depth) {
     if (depth == kDepthPerFile) {  // continue in a file of its own
@@ -110,6 +182,7 @@ struct MjcfWriter {
     const Vec3 a = b.joint.in_parent;  // parent CM -> joint point; the body's CM is that point minus c
     o << "<body name=\"" << b.name << "\" pos=\"" << vec(a - b.joint.in_body) << "\">" << inertial(b);
     joints(o, b);
+    sites(o, body_sites[i + 1]);
     for (int c : b.children) body(o, c, depth + 1);
     o << "</body>";
   }
@@ -118,14 +191,17 @@ struct MjcfWriter {
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m) {
-  MjcfWriter w{m, {{"scene.xml", ""}}};
+  MjcfWriter w{m, {{"scene.xml", ""}}, mjSites(m)};
   std::ostringstream o;
+  // Constraints only where loops close (MuJoCo's equalities, soft at its default solref and solimp); never contacts.
+  const char* flags = m.loops.empty() ? "<flag contact=\"disable\" constraint=\"disable\"/>" : "<flag contact=\"disable\"/>";
   o << "<mujoco model=\"" << m.name << "\"><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
-    << "<option gravity=\"" << vec(m.gravity) << "\"><flag contact=\"disable\" constraint=\"disable\"/></option>"
+    << "<option gravity=\"" << vec(m.gravity) << "\">" << flags << "</option>"
     << "<worldbody>";
+  sites(o, w.body_sites[0]);
   for (int i = 0; i < m.n(); ++i)
     if (m.bodies[i].parent < 0) w.body(o, i, 0);
-  o << "</worldbody></mujoco>";
+  o << "</worldbody>" << mechanismXml(m) << "</mujoco>";
   w.files[0].second = o.str();
   return w.files;
 }
@@ -216,6 +292,7 @@ struct MujocoSystem::Impl {
   };
   std::vector<Turned> turned;
   std::vector<int> body;       // MuJoCo body of each in-house body (internal order)
+  std::vector<std::pair<int, double>> drives;  // (MuJoCo dof, constant force) of the scene's joint.torque
   ~Impl() {
     if (d) mj_deleteData(d);
     if (mm) mj_deleteModel(mm);
@@ -237,6 +314,11 @@ struct MujocoSystem::Impl {
     if (nv == 6) turned.push_back({iq + 3, iu + 3});
     if (nv == 3) turned.push_back({iq, iu});
     return {nq, nv};
+  }
+
+  // The drives as qfrc_applied (mj_resetData clears it).
+  void applyDrives() {
+    for (const auto& [at, tau] : drives) d->qfrc_applied[at] = tau;
   }
 
   // u_mj = G^T u, and G x back: the turned speeds' blocks.
@@ -277,6 +359,17 @@ MujocoSystem::MujocoSystem(const Model& m) : impl_(std::make_unique<Impl>()) {
       iu += nv;
     }
   }
+  // Both anchors of every connect as the scene gives them (its compiler computed body 2's at qpos0).
+  const std::vector<MjConnect> connects = mjConnects(m);
+  for (size_t k = 0; k < connects.size(); ++k)
+    for (int i = 0; i < 3; ++i) {
+      I.mm->eq_data[mjNEQDATA * k + i] = connects[k].pa[i];
+      I.mm->eq_data[mjNEQDATA * k + 3 + i] = connects[k].pb[i];
+    }
+  // Drives on joints whose speeds MuJoCo reads as ours (mujocoMechanismRefusal refuses ball and free joints'):
+  for (const Body& b : m.bodies)
+    for (int k = 0; k < b.joint.torque.size(); ++k) I.drives.push_back({I.dof[b.iu + k], b.joint.torque[k]});
+  I.applyDrives();
 }
 
 MujocoSystem::MujocoSystem(const Model& m, const std::string& urdf_text, const std::vector<std::string>& joints,
@@ -361,7 +454,9 @@ Eigen::VectorXd MujocoSystem::acceleration() const {
 Eigen::VectorXd MujocoSystem::rhs() const {
   Eigen::VectorXd B(impl_->mm->nv);
   // MuJoCo's passive forces are the scene's springs and dampers (none from a URDF: disabled).
-  for (int i = 0; i < B.size(); ++i) B[i] = impl_->d->qfrc_passive[impl_->dof[i]] - impl_->d->qfrc_bias[impl_->dof[i]];
+  // Drives are qfrc_applied; a point spring's force is in qfrc_passive (its tendon's).
+  for (int i = 0; i < B.size(); ++i)
+    B[i] = impl_->d->qfrc_passive[impl_->dof[i]] + impl_->d->qfrc_applied[impl_->dof[i]] - impl_->d->qfrc_bias[impl_->dof[i]];
   impl_->toInhouse(B);  // B = G B_mj
   return B;
 }
@@ -376,6 +471,7 @@ void MujocoSystem::configure(int scheme, double dt) {
   mm->opt.timestep = dt;
   mm->opt.enableflags |= mjENBL_ENERGY;
   mj_resetData(mm, impl_->d);
+  impl_->applyDrives();
 }
 
 void MujocoSystem::step() { mj_step(impl_->mm, impl_->d); }
@@ -412,6 +508,7 @@ double MujocoSystem::dissipationRate() const {
   const mjModel* mm = impl_->mm;
   double P = 0;
   for (int i = 0; i < mm->nv; ++i) P += mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qvel[i];
+  for (const auto& [at, tau] : impl_->drives) P -= tau * impl_->d->qvel[at];  // a drive's power counts negative
   return P;
 }
 
@@ -419,6 +516,7 @@ double MujocoSystem::dissipationRateDerivative() const {
   const mjModel* mm = impl_->mm;
   double dP = 0;
   for (int i = 0; i < mm->nv; ++i) dP += 2 * mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qacc[i];
+  for (const auto& [at, tau] : impl_->drives) dP -= tau * impl_->d->qacc[at];
   return dP;
 }
 

@@ -26,13 +26,22 @@ TEST_CASE("compare on a mechanism: the ida reference, simbody run, the other eng
   const Run r = eigenmass("compare " + scene("mechanisms/andrews.json") + " --tol 1e-10 --out " + out, true);
   REQUIRE(r.status == 0);
   CHECK_THAT(r.out, Catch::Contains("reference: classical/ida"));
-  CHECK_THAT(r.out, Catch::Contains("mujoco: not run: no mapping of a mechanism's loops"));
+  CHECK_THAT(r.out, Catch::Contains("dart: not run: no mapping of a mechanism's loops"));
+  // MuJoCo's soft closures are no check of the reference: the second engine of a mechanism is Simbody's exact constraints.
+  CHECK_THAT(r.out, Catch::Contains("second engine: simbody/rkmerson tolerance 1e-10"));
   CHECK_THAT(r.out, Catch::Contains("dart-udot: not run: its u' comes from outside the formation"));
   nlohmann::json report;
   std::ifstream(out) >> report;
-  REQUIRE(report["methods"].size() == 8);  // the seven in-house methods and simbody
+  REQUIRE(report["methods"].size() == 9);  // the seven in-house methods, simbody and mujoco
   for (const auto& m : report["methods"]) {
     INFO(m["name"]);
+    if (m["name"] == "mujoco") {
+      // Soft equalities at MuJoCo's default solref: Andrews (links at up to 1000 rad/s within
+      // 0.03 s) opens them by 4.5 cm (docs/reference-engines.md): its violation is reported.
+      CHECK(m["loops"]["formulation"] == "mujoco's own");
+      CHECK(m["loops"]["max_position_violation_m"].get<double>() > 1e-2);
+      continue;
+    }
     CHECK(m["status"] == "ok");
     if (m["name"] == "simbody") {
       // Its own constraints, projected at its accuracy (compare's engine default 1e-6):
@@ -106,7 +115,7 @@ TEST_CASE("assemble: an open start refused, then assembled and said how far, and
   CHECK(j["loops"]["rows"] == 5);
   CHECK(j["loops"]["G"].size() == 5);
   CHECK(j["loops"]["closures"][0]["lambda"].size() == 5);
-  const Run engine = eigenmass("equations " + scene("mechanisms/iftomm_a04.json") + " --engine mujoco", true);
+  const Run engine = eigenmass("equations " + scene("mechanisms/iftomm_a04.json") + " --engine dart", true);
   CHECK(engine.status == 2);
-  CHECK_THAT(engine.out, Catch::Contains("mujoco gives no equations of a mechanism"));
+  CHECK_THAT(engine.out, Catch::Contains("dart gives no equations of a mechanism"));
 }
