@@ -50,7 +50,7 @@ std::string methodRefusal(Method method, const Model& m) {
   // springs and drives: never as the tree it would be without them.
   if (m.isMechanism()) {
     if (!code.mechanism_refusal)
-      return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods, ida and simbody run it)";
+      return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods, ida, simbody and mujoco run it)";
     if (std::string why = code.mechanism_refusal(m); !why.empty()) return why;
   }
   return code.refusal ? code.refusal(m) : "";
