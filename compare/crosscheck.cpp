@@ -1,5 +1,7 @@
 #include "compare/crosscheck.hpp"
 
+#include "compare/engines.hpp"
+
 #include <memory>
 #include <optional>
 #include <random>
@@ -120,14 +122,9 @@ std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf,
   for (Engine e : otherEngines()) {
     if (!engineCode(e).model) continue;
     // A mechanism only where the row maps its loops, point springs and drives: never as the tree it would be without them.
-    if (scene.model.isMechanism()) {
-      const EngineCode& code = engineCode(e);
-      const std::string why = code.mechanism_refusal ? code.mechanism_refusal(scene.model)
-                                                     : "no mapping of a mechanism's loops, point springs or drives to this engine yet";
-      if (!why.empty()) {
-        c.skipped.push_back(std::string(engineName(e)) + ": " + why);
-        continue;
-      }
+    if (const std::string why = mechanismRefusal(e, scene.model); !why.empty()) {
+      c.skipped.push_back(std::string(engineName(e)) + ": " + why);
+      continue;
     }
     try {
       Checked k{engineName(e), engineModel(e, scene, urdf, c.notes), std::nullopt};

@@ -38,6 +38,16 @@ Integrator chosenIntegrator(Engine engine, bool tolerance_given) {
   return tolerance_given ? adaptiveIntegrator(engine) : defaultIntegrator(engine);
 }
 
+std::string mechanismRefusal(Engine e, const Model& m) {
+  if (!m.isMechanism()) return "";
+  const EngineCode& code = engineCode(e);
+  if (code.mechanism_refusal) return code.mechanism_refusal(m);
+  std::string mapped;  // the rows that map mechanisms, named from the table
+  for (Engine other : otherEngines())
+    if (engineCode(other).mechanism_refusal) mapped += std::string(", ") + engineName(other);
+  return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods, ida" + mapped + " run it)";
+}
+
 std::string methodRefusal(Method method, const Model& m) {
   const MethodInfo& row = info(method);
   // A u' from outside the formation (an engine's under our integrators, a
@@ -46,13 +56,7 @@ std::string methodRefusal(Method method, const Model& m) {
     return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
   if (row.engine == Engine::InHouse) return "";
   const EngineCode& code = engineCode(row.engine);
-  // A mechanism runs only on an engine whose row maps its loops, point
-  // springs and drives: never as the tree it would be without them.
-  if (m.isMechanism()) {
-    if (!code.mechanism_refusal)
-      return "no mapping of a mechanism's loops, point springs or drives to this engine yet (the in-house methods, ida, simbody and mujoco run it)";
-    if (std::string why = code.mechanism_refusal(m); !why.empty()) return why;
-  }
+  if (std::string why = mechanismRefusal(row.engine, m); !why.empty()) return why;
   return code.refusal ? code.refusal(m) : "";
 }
 
@@ -148,8 +152,7 @@ Equations engineEquations(const Model& m, Engine e) {
   if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
   if (m.isMechanism() && !code.mechanism_refusal)
     throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism here: its row maps no loops, point springs or drives yet");
-  if (m.isMechanism())
-    if (const std::string why = code.mechanism_refusal(m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
+  if (const std::string why = mechanismRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
   const EngineEquations q = code.model(m)->at(m.q0(), m.u0());
   return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
 }

@@ -48,6 +48,10 @@ std::string engineSceneNote(Engine e, const Model& m);
 /// method whose u' is a tree's (MethodInfo::tree_only) or for any engine (no
 /// engine maps loops, point springs or drives yet).
 std::string methodRefusal(Method method, const Model& m);
+/// Why engine `e` cannot run the mechanism `m` (its row's mechanism_refusal,
+/// or that its row maps none, naming the rows that do), "" when it can or `m`
+/// is a tree: an engine never runs a mechanism as the tree it would be without its loops.
+std::string mechanismRefusal(Engine e, const Model& m);
 /// Throws std::invalid_argument "method: why" when `method` cannot take `m`.
 void requireMethodTakes(Method method, const Model& m);
 
