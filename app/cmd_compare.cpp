@@ -43,26 +43,6 @@ std::vector<std::string> adaptiveNames(Engine e) {
   return names;
 }
 
-// --integrator, --dt and --tol set the in-house methods' runs; a fixed-step
-// engine runs at --dt, and on --integrator where it has that scheme. Given
-// where none of --methods reads them, they are refused, not ignored.
-void refuseUnreadInHouseSettings(const CLI::App& cmd, const CompareOptions& o) {
-  bool inhouse = false, follows_dt = false, follows_scheme = false;
-  for (Method m : o.methods) {
-    const Engine e = info(m).engine;
-    if (e == Engine::InHouse) inhouse = true;
-    else if (followsInHouse(e)) follows_dt = true, follows_scheme = follows_scheme || info(o.inhouse.integrator).runs(e);
-  }
-  if (inhouse) return;
-  const auto refuse = [&](const char* option, const char* what) {
-    if (cmd.count(option))
-      throw std::invalid_argument(std::string(option) + ": " + what + ", and none is among --methods");
-  };
-  refuse("--tol", "it sets the in-house methods' tolerance");
-  if (!follows_dt) refuse("--dt", "it sets the step of the in-house methods and of a fixed-step engine");
-  if (!follows_scheme) refuse("--integrator", "it sets the in-house methods' scheme (and a fixed-step engine's where it has it)");
-}
-
 // The options as given on the command line, resolved against the registry.
 CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& model, const std::vector<std::string>& outside) {
   CompareOptions o = a.opt;
@@ -73,12 +53,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
   const double reference_tol = o.reference.tol;
   o.reference = defaultReferenceSpec(parseMethod(a.reference));
   o.reference.tol = reference_tol;
-  // A mechanism's reference is in-house (no engine maps loops yet): classical under ida (docs/theory.md §15).
-  if (model.isMechanism() && !cmd.count("--reference")) {
-    o.reference = defaultReferenceSpec(Method::Classical);
-    o.reference.tol = reference_tol;
-    o.reference.integrator = Integrator::IDA;
-  }
+  if (!cmd.count("--reference")) o.useMechanismReference(model);
   if (!a.reference_integrator.empty()) o.reference.integrator = parseIntegrator(a.reference_integrator);
   // --tol alone selects an adaptive integrator for the in-house methods.
   o.inhouse.integrator = cmd.count("--tol") && !cmd.count("--integrator") ? chosenIntegrator(Engine::InHouse, true)
@@ -102,7 +77,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
     for (const char* what : {"integrator", "tol"})
       if (const CLI::Option* opt = cmd.get_option_no_throw(engineOption(e, what)); opt && opt->count() && !runs(info(e).method))
         throw std::invalid_argument(opt->get_name() + ": " + engineName(e) + " is not among --methods");
-  refuseUnreadInHouseSettings(cmd, o);
+  refuseUnreadInHouseSettings(o, {cmd.count("--integrator") > 0, cmd.count("--dt") > 0, cmd.count("--tol") > 0});
   const bool inhouse_adaptive = std::any_of(o.methods.begin(), o.methods.end(), [&](Method m) {
     return info(m).engine == Engine::InHouse && !info(o.inhouse.integrator).fixed_step;
   });

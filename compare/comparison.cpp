@@ -11,7 +11,8 @@
 namespace em {
 
 CompareOptions::CompareOptions() : reference(defaultReferenceSpec()) {
-  for (const MethodInfo& m : methodTable()) methods.push_back(m.id);
+  for (const MethodInfo& m : methodTable())
+    if (!m.retired) methods.push_back(m.id);
   inhouse.method = Method::Classical;
   inhouse.integrator = defaultIntegrator(Engine::InHouse);
   for (Engine e : otherEngines()) {
@@ -46,6 +47,32 @@ std::vector<RunSpec*> CompareOptions::allSpecs() {
 
 bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
 
+void CompareOptions::useMechanismReference(const Model& m) {
+  if (!m.isMechanism()) return;
+  const double tol = reference.tol;
+  reference = defaultReferenceSpec(Method::Classical);
+  reference.tol = tol;
+  reference.integrator = Integrator::IDA;
+}
+
+void refuseUnreadInHouseSettings(const CompareOptions& o, const AskedInHouse& asked) {
+  bool inhouse = false, follows_dt = false, follows_scheme = false;
+  for (Method m : o.methods) {
+    const Engine e = info(m).engine;
+    if (e == Engine::InHouse) inhouse = true;
+    else if (followsInHouse(e)) follows_dt = true, follows_scheme = follows_scheme || info(o.inhouse.integrator).runs(e);
+  }
+  if (inhouse) return;
+  const std::string dash = o.keywords ? "" : "--";
+  const auto refuse = [&](bool given, const char* option, const char* what) {
+    if (given) throw std::invalid_argument(dash + option + ": " + what + ", and none is among " + dash + "methods");
+  };
+  refuse(asked.tol, "tol", "it sets the in-house methods' tolerance");
+  if (!follows_dt) refuse(asked.dt, "dt", "it sets the step of the in-house methods and of a fixed-step engine");
+  if (!follows_scheme)
+    refuse(asked.integrator, "integrator", "it sets the in-house methods' scheme (and a fixed-step engine's where it has it)");
+}
+
 void CompareOptions::leaveOutRefused(const Model& m) {
   std::vector<Method> kept;
   for (Method method : methods) {
@@ -79,7 +106,8 @@ namespace {
 
 // The command-line option behind a refused setting of run i (the reference
 // and its tighter twin first, then the methods): what the user typed.
-std::string settingOption(const SettingError& e, size_t i, const RunSpec& s) {
+std::string settingOption(const SettingError& e, size_t i, const RunSpec& s, bool keywords) {
+  if (keywords) return e.field;  // the Python module's keyword (t_end, dt): the reference's settings are not asked there
   if (i < 2) return e.option("reference-");
   // Another engine's tolerance is its own option (--simbody-tol); a step follows --dt.
   return e.option(s.engine() != Engine::InHouse && e.field == "tol" ? std::string(engineName(s.engine())) + "-" : "");
@@ -100,7 +128,7 @@ std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions
     try {
       runs.push_back(checked(specs[i]));
     } catch (const SettingError& e) {
-      throw e.as(settingOption(e, i, specs[i]));
+      throw e.as(settingOption(e, i, specs[i], opt.keywords));
     }
   }
   return runs;

@@ -48,7 +48,16 @@ struct CompareOptions {
   /// apart from the grid's finite-time one (compare --lyapunov-long); 0: not measured.
   double lyapunov_long_s = 0;
 
+  /// How a refused setting is named: the CLI's options ("--dt", "--t-end",
+  /// "--reference-tol"), or, with `keywords`, the Python module's keyword
+  /// arguments ("dt", "t_end").
+  bool keywords = false;
+
   CompareOptions();
+  /// A mechanism's reference is in-house, as no engine's is exact on loops
+  /// at a tolerance: classical under ida at the reference's tolerance
+  /// (docs/theory.md §15). A tree keeps its reference.
+  void useMechanismReference(const Model& m);
   /// The settings a compared method runs with: `inhouse`, or its engine's,
   /// a fixed-step engine following the in-house step and scheme (above).
   /// The one place that rule is applied: no caller has to remember it.
@@ -58,6 +67,17 @@ struct CompareOptions {
   /// Every spec, the reference's included (to apply options common to all).
   std::vector<RunSpec*> allSpecs();
 };
+
+/// The in-house settings a caller asked for (the CLI's --integrator, --dt and
+/// --tol, the Python module's keywords of the same names).
+struct AskedInHouse {
+  bool integrator = false, dt = false, tol = false;
+};
+/// Throws std::invalid_argument, one line, for an asked in-house setting that
+/// none of o.methods reads (no in-house method, no fixed-step engine that
+/// follows the in-house step or scheme): refused, never ignored. Named as
+/// o.keywords says.
+void refuseUnreadInHouseSettings(const CompareOptions& o, const AskedInHouse& asked);
 
 struct ComparisonResult {
   std::string scene_name;

@@ -28,10 +28,8 @@ constexpr double kInertiaRelTol = 1e-9;
 constexpr double kInertiaMinRatio = 1e-12;
 // Universal axes count as perpendicular when |cos| is below this (scene-format.md).
 constexpr double kPerpendicularTol = 1e-9;
-// Largest |q0| of an angle: at 1e4 rad a double's spacing is 1.8e-12 rad.
-constexpr double kMaxAngle = 1e4;
-// Largest |q0| of a displacement, for the same reason (1.8e-12 m at 1e4 m).
-constexpr double kMaxDisplacement = 1e4;
+// |q0| and |u0| are held to the model's state bounds (solver/model.hpp:
+// kMaxAngle, kMaxDisplacement, kMaxSpeed).
 constexpr size_t kMaxNameLength = 64;
 
 std::string at(const std::string& path, const std::string& key) { return jsonPath(path, key); }
@@ -178,6 +176,10 @@ Joint joint(const json& v, const std::string& path) {
     q.normalize();
   }
   j.u0 = v.contains("u0") ? numbers(v["u0"], at(path, "u0"), nu) : Eigen::VectorXd::Zero(nu);
+  for (int k = 0; k < nu; ++k)
+    if (std::abs(j.u0[k]) > kMaxSpeed)
+      throw Err(at(at(path, "u0"), k), "speed " + gnum(j.u0[k]) + (k < nt ? " m/s" : " rad/s") + " beyond +-" +
+                                           gnum(kMaxSpeed) + ", the bound of a state's speeds");
   if (v.contains("spring")) {
     j.has_spring = true;
     j.spring = spring(v["spring"], at(path, "spring"), nu);

@@ -15,6 +15,8 @@
 #include "compare/comparison.hpp"
 #include "compare/engines.hpp"
 #include "compare/report.hpp"
+#include "io/json_input.hpp"
+#include "io/scene_json.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
 #include "engines/engine.hpp"
@@ -83,21 +85,33 @@ class PythonMethod final : public MethodImpl {
                EvalInfo&) override {
     const Eigen::VectorXd qf = fileOrder(Eigen::Map<const Eigen::VectorXd>(q, m_.nq), pq_);
     const Eigen::VectorXd uf = fileOrder(Eigen::Map<const Eigen::VectorXd>(u, m_.nu), pu_);
+    const std::string want = "not a vector of nu = " + std::to_string(m_.nu) + " numbers";
     try {
-      const auto r = f_(t, vec(qf), vec(uf)).cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
-      if (r.ndim() != 1 || r.shape(0) != m_.nu)
-        return Status::failure(t, Failure::Plugin, "the Python method returned " + std::to_string(r.size()) +
-                                                       " numbers, not nu = " + std::to_string(m_.nu));
-      for (int k = 0; k < m_.nu; ++k) udot[pu_[k]] = r.at(k);
-    } catch (const py::error_already_set& e) {
+      const py::object r = f_(t, vec(qf), vec(uf));
+      if (r.is_none()) return Status::failure(t, Failure::Plugin, "the Python method returned None, " + want);
+      const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+      if (!a) return Status::failure(t, Failure::Plugin, "the Python method returned a " + typeName(r) + ", " + want);
+      if (a.ndim() != 1 || a.shape(0) != m_.nu)
+        return Status::failure(t, Failure::Plugin, "the Python method returned " + shapeOf(r, a) + ", " + want);
+      for (int k = 0; k < m_.nu; ++k) udot[pu_[k]] = a.at(k);
+    } catch (py::error_already_set& e) {
+      // Ctrl-C (KeyboardInterrupt) and sys.exit (SystemExit) are the user's, not the method's: they end the call.
+      if (!e.matches(PyExc_Exception)) throw;
       return Status::failure(t, Failure::Plugin, std::string("the Python method raised: ") + e.what());
-    } catch (const py::cast_error& e) {
-      return Status::failure(t, Failure::Plugin, std::string("the Python method returned no array of numbers: ") + e.what());
     }
     return {};
   }
 
  private:
+  static std::string typeName(const py::handle& h) { return py::str(h.get_type().attr("__name__")).cast<std::string>(); }
+  // "a float", "an array of shape (1, 1)": what came back, in Python's words.
+  static std::string shapeOf(const py::handle& r, const py::array& a) {
+    if (a.ndim() == 0) return "a " + typeName(r) + " (a scalar)";
+    std::string s = "an array of shape (";
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+  }
+
   const Model& m_;
   py::object f_;
   std::vector<int> pq_, pu_;
@@ -107,39 +121,85 @@ std::unique_ptr<MethodImpl> makePythonMethod(const Model& m, const MethodInfo& r
   return std::make_unique<PythonMethod>(m, *pythonFunctions().at(row.id));
 }
 
-// The method `name` running f: added once, its function replaced when named again.
-Method pythonMethod(const std::string& name, py::object f) {
-  Method id;
-  if (findMethod(name, id)) {
-    auto it = pythonFunctions().find(id);
-    if (it == pythonFunctions().end()) throw std::invalid_argument("method name '" + name + "': a method of that name exists");
-    *it->second = std::move(f);
+// The methods from outside one call added (Python functions, plugins,
+// recorded runs): they live as long as the call, so a name is free again
+// after it and a probe that failed leaves nothing behind (methods()).
+class CallMethods {
+ public:
+  CallMethods() = default;
+  CallMethods(const CallMethods&) = delete;
+  CallMethods& operator=(const CallMethods&) = delete;
+  ~CallMethods() {
+    for (Method m : added_) {
+      retireMethod(m);
+      if (auto it = pythonFunctions().find(m); it != pythonFunctions().end()) {
+        delete it->second;  // the call holds the GIL: the function's reference is dropped here
+        pythonFunctions().erase(it);
+      }
+    }
+  }
+  Method add(Method m) {
+    added_.push_back(m);
+    return m;
+  }
+  // The method `name` running f, for this call.
+  Method function(const std::string& name, py::object f, const std::string& keyword) {
+    if (!isSceneName(name))
+      throw std::invalid_argument(keyword + ": the name '" + printable(name, 40) + "': letters, digits, '_' and '-', 1 to 64 of them");
+    Method id;
+    if (findMethod(name, id)) throw std::invalid_argument(keyword + ": the name '" + name + "' is a method's already");
+    static std::deque<std::string> names;  // the rows point at them (a retired row's id still reads its name)
+    names.push_back(name);
+    MethodInfo row;
+    row.name = names.back().c_str();
+    row.make = makePythonMethod;
+    row.summary = "a Python function f(t, q, u) -> u' (eigenmass.compare)";
+    row.tree_only = true;  // f sees (t, q, u) alone: a tree's u'
+    id = add(addMethod(row));
+    pythonFunctions()[id] = new py::object(std::move(f));
     return id;
   }
-  static std::deque<std::string> names;  // the rows point at them
-  names.push_back(name);
-  MethodInfo row;
-  row.name = names.back().c_str();
-  row.make = makePythonMethod;
-  row.summary = "a Python function f(t, q, u) -> u' (eigenmass.compare)";
-  row.tree_only = true;  // f sees (t, q, u) alone: a tree's u'
-  id = addMethod(row);
-  pythonFunctions()[id] = new py::object(std::move(f));
-  return id;
-}
+  // "classical", or ("name", f): a method of the registry or a Python function.
+  Method of(const py::handle& h, const char* keyword) {
+    if (py::isinstance<py::str>(h)) return parseMethod(h.cast<std::string>());
+    if (!py::isinstance<py::tuple>(h) || py::len(h) != 2 || !py::isinstance<py::str>(h.cast<py::tuple>()[0]) ||
+        !PyCallable_Check(h.cast<py::tuple>()[1].ptr()))
+      throw std::invalid_argument(std::string(keyword) + ": each a name or a pair (name, f) with f(t, q, u) -> u'");
+    const auto t = h.cast<py::tuple>();
+    return function(t[0].cast<std::string>(), py::reinterpret_borrow<py::object>(t[1]), keyword);
+  }
 
-// "classical", or ("name", f): a method of the registry or a Python function.
-Method methodOf(const py::handle& h) {
-  if (py::isinstance<py::str>(h)) return parseMethod(h.cast<std::string>());
-  const auto t = h.cast<py::tuple>();
-  if (t.size() != 2 || !py::isinstance<py::str>(t[0]) || !PyCallable_Check(t[1].ptr()))
-    throw std::invalid_argument("methods: each a name or a pair (name, f) with f(t, q, u) -> u'");
-  return pythonMethod(t[0].cast<std::string>(), py::reinterpret_borrow<py::object>(t[1]));
-}
+ private:
+  std::vector<Method> added_;
+};
 
 // ---- the functions ---------------------------------------------------------
 
-Scene load(const std::string& path, bool balance_inertia, const std::vector<std::string>& lock_joints, bool floating_base) {
+// A path as Python gives it: a str or any os.PathLike (pathlib.Path), by os.fspath.
+std::string pathArg(const py::handle& h, const char* keyword) {
+  py::object p;
+  try {
+    p = py::module_::import("os").attr("fspath")(h);
+  } catch (py::error_already_set&) {
+    throw std::invalid_argument(std::string(keyword) + ": a path (str or os.PathLike) expected, got a " +
+                                py::str(h.get_type().attr("__name__")).cast<std::string>());
+  }
+  if (!py::isinstance<py::str>(p)) throw std::invalid_argument(std::string(keyword) + ": a path as text expected, not bytes");
+  return p.cast<std::string>();
+}
+
+// {"name": path}: the plugins= and runs= keywords.
+std::vector<std::pair<std::string, std::string>> namedPaths(const py::dict& d, const char* keyword) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [k, v] : d) {
+    if (!py::isinstance<py::str>(k)) throw std::invalid_argument(std::string(keyword) + ": names must be str");
+    out.emplace_back(k.cast<std::string>(), pathArg(v, keyword));
+  }
+  return out;
+}
+
+Scene load(const py::object& path_arg, bool balance_inertia, const std::vector<std::string>& lock_joints, bool floating_base) {
+  const std::string path = pathArg(path_arg, "path");
   UrdfOptions o;
   o.balance_inertia = balance_inertia;
   o.lock_joints = lock_joints;
@@ -155,6 +215,8 @@ py::dict equations(const Scene& s, const std::string& engine, std::optional<py::
   const Engine e = parseEngine(engine);
   const Eigen::VectorXd q = q_in ? internal(*q_in, m.nq, "q", m.qFilePermutation()) : m.q0();
   const Eigen::VectorXd u = u_in ? internal(*u_in, m.nu, "u", m.uFilePermutation()) : m.u0();
+  if (const std::string why = beyondStateBounds(m, q, u); !why.empty())  // the bounds a scene's q0 and u0 are held to
+    throw std::invalid_argument(why);
   Eigen::MatrixXd A;
   Eigen::VectorXd B, udot;
   double T = 0, V = 0;
@@ -203,42 +265,54 @@ py::dict trajectoryDict(const Trajectory& tr) {
   return d;
 }
 
-// The run settings as the CLI resolves them (a tolerance alone selects the engine's adaptive scheme), checked once.
-CheckedRunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
-                std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+// The in-house integrator and its step or tolerance as the CLI resolves them
+// (a tolerance alone selects the engine's adaptive scheme; a step given to an
+// adaptive scheme, or a tolerance to a fixed-step one, is refused).
+void inHouseSettings(RunSpec& spec, Engine engine, const std::optional<std::string>& integrator, std::optional<double> dt,
+                     std::optional<double> tol) {
   if (dt && tol) throw std::invalid_argument("dt and tol: one or the other");
-  RunSpec spec;
-  spec.method = method;
-  spec.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(spec.engine(), tol.has_value());
+  spec.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(engine, tol.has_value());
   if (dt) spec.dt = *dt;
   if (tol) spec.tol = *tol;
-  if (dt && !spec.fixedStep()) throw std::invalid_argument("dt: " + *integrator + " takes a tolerance");
-  if (tol && spec.fixedStep()) throw std::invalid_argument("tol: " + std::string(integratorName(spec.integrator)) + " takes a fixed step");
+  const char* name = integratorName(spec.integrator);
+  if (dt && !info(spec.integrator).fixed_step) throw std::invalid_argument("dt: " + std::string(name) + " takes a tolerance");
+  if (tol && info(spec.integrator).fixed_step) throw std::invalid_argument("tol: " + std::string(name) + " takes a fixed step");
+}
+
+// The run settings as the CLI resolves them, checked once.
+CheckedRunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
+                       std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+  RunSpec spec;
+  spec.method = method;
+  inHouseSettings(spec, spec.engine(), integrator, dt, tol);
   requireCompatible(spec.method, spec.integrator);
   return checked(onGrid(spec, s, Grid{t_end, output_dt}));
 }
 
 py::dict simulatePy(const Scene& s, py::object method, std::optional<std::string> integrator, std::optional<double> dt,
                     std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
-  return trajectoryDict(runTrajectory(s.model, runSpec(s, methodOf(method), integrator, dt, tol, t_end, output_dt)));
+  CallMethods call;
+  return trajectoryDict(runTrajectory(s.model, runSpec(s, call.of(method, "method"), integrator, dt, tol, t_end, output_dt)));
 }
 
 py::object comparePy(const Scene& s, py::list methods, std::optional<std::string> integrator, std::optional<double> dt,
                      std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt,
-                     std::map<std::string, std::string> plugins, std::map<std::string, std::string> runs) {
+                     py::dict plugins, py::dict runs) {
+  CallMethods call;
   CompareOptions o;
+  o.keywords = true;
   o.methods.clear();
-  for (const py::handle& h : methods) o.methods.push_back(methodOf(h));
-  for (const auto& [name, path] : plugins) {
-    const Method p = addPlugin(name, path);
+  for (const py::handle& h : methods) o.methods.push_back(call.of(h, "methods"));
+  for (const auto& [name, path] : namedPaths(plugins, "plugins")) {
+    const Method p = call.add(addPlugin(name, path));
     probePlugin(p, s.model);
     o.methods.push_back(p);
   }
-  for (const auto& [name, path] : runs) o.methods.push_back(addRecordedRun(name, path, s.model));
-  if (dt && tol) throw std::invalid_argument("dt and tol: one or the other");
-  o.inhouse.integrator = integrator ? parseIntegrator(*integrator) : chosenIntegrator(Engine::InHouse, tol.has_value());
-  if (dt) o.inhouse.dt = *dt;
-  if (tol) o.inhouse.tol = *tol;
+  for (const auto& [name, path] : namedPaths(runs, "runs")) o.methods.push_back(call.add(addRecordedRun(name, path, s.model)));
+  if (o.methods.empty()) throw std::invalid_argument("methods: none, and no plugins or runs: nothing to compare");
+  inHouseSettings(o.inhouse, Engine::InHouse, integrator, dt, tol);
+  refuseUnreadInHouseSettings(o, {integrator.has_value(), dt.has_value(), tol.has_value()});
+  o.useMechanismReference(s.model);
   o.grid = Grid{t_end, output_dt};
   return fromJson(makeReport(runComparison(s, o)));
 }
@@ -267,21 +341,24 @@ std::string runCli(const std::vector<std::string>& args) {
     const std::string prefix = "eigenmass: error: ";
     if (err.rfind(prefix, 0) == 0) err.erase(0, prefix.size());
     while (!err.empty() && err.back() == '\n') err.pop_back();
+    // The line names the CLI's option: name the keyword argument instead ("--results: ..." -> "results: ...").
+    for (const char* option : {"--out", "--format", "--results", "--jobs"})
+      if (err.rfind(std::string(option) + ":", 0) == 0) err.erase(0, 2);
     throw std::runtime_error(err);
   }
   if (status != 0 && status != 1) throw std::runtime_error("eigenmass " + args[0] + " ended with status " + std::to_string(status));
   return r.attr("stdout").cast<std::string>();
 }
 
-std::string plotPy(const std::string& input, std::optional<std::string> out, const std::string& format) {
-  std::vector<std::string> a = {"plot", input, "--format", format};
-  if (out) a.insert(a.end(), {"--out", *out});
+std::string plotPy(const py::object& input, const py::object& out, const std::string& format) {
+  std::vector<std::string> a = {"plot", pathArg(input, "input"), "--format", format};
+  if (!out.is_none()) a.insert(a.end(), {"--out", pathArg(out, "out")});
   return runCli(a);
 }
 
-std::string sweepPy(const std::string& plan, std::optional<std::string> results, std::optional<int> jobs) {
-  std::vector<std::string> a = {"sweep", plan};
-  if (results) a.insert(a.end(), {"--results", *results});
+std::string sweepPy(const py::object& plan, const py::object& results, std::optional<int> jobs) {
+  std::vector<std::string> a = {"sweep", pathArg(plan, "plan")};
+  if (!results.is_none()) a.insert(a.end(), {"--results", pathArg(results, "results")});
   if (jobs) a.insert(a.end(), {"--jobs", std::to_string(*jobs)});
   return runCli(a);
 }
@@ -320,7 +397,7 @@ PYBIND11_MODULE(eigenmass, mod) {
           py::arg("scene"), py::arg("methods") = py::list(py::cast(std::vector<std::string>{"classical"})),
           py::arg("integrator") = py::none(), py::arg("dt") = py::none(), py::arg("tol") = py::none(),
           py::arg("t_end") = py::none(), py::arg("output_dt") = py::none(),
-          py::arg("plugins") = std::map<std::string, std::string>{}, py::arg("runs") = std::map<std::string, std::string>{});
+          py::arg("plugins") = py::dict(), py::arg("runs") = py::dict());
   mod.def("plot", &plotPy, "Draw a report, precision file, trajectory, sweep results folder or extreme summary: "
           "`eigenmass plot` itself (its printed lines returned)", py::arg("input"), py::arg("out") = py::none(),
           py::arg("format") = "png");

@@ -1,5 +1,7 @@
 #include "solver/model.hpp"
 
+#include "solver/text.hpp"
+
 #include <iterator>
 #include <unordered_map>
 
@@ -211,6 +213,36 @@ std::vector<int> Model::angleCoordinates() const {
     for (int k = b.nt(); k < b.nq(); ++k) idx.push_back(b.file_iq + k);
   }
   return idx;
+}
+
+std::string beyondStateBounds(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  const std::vector<std::string> qn = m.qNames(), un = m.uNames();
+  const auto beyond = [](const std::string& what, double x, double bound, const char* unit) {
+    if (!std::isfinite(x)) return what + " not finite";
+    if (std::abs(x) <= bound) return std::string();
+    return what + " " + gnum(x) + " " + unit + " beyond +-" + gnum(bound) + " " + unit;
+  };
+  for (const Body& b : m.bodies) {
+    const int quat = jointQuat(b.joint.type);
+    for (int k = 0; k < b.nq(); ++k) {
+      const std::string name = "q " + qn[b.file_iq + k];
+      const double x = q[b.iq + k];
+      std::string why;
+      if (k < b.nt()) why = beyond(name + ": displacement", x, kMaxDisplacement, "m");
+      else if (quat < 0) why = beyond(name + ": angle", x, kMaxAngle, "rad");
+      else if (k == quat) {
+        const double norm = q.segment<4>(b.iq + quat).norm();
+        if (!(std::abs(norm - 1) <= kUnitQuatTol))
+          why = name + " (a quaternion's first): norm " + gnum(norm) + ", not 1 within " + gnum(kUnitQuatTol);
+      }
+      if (!why.empty()) return why;
+    }
+    for (int k = 0; k < b.nu(); ++k) {
+      const std::string why = beyond("u " + un[b.file_iu + k] + ": speed", u[b.iu + k], kMaxSpeed, k < b.nt() ? "m/s" : "rad/s");
+      if (!why.empty()) return why;
+    }
+  }
+  return {};
 }
 
 void randomState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {

@@ -151,10 +151,17 @@ const auto& row(const Table& table, Id id) {
   throw std::logic_error("registry: an id without a row");
 }
 
+// Whether a row is listed and found by name: a retired method's is not.
+template <class Row>
+bool live(const Row&) {
+  return true;
+}
+bool live(const MethodInfo& r) { return !r.retired; }
+
 template <class Table, class Id>
 bool find(const Table& table, const std::string& name, Id& out) {
   for (const auto& r : table)
-    if (name == r.name) {
+    if (live(r) && name == r.name) {
       out = r.id;
       return true;
     }
@@ -164,7 +171,8 @@ bool find(const Table& table, const std::string& name, Id& out) {
 template <class Table>
 std::vector<std::string> names(const Table& table) {
   std::vector<std::string> n;
-  for (const auto& r : table) n.emplace_back(r.name);
+  for (const auto& r : table)
+    if (live(r)) n.emplace_back(r.name);
   return n;
 }
 
@@ -269,6 +277,17 @@ Method addMethod(MethodInfo row) {
   row.id = static_cast<Method>(methods().size());
   methods().push_back(row);
   return row.id;
+}
+
+void retireMethod(Method m) {
+  for (MethodInfo& r : methods())
+    if (r.id == m) {
+      if (r.owner)  // the built-in rows are eigenmass's, an engine's its own: only rows from outside have none
+        throw std::logic_error(std::string("registry: ") + r.name + " is a built-in or an engine's method");
+      r.retired = true;
+      return;
+    }
+  throw std::logic_error("registry: retireMethod of an id without a row");
 }
 
 Integrator addIntegrator(IntegratorInfo row) {

@@ -126,6 +126,9 @@ struct MethodInfo {
   /// integrators, a plugin's, a Python function's, a recorded run): a tree's,
   /// so a mechanism is refused for it (compare/engines.hpp's methodRefusal).
   bool tree_only = false;
+  /// Retired (retireMethod): its name is no longer found, listed or taken;
+  /// its id still reads its row.
+  bool retired = false;
 
   /// Whether the row has the option `name`.
   bool takes(const std::string& name) const;
@@ -206,6 +209,12 @@ Engine addEngine(EngineInfo row);
 /// integrators through `make`; its row's id is set here. Throws
 /// std::invalid_argument for a name already taken.
 Method addMethod(MethodInfo row);
+
+/// A method from outside that lived for one call (the Python module's runs,
+/// plugins and functions): its name is freed, and it leaves the lists
+/// (methodNames, findMethod, CompareOptions' defaults). Built-in and engine
+/// rows are never retired (std::logic_error).
+void retireMethod(Method m);
 
 /// A scheme none of the engines runs (a recorded run's "recorded": samples
 /// read from a file); its row's id is set here. Throws std::logic_error for a

@@ -66,6 +66,18 @@ Model ensembleMember(const Model& m, const Ensemble& e, int k) {
   return out;
 }
 
+std::string ensembleBeyondBounds(const Model& m, const Ensemble& e) {
+  Eigen::VectorXd q = m.q0(), u = m.u0();
+  const auto away = [](double x, double reach) { return x + std::copysign(reach, x); };
+  for (const Body& b : m.bodies) {
+    const int quat = jointQuat(b.joint.type);
+    for (int k = 0; k < b.nq(); ++k)
+      if (quat < 0 || k < b.nt()) q[b.iq + k] = away(q[b.iq + k], kDrawBound * e.sigma_q);  // a quaternion stays a unit one
+    for (int k = 0; k < b.nu(); ++k) u[b.iu + k] = away(u[b.iu + k], kDrawBound * e.sigma_u);
+  }
+  return beyondStateBounds(m, q, u);
+}
+
 std::optional<double> quantile(std::vector<double> x, double p) {
   if (x.empty()) return std::nullopt;
   std::sort(x.begin(), x.end());

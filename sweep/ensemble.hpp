@@ -37,6 +37,17 @@ struct Ensemble {
 /// u += sigma_u n.
 Model ensembleMember(const Model& m, const Ensemble& e, int k);
 
+/// Every standard normal draw lies within this (Box–Muller from 53-bit
+/// uniforms: sqrt(-2 ln 2^-53) = 8.57), so member k's every coordinate lies
+/// within kDrawBound sigma of the scene's.
+inline constexpr double kDrawBound = 8.6;
+
+/// Where some member of `m`'s ensemble could leave the state bounds
+/// (solver/model.hpp's kMaxAngle, kMaxDisplacement, kMaxSpeed): the state of
+/// |q0| + kDrawBound sigma_q and |u0| + kDrawBound sigma_u is checked, "" when
+/// within (beyondStateBounds' words otherwise). Plans check it before any case runs.
+std::string ensembleBeyondBounds(const Model& m, const Ensemble& e);
+
 /// Quantiles of `x` (sorted inside) by linear interpolation between order
 /// statistics (Hyndman–Fan type 7, numpy's default; GSL's
 /// gsl_stats_quantile_from_sorted_data); nullopt for no values. A censored

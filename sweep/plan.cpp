@@ -288,7 +288,13 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("plugins")) pluginsAt(doc["plugins"], p.file, p.scenes);  // before the lines that name them
   p.t_end = positiveAt(doc.value("t_end", json()), "t_end");
   if (doc.contains("output_dt")) p.output_dt = positiveAt(doc["output_dt"], "output_dt");
-  if (doc.contains("ensemble")) p.ensemble = ensembleAt(doc["ensemble"], p.t_end);
+  if (doc.contains("ensemble")) {
+    p.ensemble = ensembleAt(doc["ensemble"], p.t_end);
+    for (const PlanScene& s : p.scenes)
+      if (const std::string why = ensembleBeyondBounds(loadScene(s.file, s.urdf).model, *p.ensemble); !why.empty())
+        throw InputError("ensemble.perturb", "scene " + s.stem() + ": a member may reach " + why + " (members lie within " +
+                                                 gnum(kDrawBound) + " sigma of the scene's state)");
+  }
   // An ensemble reads divergence, not timing: it may run each case once.
   if (doc.contains("repeats"))
     p.repeats = p.ensemble ? wholeNumberAt(doc["repeats"], "repeats", 1, 100, "an ensemble may time each case once")

@@ -103,6 +103,7 @@ case("deep_nesting", "gravity" + "[0]" * 63, "nested deeper than 64",
      text='{"format": "eigenmass-scene/1", "gravity": ' + "[" * 100000 + "]" * 100000 + "}")
 case("huge_list_as_mass", "bodies[0].mass", "got a list of 20000", setk(b(0), "mass", [0.5] * 20000))
 case("huge_angle", "bodies[1].joint.q0[0]", "beyond", setk(J1, "q0", [1e20]))
+case("huge_speed", "bodies[1].joint.u0[0]", "beyond +-1e+06", setk(J1, "u0", [2e6]))
 case("gravity_huge", "gravity", "beyond 10000 (a thousand g)", setk(lambda d: d, "gravity", [0, 0, -1e308]))
 case("grid_not_whole", "simulate.t_end", "whole multiple of output_dt",
      setk(lambda d: d, "simulate", {"t_end": 1, "output_dt": 0.3}))

@@ -156,3 +156,71 @@ def test_plot_and_sweep_are_the_cli_commands(tmp_path):
     assert os.path.exists(tmp_path / "figures" / "pendulum5-divergence.png"), out
     with pytest.raises(RuntimeError, match="cannot open the report"):
         em.plot(str(tmp_path / "missing.json"))
+
+
+LIB = os.environ.get("EM_LIB", "")
+
+
+def test_outside_methods_live_only_for_the_call(tmp_path):
+    """Issue 53 item 8: a plugin, a recorded run and a Python function are the call's; the same names work again."""
+    import pathlib
+    s = em.load(scene("pendulum5.json"))
+    ok = pathlib.Path(LIB) / "libhostile_ok.so"
+    run = tmp_path / "run.csv"
+    assert cli("simulate", scene("pendulum5.json"), "--t-end", "0.5", "--out", str(run), "--no-progress")[0] == 0
+    for _ in range(2):  # the second identical call once failed: "a method of that name exists"
+        rep = em.compare(s, methods=["classical"], t_end=0.5, plugins={"mine": ok}, runs={"rec": run})
+        assert [m["name"] for m in rep["methods"]] == ["classical", "mine", "rec"]
+        assert em.simulate(s, method=("f", lambda t, q, u: np.zeros(s.nu)), t_end=0.01)["status"] == "ok"
+    with pytest.raises(ValueError, match="libhostile_null.so"):  # its probe fails: the name is not left behind
+        em.compare(s, t_end=0.5, plugins={"bad": os.path.join(LIB, "libhostile_null.so")})
+    assert not {"mine", "rec", "f", "bad"} & set(em.methods())
+
+
+@pytest.mark.parametrize("exc", [KeyboardInterrupt, SystemExit])
+def test_ctrl_c_and_sys_exit_in_a_python_method_end_the_call(exc):
+    """Issue 53 item 9: they once became the method's failure, and the script went on."""
+    s = em.load(scene("pendulum5.json"))
+
+    def interrupted(t, q, u):
+        raise exc()
+
+    with pytest.raises(exc):
+        em.simulate(s, method=("interrupted", interrupted), t_end=0.1)
+    with pytest.raises(exc):
+        em.compare(s, methods=[("interrupted", interrupted)], t_end=0.1)
+    assert "interrupted" not in em.methods()
+
+
+@pytest.mark.parametrize("value, said", [(None, "None"), (1.0, "a float (a scalar)"),
+                                         (np.zeros((1, 1)), "an array of shape (1, 1)"), (np.zeros(3), "an array of shape (3,)")])
+def test_a_wrong_return_is_named_as_python_sees_it(value, said):
+    s = em.load(scene("pendulum5.json"))
+    r = em.simulate(s, method=("wrong", lambda t, q, u: value), t_end=0.01)
+    assert r["failure"]["cause"] == "the Python method returned " + said + ", not a vector of nu = 7 numbers"
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda s: em.compare(s, methods=["simbody"], dt=1e-3, t_end=0.1), r"^dt: .*none is among methods$"),
+    (lambda s: em.compare(s, methods=["simbody"], integrator="rk4", t_end=0.1), r"^integrator: .*none is among methods$"),
+    (lambda s: em.compare(s, methods=[("my method", lambda t, q, u: q)], t_end=0.1), r"^methods: the name 'my method'"),
+    (lambda s: em.simulate(s, method=("a\x1bb", lambda t, q, u: q), t_end=0.1), r"^method: the name 'a\\x1bb'"),
+    (lambda s: em.compare(s, methods=[], t_end=0.1), r"^methods: none"),
+    (lambda s: em.compare(s, methods=["classical", "classical"], t_end=0.1), r"listed twice"),
+    (lambda s: em.compare(s, t_end=-1), r"^t_end: must be > 0"),
+    (lambda s: em.compare(s, dt=-1, t_end=0.1), r"^dt: must be > 0"),
+    (lambda s: em.equations(s, u=np.full(s.nu, 1e200)), r"^u link1.u0: speed 1e\+200 rad/s beyond \+-1e\+06"),
+    (lambda s: em.equations(s, q=np.full(s.nq, 1e20)), r"^q link1.q0: angle 1e\+20 rad beyond \+-10000 rad$"),
+    (lambda s: em.load(b"/x.json"), r"^path: a path as text"),
+])
+def test_python_refuses_what_the_cli_refuses_naming_the_keyword(call, message):
+    """Issue 53 item 11: each was accepted (or named a CLI flag)."""
+    s = em.load(scene("pendulum5.json"))
+    with pytest.raises(ValueError, match=message):
+        call(s)
+
+
+def test_paths_may_be_pathlike(tmp_path):
+    import pathlib
+    a, b = em.load(pathlib.Path(scene("pendulum5.json"))), em.load(scene("pendulum5.json"))
+    assert a.sha256 == b.sha256

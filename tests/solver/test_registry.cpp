@@ -153,3 +153,20 @@ TEST_CASE("run settings: whole multiples within round-off - bad values name thei
     }
   }
 }
+
+TEST_CASE("a method from outside is retired after its call: its name freed and unlisted, its id still read", "[registry]") {
+  MethodInfo row;
+  row.name = "for-one-call";
+  row.summary = "a Python function's row";
+  const Method m = addMethod(row);
+  Method found;
+  REQUIRE(findMethod("for-one-call", found));
+  retireMethod(m);
+  CHECK_FALSE(findMethod("for-one-call", found));
+  const std::vector<std::string> names = methodNames();
+  CHECK(std::count(names.begin(), names.end(), "for-one-call") == 0);
+  CHECK(std::string(methodName(m)) == "for-one-call");  // a report made in the call still names it
+  row.name = "for-one-call";
+  CHECK(addMethod(row) != m);  // the name is free again: a new row
+  CHECK_THROWS_AS(retireMethod(Method::Classical), std::logic_error);  // built-in rows stay
+}

@@ -140,6 +140,22 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: must be a finite number >= 0"));
   p["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1e6}}}};  // issue 42, bug 11: a member ran at 2.5e6 rad
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.q: 1e+06 beyond 1 rad (m)"));
+  p["ensemble"] = {{"count", 5}, {"perturb", {{"u", 1e300}}}};  // issue 53 item 12: a raw type_error, exit 1, at 1e300
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb: scene pendulum5: a member may reach u link1.u0: speed 8.6e+300 "
+                                           "rad/s beyond +-1e+06 rad/s (members lie within 8.6 sigma"));
+  {  // issue 53 item 12: q0 = 9999.9 and perturb.q = 1 ran members at 10002.7 rad, past the bound the scene is held to
+    json edge = parseJsonStrict(readFile(test::sourcePath("data/scenes/pendulum5.json"), "scene"));
+    edge["bodies"][0]["joint"]["q0"][0] = 9999.9;
+    fs::create_directories(kDir);
+    std::ofstream(kDir + "/edge.json") << edge.dump(1);
+    json q = smallPlan();
+    q["scenes"] = {kDir + "/edge.json"};
+    q["ensemble"] = {{"count", 5}, {"perturb", {{"q", 1}}}};
+    CHECK_THAT(planError(q), Catch::Contains("bad.json: ensemble.perturb: scene edge: a member may reach q link1.q0: angle 10008.5 rad "
+                                             "beyond +-10000 rad"));
+    q["ensemble"]["perturb"]["q"] = 1e-3;  // 9999.9 + 8.6e-3: within
+    CHECK(planError(q).empty());
+  }
   p["ensemble"] = {{"count", 5}, {"perturb", {{"w", 1e-3}}}};
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.perturb.w: unknown key"));
   // A claim the figures mark: within t_end, a printable label.
