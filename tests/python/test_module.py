@@ -224,3 +224,17 @@ def test_paths_may_be_pathlike(tmp_path):
     import pathlib
     a, b = em.load(pathlib.Path(scene("pendulum5.json"))), em.load(scene("pendulum5.json"))
     assert a.sha256 == b.sha256
+
+
+def test_a_mechanism_compares_as_on_the_cli(tmp_path):
+    """Loops in the module (issue 50): Andrews' squeezer, the CLI's reference (classical under ida), the same report."""
+    out = str(tmp_path / "r.json")
+    path = scene(os.path.join("mechanisms", "andrews.json"))
+    status, _, err = cli("compare", path, "--t-end", "0.01", "--methods", "classical,articulated", "--out", out, "--no-progress")
+    assert status == 0, err
+    with open(out) as f:
+        want = json.load(f)
+    got = em.compare(em.load(path), methods=["classical", "articulated"], t_end=0.01)
+    assert strip(got) == strip(want)
+    assert got["methods"][0]["loops"]["rank"] == 6
+    assert got["methods"][0]["loops"]["max_position_violation_m"] < 1e-9
