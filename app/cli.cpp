@@ -212,6 +212,15 @@ void refuseUnreadRunOptions(const CLI::App& cmd, const std::vector<Method>& meth
     for (Method m : methods) read = read || info(m).takes(p.name);
     if (!read)
       throw std::invalid_argument(optionName(p) + ": no method of this run takes it (only " + joined(takers) + ")");
+    if (p.read_when) {
+      const std::vector<MethodParam> params = methodParams();
+      const auto under = std::find_if(params.begin(), params.end(), [&](const MethodParam& q) { return std::string(q.name) == p.read_when; });
+      if (under == params.end()) throw std::logic_error(std::string("registry: ") + p.name + " is read under an option no row has");
+      const std::string option = optionName(*under);
+      const double value = cmd.count(option) ? cmd.get_option(option)->as<double>() : under->fallback;
+      if (!(value > 0))
+        throw std::invalid_argument(optionName(p) + ": read only with " + option + " > 0, and " + option + " is " + gnum(value));
+    }
   }
   if (cmd.count("--no-step-retry") && !adaptive_inhouse)
     throw std::invalid_argument("--no-step-retry: only an adaptive in-house integrator retries a step, and this run has none");
@@ -319,12 +328,15 @@ std::vector<std::string> OutsideArgs::files() const {
 }
 
 void addOutsideOptions(CLI::App* cmd, OutsideArgs& o, bool with_runs) {
-  cmd->add_option("--plugin", o.plugins,
+  CLI::Option* plugin = cmd->add_option("--plugin", o.plugins,
                   "A method from outside: NAME=path/libx.so, a library with eigenmass_plugin.h's calls, run under the "
                   "in-house integrators as method NAME (repeatable; docs/plugins.md)");
+  // The watch looks at a child every kPluginWatch s: a shorter timeout could not be kept.
   cmd->add_option("--plugin-timeout", o.plugin_timeout,
-                  "Seconds a plugin's call may take before its run counts as hung (default " + gnum(kPluginTimeout) + ")")
-      ->check(positiveFinite());
+                  "Seconds a plugin's call may take before its run counts as hung (default " + gnum(kPluginTimeout) + ", from " +
+                      gnum(kPluginWatch) + ", the watch's period, to " + gnum(kPluginTimeoutMax) + "); with --plugin only")
+      ->check(CLI::Range(kPluginWatch, kPluginTimeoutMax))
+      ->needs(plugin);
   if (with_runs)
     cmd->add_option("--run", o.runs,
                     "A run made elsewhere: NAME=FILE.csv, joint coordinates or body poses (docs/report-format.md, "

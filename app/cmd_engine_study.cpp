@@ -110,9 +110,10 @@ void addEngineStudy(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--results", a->results, "Folder of the case results and of the plan written for them; default "
                                            "results/engine-study-<scene stem>/");
-  cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core")->check(CLI::Range(1, 1024));
-  cmd->add_flag("--list", a->list, "Write the plan, print one shell command per case (GNU parallel, a Slurm array) and "
-                                   "stop; `sweep PLAN --merge DIR` merges them");
+  CLI::Option* jobs = cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core (not with --list: it runs "
+                                                            "none)")->check(CLI::Range(1, 1024));
+  jobs->excludes(cmd->add_flag("--list", a->list, "Write the plan, print one shell command per case (GNU parallel, a Slurm array) and "
+                                                  "stop; `sweep PLAN --merge DIR` merges them"));
   cmd->callback([a] { guarded([&] { return runStudy(*a); }); });
 }
 

@@ -112,10 +112,11 @@ void addSweep(CLI::App& app) {
   auto a = std::make_shared<SweepArgs>();
   cmd->add_option("plan", a->plan, "Plan file (eigenmass-plan/1; data/plans/)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--results", a->results, "Folder of the case results; default results/<plan name>/");
-  cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core")->check(CLI::Range(1, 1024));
-  cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop");
-  cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop");
-  cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop");
+  CLI::Option* jobs = cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core (not with --list, --case, --merge: "
+                                                            "none of them runs workers)")->check(CLI::Range(1, 1024));
+  jobs->excludes(cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop"));
+  jobs->excludes(cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop"));
+  jobs->excludes(cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop"));
   cmd->callback([a] { guarded([&] { return runSweepCommand(*a); }); });
 }
 

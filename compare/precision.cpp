@@ -82,14 +82,15 @@ std::string precisionTable(const PrecisionResult& r) {
   std::ostringstream o;
   char line[256];
   const bool fixed = info(r.options.integrator).fixed_step;
-  std::snprintf(line, sizeof line, "%-18s %-10s %-18s %14s %14s %10s %10s\n", "method", fixed ? "dt" : "tol", "status",
-                "max pose rad", "max dE/Escl", "CPU s", "rhs evals");
+  // The integrator column: an engine without --integrator's scheme runs its own (dart, ode under rk4), said on its row.
+  std::snprintf(line, sizeof line, "%-18s %-16s %-10s %-18s %14s %14s %10s %10s\n", "method", "integrator", fixed ? "dt" : "tol",
+                "status", "max pose rad", "max dE/Escl", "CPU s", "rhs evals");
   o << line;
   for (const PrecisionPoint& p : r.points) {
     const MethodMetrics& m = p.metrics;
     const std::string status = m.failed() ? std::string(outcomeName(m.status())) + " at " + gnum(m.failure_time, 3) + " s" : outcomeName(m.status());
-    std::snprintf(line, sizeof line, "%-18s %-10s %-18s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
-                  gnum(m.run.setting()).c_str(), status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
+    std::snprintf(line, sizeof line, "%-18s %-16s %-10s %-18s %14.3e %14.3e %10.3f %10ld\n", m.name().c_str(),
+                  integratorName(m.run.integrator), gnum(m.run.setting()).c_str(), status.c_str(), m.pose.value, m.energy.value, m.run_time_s, m.rhs_evals);
     o << line;
   }
   o << "errors over 0.." << gnum(r.t_end) << " s against " << r.reference.method() << "/" << r.reference.integrator()

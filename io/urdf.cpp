@@ -276,7 +276,8 @@ std::set<std::string> lockedJoints(const urdf::ModelInterface& u, const UrdfOpti
   for (const std::string& name : opt.lock_joints) {
     if (!u.getJoint(name)) throw Err("--lock-joint", "no joint named '" + printable(name, 40) + "'");
     if (u.getJoint(name)->type == urdf::Joint::FIXED) throw Err("--lock-joint", jointAt(name) + " is fixed already: nothing to lock");
-    if (locked.insert(name).second) notes.push_back(jointAt(name) + ": held at zero (--lock-joint)");
+    if (!locked.insert(name).second) throw Err("--lock-joint", jointAt(name) + " is named twice");
+    notes.push_back(jointAt(name) + ": held at zero (--lock-joint)");
   }
   return locked;
 }

@@ -71,7 +71,7 @@ void watch(pid_t pid, int fd, Beat* beat, double timeout_s, Isolated& r, bool& k
   char buf[65536];
   for (;;) {
     pollfd p{fd, POLLIN, 0};
-    const int ready = poll(&p, 1, 100);
+    const int ready = poll(&p, 1, static_cast<int>(kPluginWatch * 1000));
     if (ready > 0) {
       const ssize_t k = read(fd, buf, sizeof buf);
       if (k > 0) {

@@ -26,5 +26,9 @@ void isolatedBeat(double t);
 
 /// Default seconds a plugin's call may take before it counts as hung (--plugin-timeout).
 constexpr double kPluginTimeout = 10.0;
+/// How often the watch looks at a child (s): the shortest timeout it keeps.
+constexpr double kPluginWatch = 0.1;
+/// The longest timeout accepted (s): a day.
+constexpr double kPluginTimeoutMax = 86400;
 
 }  // namespace em

@@ -96,6 +96,10 @@ struct MethodParam {
   double min, max;   ///< allowed: [min, max] for whole numbers, (min, max] otherwise
   bool whole;        ///< a whole number (reports and plan keys write it as one)
   const char* help;  ///< one line: --help and docs
+  /// Another option this one is read under, only when that one is > 0
+  /// (refine_tol under refine); nullptr: always read. Given where it is not
+  /// read, it is refused (the CLI, plans).
+  const char* read_when = nullptr;
 };
 
 struct MethodInfo;

@@ -219,6 +219,14 @@ void readMethodParams(const json& doc, MethodOptions& options) {
       throw InputError(m.name, "must be in (" + gnum(m.min) + ", " + gnum(m.max) + "], got " + gnum(x));
     options.params[m.name] = x;
   }
+  for (const MethodParam& m : methodParams())  // an option read only under another's > 0 (refine_tol under refine)
+    if (m.read_when && doc.contains(m.name)) {
+      const auto it = options.params.find(m.read_when);
+      double under = 0;
+      for (const MethodParam& q : methodParams())
+        if (std::string(q.name) == m.read_when) under = it != options.params.end() ? it->second : q.fallback;
+      if (!(under > 0)) throw InputError(m.name, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
+    }
 }
 
 // Largest ensemble.perturb.q: one radian (metre) of standard deviation.

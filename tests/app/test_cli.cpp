@@ -256,6 +256,17 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"simulate " + s + " --method classical --no-step-retry", "--no-step-retry: only an adaptive in-house integrator retries a step"},
       {"simulate " + s + " --method mujoco --no-step-retry", "--no-step-retry: only an adaptive in-house integrator retries a step"},
       {"compare " + s + " --methods classical,mujoco --no-step-retry", "--no-step-retry: only an adaptive in-house integrator"},
+      // Issue 53 item 13: accepted and ignored before.
+      {"compare " + s + " --methods classical --plugin-timeout 5", "--plugin-timeout requires --plugin"},
+      {"simulate " + s + " --method eigen-jacobi --refine-tol 1e-3", "--refine-tol: read only with --refine > 0, and --refine is 0"},
+      {"compare " + s + " --methods eigen --refine 0 --refine-tol 1e-3", "--refine-tol: read only with --refine > 0"},
+      {"compare " + s + " --methods classical --plugin x=" + std::string(EM_BINARY_DIR) + "/lib/libhostile_ok.so" + " --plugin-timeout 1e-9",
+       "--plugin-timeout: Value 1e-9 not in range 0.1"},
+      {"compare " + em::test::sourcePath("data/robots/ur5.urdf") + " --lock-joint elbow_joint,elbow_joint",
+       "--lock-joint: joint 'elbow_joint' is named twice"},
+      {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --list -j 2", "--jobs excludes --list"},
+      {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --merge /nonexistent -j 2", "--jobs excludes --merge"},
+      {"engine-study " + s + " --list -j 2", "--jobs excludes --list"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {

@@ -1,5 +1,7 @@
 // Work-precision sweeps: errors fall with the step at the method's order; bad
 // combinations are refused before any run.
+#include <sstream>
+
 #include <catch2/catch.hpp>
 
 #include "compare/precision.hpp"
@@ -38,4 +40,31 @@ TEST_CASE("simbody needs tolerances: refused under rk4 before any run", "[precis
   o.methods = {Method::Classical};
   o.settings = {1e-3, 0};
   CHECK_THROWS_WITH(runPrecision(scene, o), Catch::Contains("must be > 0"));
+}
+
+TEST_CASE("precision under rk4: an engine without rk4 runs its own scheme, and its row says which", "[precision]") {
+  // Issue 53 item 13: DART and ODE ran their own schemes under --integrator rk4 and the table did not say so.
+  const Scene scene = test::sceneData("chain01.json");
+  PrecisionOptions o;
+  const Method dart = em::test::method("dart");
+  o.methods = {Method::Classical, dart};
+  o.settings = {1e-3};
+  o.grid.t_end = 0.1;
+  const PrecisionResult r = runPrecision(scene, o);
+  const std::string own = integratorName(defaultIntegrator(info(dart).engine));
+  REQUIRE(own != "rk4");
+  std::istringstream table(precisionTable(r));
+  std::string line;
+  int rows = 0;
+  while (std::getline(table, line)) {
+    if (line.rfind("classical ", 0) == 0) {
+      CHECK(line.find(" rk4 ") != std::string::npos);
+      ++rows;
+    }
+    if (line.rfind("dart ", 0) == 0) {
+      CHECK(line.find(" " + own + " ") != std::string::npos);
+      ++rows;
+    }
+  }
+  CHECK(rows == 2);
 }

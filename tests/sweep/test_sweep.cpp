@@ -131,6 +131,11 @@ TEST_CASE("a bad plan is refused in one line naming the file and the key", "[swe
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
   p["refine"] = 11;
   CHECK_THAT(planError(p), Catch::Contains("bad.json: refine: must be a whole number from 0 to 10"));
+  p = smallPlan();  // issue 53 item 13: refine_tol is read only under refine > 0
+  p["refine_tol"] = 1e-3;
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: refine_tol: read only with refine > 0, and refine is 0"));
+  p["refine"] = 2;
+  CHECK(planError(p).empty());
   p = smallPlan();  // an ensemble: its count, its perturbation, its keys, each named
   p["ensemble"] = {{"count", 0}, {"perturb", {{"q", 1e-3}}}};
   CHECK_THAT(planError(p), Catch::Contains("bad.json: ensemble.count: must be a whole number from 1"));
