@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <regex>
+#include <set>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -92,33 +93,42 @@ void requireFigureName(const nlohmann::json& v, const std::string& where) {
 
 // The first sweep case file of a results folder names its plan; the merged CSV must be there.
 void checkResults(const std::string& dir) {
-  for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.path().extension() != ".json") continue;
-    nlohmann::json j;
-    try {
-      j = parseJsonStrict(readFile(e.path().string(), "case"));
-    } catch (const std::exception&) {
-      continue;
-    }
+  // Every JSON file is read here, so that a corrupt one is named (issue 53 item 15), and the
+  // cases must be of one plan: two studies in one folder would draw one, silently (item 18).
+  std::set<std::string> plans;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const nlohmann::json j = readJsonFile(file.string(), "case");
     if (formatOf(j) != "eigenmass-sweep-case/1" || !j.contains("plan")) continue;
-    requireFigureName(j["plan"], e.path().string() + ": key plan");
-    const std::string plan = j["plan"].get<std::string>();
-    if (!fs::exists(fs::path(dir) / (plan + ".csv")))
-      throw std::runtime_error(dir + ": no merged " + plan + ".csv (run `eigenmass sweep PLAN --merge " + dir + "` first)");
-    return;
+    requireFigureName(j["plan"], file.string() + ": key plan");
+    plans.insert(j["plan"].get<std::string>());
   }
-  throw std::runtime_error(dir + ": not a sweep's results folder (no eigenmass-sweep-case/1 file)");
+  if (plans.empty()) throw std::runtime_error(dir + ": not a sweep's results folder (no eigenmass-sweep-case/1 file)");
+  if (plans.size() > 1)
+    throw std::runtime_error(dir + ": the cases of " + std::to_string(plans.size()) + " plans (" + joined({plans.begin(), plans.end()}) +
+                             "): one results folder per plan (sweep --results, engine-study --results)");
+  const std::string plan = *plans.begin();
+  if (!fs::exists(fs::path(dir) / (plan + ".csv")))
+    throw std::runtime_error(dir + ": no merged " + plan + ".csv (run `eigenmass sweep PLAN --merge " + dir + "` first)");
 }
 
 // A trajectory CSV (simulate --out) is drawn with its sidecar, which says how it was made.
+// A CSV without one (another simulator's, a recorded run) is drawn as its columns against t.
 void checkTrajectory(const std::string& csv) {
   const std::string meta = csv + ".json";
   if (!fs::exists(csv)) throw std::runtime_error(csv + ": no such trajectory (its sidecar " + meta + " names it)");
-  if (!fs::exists(meta)) throw std::runtime_error(csv + ": no sidecar " + meta + " (the run that made it)");
   const std::string text = readFile(csv, "trajectory");
   const size_t header_end = text.find('\n');
   if (header_end == std::string::npos || text.find_first_not_of("\n", header_end) == std::string::npos)
     throw std::runtime_error(csv + ": no sample (a trajectory CSV has a header line and a line per sample)");
+  if (!fs::exists(meta)) {
+    if (text.rfind("t,", 0) != 0 && text.find("\nt,") == std::string::npos)
+      throw std::runtime_error(csv + ": no sidecar " + meta + ", and no header line starting 't,' (time, then the columns drawn)");
+    return;
+  }
   if (formatOf(readJsonFile(meta, "trajectory metadata")) != "eigenmass-trajectory-meta/1")
     throw std::runtime_error(meta + ": not a trajectory's sidecar (key 'format' is not 'eigenmass-trajectory-meta/1')");
 }
@@ -228,6 +238,24 @@ void checkCsvDir(const std::string& report, const std::string& dir) {
       throw std::invalid_argument("--csv-dir " + dir + ": another run's trajectories (reference.csv.json's " + key + " is " +
                                   printable(meta.value(key, nlohmann::json()).dump(), 40) + ", the report's " +
                                   printable(mine.dump(), 40) + ")");
+  // Each method's CSV is drawn under the report's legend ("dt 0.001"): it must be that run (issue 53 item 14).
+  if (!rep.contains("methods") || !rep["methods"].is_array()) return;
+  for (const nlohmann::json& m : rep["methods"]) {
+    if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+    const std::string name = m["name"];
+    if (!isSceneName(name)) continue;  // plot refuses such a name itself, before it reads any file
+    const fs::path side = fs::path(dir) / (name + ".csv.json");
+    if (!fs::exists(side)) continue;
+    const nlohmann::json run = readJsonFile(side.string(), "trajectory metadata");
+    for (const char* key : {"method", "integrator", "dt", "tolerance"}) {
+      const nlohmann::json mine = key == std::string("method") ? m["name"] : m.value(key, nlohmann::json());
+      if (mine.is_null()) continue;  // a tolerance run has no dt, a fixed-step one no tolerance
+      if (!run.contains(key) || run[key] != mine)
+        throw std::invalid_argument("--csv-dir " + dir + ": another run's trajectories (" + name + ".csv.json's " + key + " is " +
+                                    printable(run.value(key, nlohmann::json()).dump(), 40) + ", the report's " +
+                                    printable(mine.dump(), 40) + ")");
+    }
+  }
 }
 
 int runPlot(PlotArgs a) {

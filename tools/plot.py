@@ -252,8 +252,17 @@ def first_angle(cols):
     return names[0]
 
 
+def read_json(path):
+    """A JSON file, or Refused naming it (a corrupt case file once gave "RESULTS: JSONDecodeError")."""
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except ValueError as e:
+        raise Refused("%s: not JSON (%s)" % (path, str(e)[:120]))
+
+
 def sweep_figures(results, out):
-    cases = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(results, "*.json")))]
+    cases = [read_json(p) for p in sorted(glob.glob(os.path.join(results, "*.json")))]
     cases = [c for c in cases if c.get("format") == "eigenmass-sweep-case/1"]
     plan, t_end = checked_name(cases[0]["plan"], "%s: a case file's key plan" % results), cases[0]["key"]["t_end"]
     with open(os.path.join(results, plan + ".csv")) as f:
@@ -356,8 +365,7 @@ def trajectories(rows, results, out):
         ref_path = os.path.join(results, scene + ".reference.json")
         if not os.path.exists(ref_path):
             continue
-        with open(ref_path) as f:
-            tr = json.load(f).get("trajectory")
+        tr = read_json(ref_path).get("trajectory")
         if not tr:
             continue
         ref = {"t": tr["t"], "energy": tr["energy"], "kinetic": tr["kinetic"]}
@@ -538,11 +546,18 @@ def trajectory_figures(csv_path, meta, out):
     """One run (simulate --out): its angles and speeds, and its energy balance, against time."""
     cols = read_traj_csv(csv_path)
     stem = os.path.basename(csv_path)[: -len(".csv")]
-    method = meta["method"]
-    q = [k for k in cols if ".q" in k][:12]
-    u = [k for k in cols if ".u" in k][:12]
-    setting = "dt %g" % meta["dt"] if "dt" in meta else "tol %g" % meta["tolerance"]
-    title = "%s: %s %s %s" % (meta["scene"], method, meta["integrator"], setting)
+    if meta is None:  # a CSV from outside, without a sidecar: its columns against t, named by its file
+        method, meta = stem, {}
+        drawn = [k for k in cols if k != "t"]
+        q = [k for k in drawn if ".q" in k or ".u" not in k][:12]
+        u = [k for k in drawn if ".u" in k][:12]
+        title = "%s (no sidecar: how it was made is not recorded)" % os.path.basename(csv_path)
+    else:
+        method = meta["method"]
+        q = [k for k in cols if ".q" in k][:12]
+        u = [k for k in cols if ".u" in k][:12]
+        setting = "dt %g" % meta["dt"] if "dt" in meta else "tol %g" % meta["tolerance"]
+        title = "%s: %s %s %s" % (meta["scene"], method, meta["integrator"], setting)
     if meta.get("failure"):
         title += " (failed at %g s: %s)" % (meta["failure"]["t"], meta["failure"]["kind"])
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
@@ -554,10 +569,13 @@ def trajectory_figures(csv_path, meta, out):
                 mark_failure(ax, method, cols["t"][-1], cols[name][-1])
         ax.set_ylabel(unit)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=6, ncol=2)
+        if names:  # an empty legend is a matplotlib warning in plot's output
+            ax.legend(fontsize=6, ncol=2)
     a2.set_xlabel("time t, s")
     a1.set_title(title + ("; the first 12 of each" if len(q) == 12 else ""), fontsize=9)
     save(fig, out, stem + "-state")
+    if not all(k in cols for k in ("energy", "kinetic", "dissipated")):
+        return  # a CSV from outside without the energy columns: no energy balance to draw
     e0 = cols["energy"][0]
     scale = max(cols["kinetic"]) or 1.0
     fig, ax = plt.subplots(figsize=(9, 4.5))
@@ -657,12 +675,10 @@ def main():
 def draw(a):
     if a.kind == "sweep":
         sweep_figures(a.input, a.out)
-    elif a.kind == "trajectory":  # INPUT is the CSV; its sidecar <csv>.json says how it was made
-        with open(a.input + ".json") as f:
-            trajectory_figures(a.input, json.load(f), a.out)
+    elif a.kind == "trajectory":  # INPUT is the CSV; its sidecar <csv>.json, where there is one, says how it was made
+        trajectory_figures(a.input, read_json(a.input + ".json") if os.path.exists(a.input + ".json") else None, a.out)
     else:
-        with open(a.input) as f:
-            data = json.load(f)
+        data = read_json(a.input)
         {"report": lambda: report_figures(data, a.out, a.csv_dir, a.input), "extreme": lambda: extreme_figures(data, a.out),
          "precision": lambda: precision_figures(data, a.out, a.input)}[a.kind]()
 

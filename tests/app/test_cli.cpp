@@ -779,6 +779,26 @@ TEST_CASE("plot draws a sweep folder in small multiples and an extreme summary a
     CHECK(std::count(n.out.begin(), n.out.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(dir / "none/work-precision-pendulum5.svg"));
   }
+  {  // Issue 53 items 15 and 18: a corrupt case file named; the cases of two plans in one folder refused, not one drawn.
+    const fs::path two = dir / "two";
+    fs::copy(results, two);
+    std::vector<fs::path> cases;
+    for (const auto& e : fs::directory_iterator(two))
+      if (e.path().extension() == ".json") cases.push_back(e.path());
+    std::sort(cases.begin(), cases.end());
+    nlohmann::json other = nlohmann::json::parse(slurp(cases.front().string()));
+    other["plan"] = "another";
+    std::ofstream((two / "another.case.json").string()) << other.dump();
+    Run n = eigenmass("plot " + two.string() + " --format svg --out " + (dir / "n2").string(), true);
+    CHECK(n.status == 2);
+    CHECK_THAT(n.out, Catch::Contains(two.string() + ": the cases of 2 plans (another, wp): one results folder per plan"));
+    fs::remove(two / "another.case.json");
+    std::ofstream(cases.back().string()) << "{\"format\": \"eigenmass-sweep-case/1\", ";  // cut short
+    n = eigenmass("plot " + two.string() + " --format svg --out " + (dir / "n3").string(), true);
+    CHECK(n.status == 2);
+    CHECK_THAT(n.out, Catch::Contains(cases.back().string() + ":"));
+    CHECK(std::count(n.out.begin(), n.out.end(), '\n') == 1);
+  }
 
   // The extreme summary the gallery test keeps: a cell per case and method, coloured by outcome.
   const Run e = eigenmass("plot " + em::test::sourcePath("tests/extreme/expected.json") + " --format svg --out " + (dir / "x").string());
@@ -820,10 +840,10 @@ TEST_CASE("plot draws a precision file and one run's trajectory, failures marked
   CHECK(state.find("failed at 0.296 s: blow-up") != std::string::npos);
   CHECK(state.find("id=\"failed-classical\"") != std::string::npos);
   CHECK(fs::exists(dir / "run.figures/run-energy.svg"));
-  fs::remove(csv + ".json");  // without its sidecar a CSV is not drawn: nothing says what made it
-  const Run bare = eigenmass("plot " + csv, true);
-  CHECK(bare.status == 2);
-  CHECK_THAT(bare.out, Catch::Contains("run.csv: no sidecar"));
+  fs::remove(csv + ".json");  // without its sidecar a CSV is drawn as columns, and its title says nothing records what made it
+  const Run bare = eigenmass("plot " + csv + " --format svg --out " + (dir / "bare").string());
+  CHECK(bare.status == 0);
+  CHECK(slurp((dir / "bare/run-state.svg").string()).find("run.csv (no sidecar: how it was made is not recorded)") != std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -950,6 +970,12 @@ TEST_CASE("plot draws a CSV folder only with its own report, and a missing or em
   CHECK(r.status == 2);
   CHECK_THAT(r.out, Catch::Contains("--csv-dir " + d + "/b: another run's trajectories (reference.csv.json's scene is \"chain02\""));
   CHECK(eigenmass("plot " + d + "/old.report.json --csv-dir " + d + "/a --out " + d + "/f").status == 0);
+  // Issue 53 item 14: the same reference, a method at another dt, was drawn under the report's "dt 0.001".
+  REQUIRE(eigenmass("compare " + scene("chain01.json") + " --t-end 0.2 --methods classical --dt 5e-4 --out " + d +
+                    "/c.report.json --csv-dir " + d + "/c").status == 0);
+  r = eigenmass("plot " + d + "/old.report.json --csv-dir " + d + "/c --out " + d + "/f", true);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("--csv-dir " + d + "/c: another run's trajectories (classical.csv.json's dt is 0.0005, the report's 0.001)"));
   // A sidecar whose CSV is gone, and an empty CSV beside a valid sidecar.
   REQUIRE(eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + d + "/s.csv").status == 0);
   fs::copy_file(d + "/s.csv.json", d + "/gone.csv.json");
@@ -1049,5 +1075,21 @@ TEST_CASE("no sidecar is written beside a device: its metadata go to standard er
   // A regular file still gets its sidecar.
   REQUIRE(eigenmass("simulate " + scene("chain01.json") + " --t-end 0.1 --out " + (dir / "t.csv").string()).status == 0);
   CHECK(fs::exists(dir / "t.csv.json"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot draws a CSV from outside without a sidecar: its columns against t", "[cli][plot]") {
+  // Issue 53 item 18: a bare outside CSV could not be drawn at all.
+  namespace fs = std::filesystem;
+  const fs::path dir = freshDir("eigenmass_test_plot_bare");
+  std::ofstream((dir / "outside.csv").string()) << "t,link1.q0,link1.u0\n0,0.1,0\n0.01,0.11,1\n0.02,0.12,1\n";
+  const Run r = eigenmass("plot " + (dir / "outside.csv").string() + " --format svg --out " + (dir / "f").string());
+  CHECK(r.status == 0);
+  CHECK(r.out == (dir / "f/outside-state.svg").string() + "\n");  // no energy columns: no energy figure
+  CHECK(slurp((dir / "f/outside-state.svg").string()).find("outside.csv (no sidecar: how it was made is not recorded)") != std::string::npos);
+  std::ofstream((dir / "headless.csv").string()) << "0,0.1\n0.01,0.2\n";
+  const Run h = eigenmass("plot " + (dir / "headless.csv").string() + " --out " + (dir / "g").string(), true);
+  CHECK(h.status == 2);
+  CHECK_THAT(h.out, Catch::Contains("headless.csv: no sidecar") && Catch::Contains("no header line starting 't,'"));
   fs::remove_all(dir);
 }
