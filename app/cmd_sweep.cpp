@@ -29,7 +29,7 @@ int mergeInto(const Plan& plan, const std::string& dir) {
     std::fprintf(stderr, "sweep: no case result of plan '%s' in %s: nothing merged\n", plan.name.c_str(), dir.c_str());
     return 2;
   }
-  std::fputs(writeMerged(plan, dir, records).c_str(), stdout);
+  std::fputs(writeMerged(plan, dir, records, missing).c_str(), stdout);
   std::printf("merged: %s, %s\n", (fs::path(dir) / (plan.name + ".csv")).string().c_str(),
               (fs::path(dir) / (plan.name + ".md")).string().c_str());
   if (missing.empty()) return 0;

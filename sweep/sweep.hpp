@@ -125,11 +125,14 @@ std::string predictionTable(const std::vector<Prediction>& rows);
 /// The tables of the plan (reference check, work-precision with the time to
 /// reach 1e-3 and 1e-6 rad and the observed orders, cost against size with
 /// fitted exponents) as Markdown.
-std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records);
+/// `missing`: the plan's cases without a result, said at the top of the page
+/// (and no goal judged) when there are any.
+std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing = {});
 
 /// Write `<plan>.csv` and `<plan>.md` into `dir` (and `<plan>-ensemble.csv`
 /// for a plan with an ensemble); returns the Markdown.
-std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records);
+std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records,
+                        const std::vector<std::string>& missing = {});
 
 // Pieces of the tables, tested on their own.
 
@@ -145,7 +148,9 @@ std::string routeOwner(const std::string& method);
 /// route's cheapest run within 1e-3 and 1e-6 rad, each owner's fastest route
 /// and whether eigenmass's is the cheapest, every run's errors, drifts and cost.
 /// `floor`: the reference's check's largest pose difference (an accuracy below ten times it is said unresolved).
-std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double floor);
+/// `judge`: false where cases are missing (a goal is then not judged, said so).
+std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double floor,
+                             bool judge = true);
 /// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest.
 std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
 

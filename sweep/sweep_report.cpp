@@ -211,9 +211,10 @@ std::optional<double> logSlope(const std::vector<double>& x, const std::vector<d
   return (n * sxy - sx * sy) / d;
 }
 
-std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records) {
+std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records,
+                        const std::vector<std::string>& missing) {
   const std::string csv = mergedCsv(records, plan.ensemble.has_value());
-  std::string md = sweepTables(plan, records);
+  std::string md = sweepTables(plan, records, missing);
   writeAtomic((fs::path(dir) / (plan.name + ".csv")).string(), "merged CSV", [&](std::ostream& o) { o << csv; });
   if (plan.ensemble) {
     const std::vector<EnsembleRow> rows = ensembleRows(records);

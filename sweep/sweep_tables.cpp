@@ -210,9 +210,13 @@ std::string sciCell(double x, int digits) {
 
 double cpuPerSimulatedSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
 
-std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records) {
+std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing) {
   std::ostringstream o;
   o << "## " << plan.name << "\n\n" << (plan.description.empty() ? "" : plan.description + "\n\n");
+  if (!missing.empty())
+    o << "**Incomplete: " << missing.size() << " of " << missing.size() + records.size()
+      << " cases have no result in this folder (the first: " << missing[0] << "). The tables cover the " << records.size()
+      << " that do; no goal is judged on them.**\n\n";
   o << "Horizon " << gnum(plan.t_end) << " s; CPU times are the median of " << plan.repeats
     << " repeats of the integration alone (min and max in the CSV).\n\n";
   if (plan.hasTable(PlanTable::WorkPrecision))
@@ -227,7 +231,7 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
       o << "### " << s << "\n\n" << referenceLine(records, s, floor);
-      o << engineStudyScene(records, s, plan.t_end, floor);
+      o << engineStudyScene(records, s, plan.t_end, floor, missing.empty());
     }
     o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end);
   }

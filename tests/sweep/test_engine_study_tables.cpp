@@ -53,6 +53,11 @@ TEST_CASE("the engine study picks each route's cheapest run within an accuracy a
   CHECK(lineOf(md, "- To 1.00e-03 rad") == "- To 1.00e-03 rad: eigenmass's fastest route is beaten by mujoco (2x cheaper): goal missed.");
   CHECK(lineOf(md, "- To 1.00e-06 rad") == "- To 1.00e-06 rad: eigenmass's fastest route is the cheapest of all: goal met.");
   CHECK(md.find("not resolved") == std::string::npos);
+  // Issue 53 item 18: results with cases missing judge no goal.
+  const std::string partial = engineStudyScene(rs, "s", t_end, 1e-9, false);
+  CHECK(partial.find("goal met") == std::string::npos);
+  CHECK(partial.find("goal missed") == std::string::npos);
+  CHECK(lineOf(partial, "- Goals") == "- Goals not judged: the study's results are incomplete (above).");
   // A floor above a tenth of 1e-6 rad: that column is said unresolved, the 1e-3 one is not.
   const std::string coarse = engineStudyScene(rs, "s", t_end, 2e-7);
   CHECK(coarse.find("the 1.00e-06 columns are not resolved") != std::string::npos);

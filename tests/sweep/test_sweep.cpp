@@ -256,6 +256,15 @@ TEST_CASE("a sweep resumes without rerunning a case, and refuses a result made b
   const auto written = fs::last_write_time(one);
   REQUIRE(shell(eigenmass() + " sweep " + plan + " --results " + dir + " -j 1 >/dev/null 2>&1") == 0);
   CHECK(fs::last_write_time(one) == written);
+  {  // Issue 53 item 18: a merge with cases missing says so on the page itself, not only on stderr.
+    const std::string part = kDir + "/resume-part";
+    fs::remove_all(part);
+    fs::copy(dir, part);
+    fs::remove(part + "/pendulum5.classical.rk4.0.01.json");
+    CHECK(shell(eigenmass() + " sweep " + plan + " --merge " + part + " >/dev/null 2>&1") == 1);
+    CHECK(readFile(part + "/small.md", "tables").find("**Incomplete: 1 of 4 cases have no result in this folder (the first: "
+                                         "pendulum5.classical.rk4.0.01). The tables cover the 3 that do") != std::string::npos);
+  }
   p["t_end"] = 0.2;
   const std::string other = writePlan(p, "resume2.json");
   const std::string err = kDir + "/resume.err";
