@@ -284,7 +284,19 @@ void progress(const std::string& what) {
   if (progressMode() != ProgressMode::Off) std::fprintf(stderr, "running %s ...\n", what.c_str());
 }
 
-CLI::Validator methodValidator() { return CLI::IsMember(methodNames()); }
+CLI::Validator methodValidator() {
+  // A plugin's or a recorded run's name is not in the table when the options are read: say how it is named.
+  return CLI::Validator(
+      [](std::string& v) {
+        Method m;
+        if (findMethod(v, m)) return std::string();
+        std::string all;
+        for (const std::string& n : methodNames()) all += (all.empty() ? "" : ",") + n;
+        return v + " not in {" + all + "} (a plugin's or a recorded run's method is named by --plugin NAME=lib.so or --run "
+                                    "NAME=run.csv, and runs by that alone)";
+      },
+      "METHOD");
+}
 CLI::Validator integratorValidator() { return CLI::IsMember(integratorNames()); }
 CLI::Validator integratorValidator(Engine engine) { return CLI::IsMember(integratorNames(engine)); }
 

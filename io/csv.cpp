@@ -1,5 +1,7 @@
 #include "io/csv.hpp"
 
+#include <algorithm>
+
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -55,7 +57,15 @@ CsvText readCsvText(const std::string& path, const std::string& what) {
   if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) && !std::filesystem::is_directory(status))
     throw std::runtime_error(path + ": not a regular file (a device or a pipe has no bound): not a " + what);
   t.bytes = readFile(path, what);  // refuses a folder, and stops past 256 MiB (/dev/zero included)
-  std::istringstream ls(t.bytes);
+  // The encoding: UTF-8 (ASCII) text. A UTF-8 byte-order mark (spreadsheets write one) is skipped;
+  // UTF-16 and any other NUL-bearing file is refused, named, rather than misread byte by byte.
+  const bool bom = t.bytes.rfind("\xEF\xBB\xBF", 0) == 0;
+  if (t.bytes.rfind("\xFF\xFE", 0) == 0 || t.bytes.rfind("\xFE\xFF", 0) == 0)
+    throw std::runtime_error(path + ": UTF-16 text (it starts with a UTF-16 byte-order mark): save it as UTF-8 for a " + what);
+  if (const size_t nul = t.bytes.find('\0'); nul != std::string::npos)
+    throw std::runtime_error(path + ": a NUL byte at line " + std::to_string(1 + std::count(t.bytes.begin(), t.bytes.begin() + nul, '\n')) +
+                             " (UTF-16 or binary, not text): not a " + what);
+  std::istringstream ls(bom ? t.bytes.substr(3) : t.bytes);
   for (std::string l; std::getline(ls, l);) {
     if (t.lines.size() == kMaxCsvLines)
       throw std::runtime_error(path + ": more than " + std::to_string(kMaxCsvLines) + " lines: not a " + what);

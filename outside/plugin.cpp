@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "io/digest.hpp"
+#include "io/json_input.hpp"
 #include "io/scene_json.hpp"
 #include "io/trajectory_json.hpp"
 #include "outside/eigenmass_plugin.h"
@@ -100,7 +101,7 @@ class AbiModel {
 // "lib.so: create: <its message>" from an error buffer that may be unterminated or empty.
 std::string said(const char* err, size_t size) {
   const std::string s(err, strnlen(err, size));
-  return s.empty() ? "(no message)" : s;
+  return s.empty() ? "(no message)" : printable(s, 200);  // its bytes escaped: a newline or ESC stays on our one line
 }
 
 // A plugin's method on one model: u' from (t, q, u) alone.
@@ -168,9 +169,9 @@ Method addPlugin(const std::string& name, const std::string& path) {
   for (const PluginLib& l : libs())
     if (l.name == name && l.path == path) return l.id;
   if (!isSceneName(name))
-    throw std::invalid_argument("plugin name '" + name + "': letters, digits, '_' and '-', 1 to 64 of them");
+    throw std::invalid_argument("plugin name '" + printable(name, 40) + "': letters, digits, '_' and '-', 1 to 64 of them");
   Method taken;
-  if (findMethod(name, taken)) throw std::invalid_argument("plugin name '" + name + "': a method of that name exists");
+  if (findMethod(name, taken)) throw std::invalid_argument("plugin name '" + printable(name, 40) + "': a method of that name exists");
   const std::string bytes = fileBytes(path);
   // A path without '/' would make dlopen search the library path: the file named is the one loaded.
   const std::string where = path.find('/') == std::string::npos ? "./" + path : path;

@@ -9,6 +9,7 @@
 
 #include "io/csv.hpp"
 #include "io/digest.hpp"
+#include "io/json_input.hpp"
 #include "io/scene_json.hpp"
 #include "solver/formation.hpp"
 #include "solver/joint.hpp"
@@ -49,7 +50,7 @@ struct Where {
   }
   std::invalid_argument at(long line, size_t col, const std::string& name, const std::string& what) const {
     return std::invalid_argument(file + ": line " + std::to_string(line) + ", column " + std::to_string(col + 1) + " ('" +
-                                 name + "'): " + what);
+                                 printable(name, 40) + "'): " + what);
   }
 };
 
@@ -72,7 +73,7 @@ bool knownColumn(const Model& m, const std::string& c, const std::vector<std::st
 
 Header readHeader(const Where& w, const Model& m, const std::string& line, long lineno) {
   const std::vector<std::string> names = splitCsvFields(line);
-  if (names.empty() || names[0] != "t") throw w.at(lineno, "the header's first column must be 't' (got '" + (names.empty() ? "" : names[0]) + "')");
+  if (names.empty() || names[0] != "t") throw w.at(lineno, "the header's first column must be 't' (got '" + (names.empty() ? "" : printable(names[0], 40)) + "')");
   const std::vector<std::string> qn = m.qNames(), un = m.uNames();
   Header h;
   h.size = names.size();
@@ -82,7 +83,7 @@ Header readHeader(const Where& w, const Model& m, const std::string& line, long 
     if (c > 0 && !knownColumn(m, names[c], qn, un)) {
       const std::string prefix = names[c].substr(0, names[c].find('.'));
       throw w.at(lineno, c, names[c], names[c].find('.') != std::string::npos
-                                          ? "scene '" + m.name + "' has no body or joint '" + prefix + "' (a file of another scene?)"
+                                          ? "scene '" + m.name + "' has no body or joint '" + printable(prefix, 40) + "' (a file of another scene?)"
                                           : "not a column of the joint-coordinate or body-pose format (docs/report-format.md)");
     }
     h.col[names[c]] = c;
@@ -142,8 +143,10 @@ std::vector<std::vector<double>> readRows(const Where& w, const std::vector<std:
       if (f[c].empty()) throw w.at(L, c, names[c], "empty");
       char* end = nullptr;
       row[c] = std::strtod(f[c].c_str(), &end);
-      if (*end != '\0') throw w.at(L, c, names[c], "not a number: '" + f[c] + "'");
-      if (!std::isfinite(row[c])) throw w.at(L, c, names[c], "not finite: '" + f[c] + "'");
+      if (*end != '\0') throw w.at(L, c, names[c], "not a number: '" + printable(f[c], 40) + "'");
+      if (f[c].find_first_of("xX") != std::string::npos)  // strtod reads C99's hexadecimal floats; no CSV writer does
+        throw w.at(L, c, names[c], "a hexadecimal number '" + printable(f[c], 40) + "': decimal numbers only");
+      if (!std::isfinite(row[c])) throw w.at(L, c, names[c], "not finite: '" + printable(f[c], 40) + "'");
     }
     if (rows.empty() && std::abs(row[0]) > 1e-12) throw w.at(L, 0, "t", "the first sample is at t = " + gnum(row[0]) + "; the scene starts at 0");
     if (!rows.empty() && !(row[0] > rows.back()[0]))
@@ -171,12 +174,14 @@ size_t readDeclared(const Where& w, const std::vector<std::string>& lines, Recor
       return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
     };
     const std::string key = trim(l.substr(0, colon)), value = trim(l.substr(colon + 1));
+    if (r.declared.count(key))  // the last would win, silently
+      throw w.at(static_cast<long>(k) + 1, "'" + printable(key, 40) + "' declared twice (a '# key: value' line is said once)");
     r.declared[key] = value;
     if (key == "cpu_s") {
       char* end = nullptr;
       r.cpu_s = std::strtod(value.c_str(), &end);
       if (value.empty() || *end != '\0' || !std::isfinite(r.cpu_s) || r.cpu_s < 0)
-        throw w.at(static_cast<long>(k) + 1, "cpu_s: a CPU time in seconds >= 0, got '" + value + "'");
+        throw w.at(static_cast<long>(k) + 1, "cpu_s: a CPU time in seconds >= 0, got '" + printable(value, 40) + "'");
     }
   }
   if (k == lines.size()) throw std::invalid_argument(w.file + ": no header line (t, then the columns; docs/report-format.md)");
@@ -367,9 +372,9 @@ Integrator recordedScheme() {
 
 Method addRecordedRun(const std::string& name, const std::string& path, const Model& m) {
   if (!isSceneName(name))
-    throw std::invalid_argument("run name '" + name + "': letters, digits, '_' and '-', 1 to 64 of them");
+    throw std::invalid_argument("run name '" + printable(name, 40) + "': letters, digits, '_' and '-', 1 to 64 of them");
   Method taken;
-  if (findMethod(name, taken)) throw std::invalid_argument("run name '" + name + "': a method of that name exists");
+  if (findMethod(name, taken)) throw std::invalid_argument("run name '" + printable(name, 40) + "': a method of that name exists");
   Entry e{readRecorded(name, path, m), "", Method::Classical};
   recordedScheme();
   entries().push_back(std::move(e));

@@ -267,6 +267,10 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --list -j 2", "--jobs excludes --list"},
       {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --merge /nonexistent -j 2", "--jobs excludes --merge"},
       {"engine-study " + s + " --list -j 2", "--jobs excludes --list"},
+      // Issue 53 item 17: a plugin's name given to --method was "x not in {...}" alone.
+      {"simulate " + s + " --plugin x=" + std::string(EM_BINARY_DIR) + "/lib/libhostile_ok.so --method x",
+       "--method: x not in {classical,"},
+      {"compare " + s + " --methods classical,x", "(a plugin's or a recorded run's method is named by --plugin NAME=lib.so or --run"},
       {"", "Usage: eigenmass"},
   };
   for (const auto& [args, phrase] : cases) {

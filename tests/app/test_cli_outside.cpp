@@ -95,7 +95,7 @@ TEST_CASE("hostile plugins: one line naming the file, exit 2, before any run", "
       {"x=" + lib("hostile_hang"), "no return within 0.5 s (killed)"},
       {"x=" + lib("hostile_abi"), "built against plugin ABI 99"},
       {"x=" + lib("hostile_nosym"), "no symbol em_plugin_udot"},
-      {"x=" + lib("hostile_null"), "em_plugin_create returned NULL: this plugin refuses every model"},
+      {"x=" + lib("hostile_null"), "em_plugin_create returned NULL: this plugin refuses\\nevery \\x1b[31mmodel"},
       {"x=" + lib("hostile_error"), "returned an error at the initial state"},
       {"x=" + s, "not a loadable library"},
       {"x=/nonexistent/libx.so", "cannot read the plugin"},
@@ -130,6 +130,11 @@ TEST_CASE("hostile recorded runs through the CLI: one line, exit 2", "[cli][outs
       {"t,link1.q0\n", "line 1: column 'link1.q1' is missing"},
       {"t,bob.x\n", "line 1, column 2 ('bob.x'): scene 'pendulum5' has no body or joint 'bob'"},
       {"x,y\n", "line 1: the header's first column must be 't' (got 'x')"},
+      // Issue 53 items 16 and 20: bytes from outside escaped; UTF-16 named; hex floats and a key said twice refused.
+      {"t\x1b[31m,link1.q0\n", "line 1: the header's first column must be 't' (got 't\\x1b[31m')"},
+      {std::string("\xff\xfet\0,\0", 6), "UTF-16 text (it starts with a UTF-16 byte-order mark): save it as UTF-8"},
+      {std::string("t,x\n0\0,1\n", 10), "a NUL byte at line 2 (UTF-16 or binary, not text)"},
+      {"# cpu_s: 1\n# cpu_s: 2\nt\n", "line 2: 'cpu_s' declared twice"},
   };
   for (const auto& [text, says] : cases) {
     std::ofstream(d + "/bad.csv") << text;

@@ -19,7 +19,7 @@ int em_plugin_abi(void) {
 
 void* em_plugin_create(const em_model* m, char* err, size_t err_size) {
 #ifdef HOSTILE_NULL
-  snprintf(err, err_size, "this plugin refuses every model");
+  snprintf(err, err_size, "this plugin refuses\nevery \x1b[31mmodel");  /* a newline and ESC: escaped in our line */
   (void)m;
   return NULL;
 #else

@@ -105,7 +105,7 @@ TEST_CASE("a plugin that fails at the initial state is refused before any run, i
                     Catch::Contains("libhostile_hang.so: no return within 0.5 s (killed) in em_plugin_udot at t = 0") &&
                         Catch::Contains("(--plugin-timeout)"));
   CHECK_THROWS_WITH(probePlugin(plugin("hostile_null"), m),
-                    Catch::Contains("em_plugin_create returned NULL: this plugin refuses every model"));
+                    Catch::Contains("em_plugin_create returned NULL: this plugin refuses\\nevery \\x1b[31mmodel"));
   CHECK_THROWS_WITH(probePlugin(plugin("hostile_error"), m),
                     Catch::Contains("em_plugin_udot returned an error at the initial state: plugin 'hostile_error': the plugin gave up at t = 0"));
   CHECK_THROWS_WITH(probePlugin(plugin("rnea"), test::loadData("pendulum5_ball.json")),

@@ -159,6 +159,19 @@ TEST_CASE("what the file declares is kept, its CPU time is the run's", "[outside
   CHECK(integratorName(back.run.integrator) == std::string("recorded"));
 }
 
+TEST_CASE("a recorded run saved with a UTF-8 byte-order mark reads as the same run", "[outside][recorded]") {
+  // Issue 53 item 16: the mark made "must be 't' (got 't')"; spreadsheets write it.
+  const Model m = test::loadData("pendulum5.json");
+  const Trajectory run = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3)));
+  std::ifstream in(csvWith(run, "marked.csv", kAll));
+  std::ostringstream body;
+  body << in.rdbuf();
+  const Method plain = addRecordedRun(freshName(), writeText("plain-bom.csv", body.str()), m);
+  const Method marked = addRecordedRun(freshName(), writeText("bom.csv", "\xEF\xBB\xBF" + body.str()), m);
+  CHECK(recordedRun(marked)->q == recordedRun(plain)->q);
+  CHECK(recordedRun(marked)->t == recordedRun(plain)->t);
+}
+
 TEST_CASE("malformed recorded runs: one line naming the file, the line and the column", "[outside][recorded]") {
   const Model m = test::loadData("pendulum5.json");  // a gimbal root link1 (q0..q2), then revolute link2..link5
   const std::string q = "link1.q0,link1.q1,link1.q2,link2.q0,link3.q0,link4.q0,link5.q0";
@@ -193,6 +206,12 @@ TEST_CASE("malformed recorded runs: one line naming the file, the line and the c
       {"one sample", "t," + q + "\n0" + start + "\n", "fewer than two samples"},
       {"another initial state", "t," + q + "\n" + row("0", "1") + row("0.01", "1"), "line 2: the first sample is not the scene's initial state: 'link1.q0' is 1"},
       {"a bad cpu_s", "# cpu_s: fast\nt," + q + "\n", "line 1: cpu_s: a CPU time in seconds >= 0, got 'fast'"},
+      // Issue 53 items 16 and 20: bytes from outside escaped, hexadecimal floats and a key said twice refused.
+      {"ESC in a field", "t," + q + "\n0" + start + "\n" + row("0.01", "1\x1b[2J"), "line 3, column 2 ('link1.q0'): not a number: '1\\x1b[2J'"},
+      {"ESC in a column name", "t," + q + ",a\x1b.x\n", "column 9 ('a\\x1b.x'): scene 'pendulum5' has no body or joint 'a\\x1b'"},
+      {"a hexadecimal float", "t," + q + "\n0" + start + "\n" + row("0.01", "0x1p-3"),
+       "line 3, column 2 ('link1.q0'): a hexadecimal number '0x1p-3': decimal numbers only"},
+      {"cpu_s twice", "# cpu_s: 1\n# cpu_s: 2\nt," + q + "\n", "line 2: 'cpu_s' declared twice"},
   };
   for (const Case& c : cases) {
     INFO(c.what);
