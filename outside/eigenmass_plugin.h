@@ -12,7 +12,13 @@
  *   void  em_plugin_destroy(void*);
  *
  * create returns the plugin's own state for one model, or NULL with a one-line
- * message in err (at most err_size bytes, NUL-terminated). udot writes u' (nu
+ * message in err (at most err_size bytes, NUL-terminated). It is never called
+ * in eigenmass's own process: every call of create, udot and destroy happens
+ * in a child process (fork) that eigenmass watches, so a crash or a hang ends
+ * one run. create is called once per child: once for the probe at the initial
+ * state (before any run), once per run, and once per crosscheck of the plugin;
+ * each child's destroy ends its state. Nothing a plugin keeps in globals
+ * carries from one run to the next. udot writes u' (nu
  * numbers) at (t, q, u) and returns 0, or returns nonzero with a message in
  * err: the run then fails at t with that cause. Everything eigenmass passes is
  * valid only during the call; copy what you keep.
@@ -61,7 +67,12 @@ typedef struct em_body {
   int iq, nq, iu, nu;    /* where its joint's coordinates and speeds sit in q and u */
   double mass;           /* kg */
   double inertia[9];     /* about the CM, body frame, row-major, kg m^2 */
-  double axis[2][3];     /* unit joint axes, parent frame (revolute, prismatic: [0]; universal: both) */
+  /* Unit joint axes. revolute, prismatic: axis[0], in the parent frame. universal:
+     axis[0] fixed in the parent, axis[1] fixed in the body (R = Rot(a0,q0) Rot(a1,q1):
+     axis[1]'s components are the same in the body frame at every q, and in the
+     parent frame at q = 0). gimbal, ball, free: unused, all zero (the kinds'
+     own axes are the parent's x, y, z). */
+  double axis[2][3];
   double in_parent[3];   /* a: parent CM to the joint point, parent frame (world for a root), m */
   double in_body[3];     /* c: body CM to the joint point, body frame, m */
   /* A linear spring-damper per joint speed, generalized force -k (q - rest) - c u;

@@ -82,7 +82,7 @@ class AbiModel {
     e.mass = b.mass;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) e.inertia[3 * r + c] = b.J(r, c);
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < jointAxes(b.joint.type); ++k)  // a kind's unused axes stay zero (gimbal, ball, free: none)
       for (int c = 0; c < 3; ++c) e.axis[k][c] = b.joint.axis[k][c];
     for (int c = 0; c < 3; ++c) e.in_parent[c] = b.joint.in_parent[c], e.in_body[c] = b.joint.in_body[c];
     if (b.joint.has_spring) {

@@ -273,23 +273,73 @@ void readPoseRows(const Where& w, const Model& m, const Header& h, const std::ve
   }
 }
 
-// u at every sample from central differences of the joints' relative rotations
-// and slides (one-sided at the ends): w from R' R^T, x' (parent frame), then jointSpeeds.
-void speedsByDifferences(const Model& m, RecordedRun& r) {
-  const size_t n = r.t.size();
-  for (size_t s = 0; s < n; ++s) {
-    const size_t a = s == 0 ? 0 : s - 1, b = s + 1 == n ? s : s + 1;
-    const double dt = r.t[b] - r.t[a];
-    for (const Body& body : m.bodies) {
-      const Joint& j = body.joint;
-      const double *qa = r.q[a].data() + body.iq, *qb = r.q[b].data() + body.iq, *qs = r.q[s].data() + body.iq;
-      const Mat3 Rdot = (relativeRotation(j, qb) - relativeRotation(j, qa)) / dt;
-      const Mat3 W = Rdot * relativeRotation(j, qs).transpose();
-      const Vec3 w = 0.5 * Vec3(W(2, 1) - W(1, 2), W(0, 2) - W(2, 0), W(1, 0) - W(0, 1));
-      const Vec3 xdot = (slideOffset(j, qb) - slideOffset(j, qa)) / dt;
-      jointSpeeds(j, qs, w, xdot, r.u[s].data() + body.iu);
+// Weights w_k of the derivative at t[s] of the polynomial through the samples
+// t[a..a+n) (Lagrange: f'(t_s) ~ sum w_k f(t_k)), for any spacing.
+std::vector<double> derivativeWeights(const std::vector<double>& t, size_t a, size_t n, size_t s) {
+  std::vector<double> w(n, 0.0);
+  for (size_t j = 0; j < n; ++j) {
+    const size_t tj = a + j;
+    if (tj == s) {
+      for (size_t m = 0; m < n; ++m)
+        if (a + m != s) w[j] += 1.0 / (t[s] - t[a + m]);
+      continue;
     }
+    double l = 1.0 / (t[tj] - t[s]);  // L_j'(t_s) = prod_{m != j, s} (t_s - t_m)/(t_j - t_m) / (t_j - t_s)
+    for (size_t m = 0; m < n; ++m)
+      if (a + m != tj && a + m != s) l *= (t[s] - t[a + m]) / (t[tj] - t[a + m]);
+    w[j] = l;
   }
+  return w;
+}
+
+// u at sample s from the derivative through `points` samples around it (the
+// window shifted inside the file at its ends) of the joints' relative
+// rotations and slides: w from R' R^T, x' (parent frame), then jointSpeeds.
+void speedsAt(const Model& m, const RecordedRun& r, size_t s, size_t points, Eigen::VectorXd& u) {
+  const size_t n = std::min(points, r.t.size());
+  const size_t a = std::min(s >= n / 2 ? s - n / 2 : 0, r.t.size() - n);
+  const std::vector<double> w = derivativeWeights(r.t, a, n, s);
+  for (const Body& body : m.bodies) {
+    const Joint& j = body.joint;
+    Mat3 Rdot = Mat3::Zero();
+    Vec3 xdot = Vec3::Zero();
+    for (size_t k = 0; k < n; ++k) {
+      const double* qk = r.q[a + k].data() + body.iq;
+      Rdot += w[k] * relativeRotation(j, qk);
+      xdot += w[k] * slideOffset(j, qk);
+    }
+    const double* qs = r.q[s].data() + body.iq;
+    const Mat3 W = Rdot * relativeRotation(j, qs).transpose();
+    const Vec3 om = 0.5 * Vec3(W(2, 1) - W(1, 2), W(0, 2) - W(2, 0), W(1, 0) - W(0, 1));
+    jointSpeeds(j, qs, om, xdot, u.data() + body.iu);
+  }
+}
+
+// T at (q, u) by the in-house kinematics.
+double kineticEnergy(const Model& m, const double* q, const double* u, Workspace& ws) {
+  formKinematics(m, q, u, ws);
+  formEnergies(m, q, ws);
+  return ws.kinetic;
+}
+
+// u at every sample by five-point differences (fourth order in the spacing h),
+// and what the spacing does to the energy figure: the largest difference
+// between the kinetic energies of the five-point and the three-point (second
+// order) speeds, relative to the largest kinetic energy. That difference is
+// the three-point estimate's error to leading order; the five-point's is
+// O(h^2) smaller again (docs/plugins.md, "body poses").
+void speedsByDifferences(const Model& m, RecordedRun& r) {
+  Workspace ws(m);
+  Eigen::VectorXd u3(m.nu);
+  double dT = 0, Tmax = 0;
+  for (size_t s = 0; s < r.t.size(); ++s) {
+    speedsAt(m, r, s, kSpeedPoints, r.u[s]);
+    speedsAt(m, r, s, 3, u3);
+    const double T5 = kineticEnergy(m, r.q[s].data(), r.u[s].data(), ws), T3 = kineticEnergy(m, r.q[s].data(), u3.data(), ws);
+    dT = std::max(dT, std::abs(T5 - T3));
+    Tmax = std::max(Tmax, T5);
+  }
+  r.spacing_effect = Tmax > 0 ? dT / Tmax : 0;
 }
 
 // W_diss at every sample: the trapezoid rule over sum c u^2.
@@ -323,7 +373,7 @@ RecordedRun readRecorded(const std::string& name, const std::string& path, const
   if (r.format == "joint-coordinates") readJointRows(w, m, h, rows, lineno, with_u, r);
   else readPoseRows(w, m, h, rows, lineno, r);
   checkStart(w, m, lineno[0], r.q[0], with_u ? &r.u[0] : nullptr);
-  r.speeds = with_u ? "file" : "central differences";
+  r.speeds = with_u ? "file" : "five-point differences (fourth order in the spacing)";
   if (!with_u) speedsByDifferences(m, r);
   dissipatedWork(m, r);
   return r;
@@ -401,7 +451,7 @@ Trajectory recordedTrajectory(const Model& m, const CheckedRunSpec& checked_spec
   const RecordedRun& r = e->run;
   RunSpec run = spec;
   run.integrator = recordedScheme();
-  run.dt = medianSpacing(r.t);
+  run.dt = std::stod(gnum(medianSpacing(r.t), 12));  // 0.01, not 0.009999999999999787 (a difference of sums of 0.01)
   Trajectory tr = makeTrajectory(m, run);
   Workspace ws(m);
   const long N = outputIntervals(spec.t_end, spec.output_dt);
@@ -441,8 +491,10 @@ nlohmann::json recordedSource(Method method) {
   const Entry* e = findEntry(method);
   if (!e) return nullptr;
   const RecordedRun& r = e->run;
-  return {{"recorded", r.file},   {"sha256", r.sha256}, {"format", r.format}, {"speeds", r.speeds},
-          {"samples", r.t.size()}, {"grid", e->grid},    {"declared", r.declared}};
+  nlohmann::json j = {{"recorded", r.file},   {"sha256", r.sha256}, {"format", r.format}, {"speeds", r.speeds},
+                      {"samples", r.t.size()}, {"grid", e->grid},    {"declared", r.declared}};
+  if (r.speeds != "file") j["speeds_spacing_effect"] = r.spacing_effect;
+  return j;
 }
 
 }  // namespace em

@@ -19,6 +19,10 @@ namespace em {
 constexpr double kRecordedStartTol = 1e-6;
 /// A logged quaternion's norm must be 1 within this.
 constexpr double kRecordedUnitTol = 1e-6;
+/// Samples in the difference that gives a body-poses file's speeds: five,
+/// fourth order in the spacing (three, central, is second order and inflated a
+/// 10-ms log's energy error from 0.0945 to 0.117; issue 53 item 19).
+constexpr size_t kSpeedPoints = 5;
 
 /// The file as read: samples in the model's internal order.
 struct RecordedRun {
@@ -32,6 +36,10 @@ struct RecordedRun {
   std::vector<std::vector<Pose>> poses;       ///< body poses as logged, internal order (body-poses only)
   std::vector<double> dissipated;             ///< W_diss by the trapezoid rule over the samples
   double max_joint_separation = 0;            ///< body-poses: the largest distance between a joint's two points (m)
+  /// Speeds by differences: max |T(5-point u) - T(3-point u)| / max T, the
+  /// second-order estimate's error that the spacing puts on the energy figure
+  /// (the five-point one's is smaller by O(h^2)); 0 when the file gives speeds.
+  double spacing_effect = 0;
 };
 
 /// Read `path` as run `name` of the scene `m`: one line naming the file, the
