@@ -127,6 +127,12 @@ int runCompare(const CompareArgs& a, const CLI::App& cmd) {
   const Scene scene = a.scene.load();
   checkInitialState(scene);
   const Tolerances tol = a.gate.empty() ? Tolerances{} : loadTolerances(a.gate);
+  if (!a.gate.empty() && !tol.scenes.count(scene.model.name)) {  // refused before the runs, not after them as a broken gate
+    std::vector<std::string> listed;
+    for (const auto& [name, bounds] : tol.scenes) listed.push_back(name);
+    throw std::invalid_argument("--gate " + a.gate + ": no tolerances for scene '" + scene.model.name + "' (it lists " +
+                                (listed.empty() ? std::string("none") : joined(listed)) + ")");
+  }
   std::vector<std::string> inputs = {a.scene.path, a.gate};
   for (const std::string& f : a.outside.files()) inputs.push_back(f);
   const std::string out = a.out.empty() ? "out/" + scene.model.name + ".report.json" : a.out;

@@ -332,7 +332,8 @@ std::string summaryTable(const ComparisonResult& r) {
               ? "its 1-s windows spread +- " + gnum(r.lyapunov->windows_std_per_s, 2) + " /s, standard error " +
                     gnum(r.lyapunov->uncertainty_per_s, 2)
               : std::string("one window"))
-      << "; an error grows e-fold every " << gnum(1 / r.lyapunov->per_s, 3) << " s when > 0)\n";
+      << (r.lyapunov->per_s > 0 ? "; an error grows e-fold every " + gnum(1 / r.lyapunov->per_s, 3) + " s)\n"
+                                : std::string("; not positive: nearby motions do not separate over this run, no e-folding time)\n"));
   if (r.lyapunov_long && std::isfinite(r.lyapunov_long->per_s))
     o << "reference motion: long-run Lyapunov exponent " << gnum(r.lyapunov_long->per_s, 3) << " +- "
       << gnum(r.lyapunov_long->uncertainty_per_s, 2) << " /s over " << gnum(r.lyapunov_long->t_stop)

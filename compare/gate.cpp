@@ -144,10 +144,15 @@ json gateJson(const GateResult& g) {
 
 std::string brokenChecks(const GateResult& g) {
   std::ostringstream o;
-  for (const GateCheck& c : g.checks)
-    if (!c.passed)
-      o << "gate broken: " << c.method << " " << c.metric << " = " << c.value << " > " << c.bound << " over "
-        << c.horizon_s << " s" << (c.note.empty() ? "" : " (" + c.note + ")") << "\n";
+  for (const GateCheck& c : g.checks) {
+    if (c.passed) continue;
+    if (c.method == "*") {  // the scene itself has no bounds: no value to print against one
+      o << "gate broken: " << c.note << "\n";
+      continue;
+    }
+    o << "gate broken: " << c.method << " " << c.metric << " = " << c.value << " > " << c.bound << " over "
+      << c.horizon_s << " s" << (c.note.empty() ? "" : " (" + c.note + ")") << "\n";
+  }
   return o.str();
 }
 

@@ -165,10 +165,10 @@ Joint joint(const json& v, const std::string& path) {
   if (v.contains("q0")) j.q0 = numbers(v["q0"], at(path, "q0"), nq);
   for (int k = 0; k < nt; ++k)
     if (std::abs(j.q0[k]) > kMaxDisplacement)
-      throw Err(at(at(path, "q0"), k), "displacement " + gnum(j.q0[k]) + " m beyond +-" + gnum(kMaxDisplacement) + " m");
+      throw Err(at(at(path, "q0"), k), "displacement " + gnumApart(j.q0[k], std::copysign(kMaxDisplacement, j.q0[k])).first + " m beyond +-" + gnum(kMaxDisplacement) + " m");
   for (int k = nt; k < nq && quat < 0; ++k)
     if (std::abs(j.q0[k]) > kMaxAngle)
-      throw Err(at(at(path, "q0"), k), "angle " + gnum(j.q0[k]) + " rad beyond +-" + gnum(kMaxAngle) +
+      throw Err(at(at(path, "q0"), k), "angle " + gnumApart(j.q0[k], std::copysign(kMaxAngle, j.q0[k])).first + " rad beyond +-" + gnum(kMaxAngle) +
                                            " rad, where a double no longer resolves 1e-12 rad");
   if (quat >= 0) {
     auto q = j.q0.segment<4>(quat);
@@ -178,7 +178,7 @@ Joint joint(const json& v, const std::string& path) {
   j.u0 = v.contains("u0") ? numbers(v["u0"], at(path, "u0"), nu) : Eigen::VectorXd::Zero(nu);
   for (int k = 0; k < nu; ++k)
     if (std::abs(j.u0[k]) > kMaxSpeed)
-      throw Err(at(at(path, "u0"), k), "speed " + gnum(j.u0[k]) + (k < nt ? " m/s" : " rad/s") + " beyond +-" +
+      throw Err(at(at(path, "u0"), k), "speed " + gnumApart(j.u0[k], std::copysign(kMaxSpeed, j.u0[k])).first + (k < nt ? " m/s" : " rad/s") + " beyond +-" +
                                            gnum(kMaxSpeed) + ", the bound of a state's speeds");
   if (v.contains("spring")) {
     j.has_spring = true;
@@ -307,7 +307,7 @@ SceneSpec spec(const json& doc) {
   s.name = name(requireKey(doc, "", "name"), "name");
   if (doc.contains("gravity")) s.gravity = vec3(doc["gravity"], "gravity");
   if (!(s.gravity.norm() <= kGravityMax))
-    throw Err("gravity", "|g| = " + gnum(s.gravity.norm()) + " m/s^2 beyond " + gnum(kGravityMax) + " (a thousand g)");
+    throw Err("gravity", "|g| = " + gnumApart(s.gravity.norm(), kGravityMax).first + " m/s^2 beyond " + gnum(kGravityMax) + " (a thousand g)");
   const json& bodies = requireKey(doc, "", "bodies");
   if (!bodies.is_array()) throw Err("bodies", "expected a list of bodies");
   if (bodies.empty()) throw Err("bodies", "empty body list");

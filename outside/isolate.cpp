@@ -46,6 +46,11 @@ void writeAll(int fd, const std::string& s) {
   // The parent's handlers are the parent's: its cleanup, and a sanitizer's
   // report, which would turn a plugin's crash into an exit status.
   for (int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
+  // What the plugin prints goes to standard error, a line at a time: eigenmass's standard output
+  // (its tables, a JSON on /dev/stdout) stays its own, and a crash loses at most a partial line.
+  std::fflush(stdout);
+  dup2(STDERR_FILENO, STDOUT_FILENO);
+  setvbuf(stdout, nullptr, _IOLBF, 0);
   g_beat = beat;
   std::string out;
   try {
@@ -55,7 +60,8 @@ void writeAll(int fd, const std::string& s) {
   }
   writeAll(fd, out);
   close(fd);
-  _exit(0);  // no atexit handlers, no stdio flush: they are the parent's
+  std::fflush(stdout);  // the plugin's last partial line (the parent's buffers were flushed before the fork)
+  _exit(0);  // no atexit handlers: they are the parent's
 }
 
 std::string signalText(int sig) {

@@ -220,7 +220,8 @@ std::string beyondStateBounds(const Model& m, const Eigen::VectorXd& q, const Ei
   const auto beyond = [](const std::string& what, double x, double bound, const char* unit) {
     if (!std::isfinite(x)) return what + " not finite";
     if (std::abs(x) <= bound) return std::string();
-    return what + " " + gnum(x) + " " + unit + " beyond +-" + gnum(bound) + " " + unit;
+    const auto [value, edge] = gnumApart(std::abs(x), bound);
+    return what + " " + (x < 0 ? "-" : "") + value + " " + unit + " beyond +-" + edge + " " + unit;
   };
   for (const Body& b : m.bodies) {
     const int quat = jointQuat(b.joint.type);

@@ -46,9 +46,11 @@ void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
   requireCompatible(s.method, s.integrator);
   const long intervals = outputIntervals(s.t_end, s.output_dt);
   if (double(intervals) + 1 > s.options.max_samples)
-    throw SettingError("output_dt", gnum(s.output_dt) + " over t_end " + gnum(s.t_end) + " s is " +
-                                        gnum(double(intervals) + 1, 3) + " samples, more than the budget of " +
-                                        gnum(s.options.max_samples, 3) + " (" + long_run_hint + ")");
+  {
+    const auto [n, budget] = gnumApart(double(intervals) + 1, s.options.max_samples, 3);
+    throw SettingError("output_dt", gnum(s.output_dt) + " over t_end " + gnum(s.t_end) + " s is " + n +
+                                        " samples, more than the budget of " + budget + " (" + long_run_hint + ")");
+  }
   if (!s.fixedStep()) {
     requirePositive("tol", s.tol);
     // An engine may bound it (Simbody asserts, SIGABRT, on an accuracy >= 1): before any run.
@@ -57,10 +59,11 @@ void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
     return;
   }
   const double steps = double(intervals) * double(stepsPerOutput(s.output_dt, s.dt));
-  if (steps > s.options.max_steps)
-    throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + gnum(steps, 3) +
-                                 " steps, more than the budget of " + gnum(s.options.max_steps, 3) +
-                                 " (" + long_run_hint + ")");
+  if (steps > s.options.max_steps) {
+    const auto [n, budget] = gnumApart(steps, s.options.max_steps, 3);
+    throw SettingError("dt", gnum(s.dt) + " over t_end " + gnum(s.t_end) + " s is " + n + " steps, more than the budget of " +
+                                 budget + " (" + long_run_hint + ")");
+  }
 }
 
 CheckedRunSpec checked(const RunSpec& s, const char* long_run_hint) {

@@ -10,4 +10,10 @@ std::string gnum(double x, int digits) {
   return b;
 }
 
+std::pair<std::string, std::string> gnumApart(double x, double bound, int digits) {
+  for (int d = digits; d < 17 && x != bound; ++d)
+    if (gnum(x, d) != gnum(bound, d)) return {gnum(x, d), gnum(bound, d)};
+  return {gnum(x, x != bound ? 17 : digits), gnum(bound, x != bound ? 17 : digits)};
+}
+
 }  // namespace em

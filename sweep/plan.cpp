@@ -269,7 +269,7 @@ Ensemble ensembleAt(const json& v, double t_end) {
   // so sigma_q <= 1 keeps every member within 8.6 rad (m) of the scene's state,
   // inside the bounds the scene's own q0 is held to (io/scene_json.cpp).
   if (e.sigma_q > kMaxSigmaQ)
-    throw InputError("ensemble.perturb.q", gnum(e.sigma_q) + " beyond " + gnum(kMaxSigmaQ) +
+    throw InputError("ensemble.perturb.q", gnumApart(e.sigma_q, kMaxSigmaQ).first + " beyond " + gnumApart(e.sigma_q, kMaxSigmaQ).second +
                                                " rad (m): an ensemble perturbs a state to nearby states");
   if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
     throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");

@@ -267,6 +267,9 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --list -j 2", "--jobs excludes --list"},
       {"sweep " + em::test::sourcePath("data/plans/engines.json") + " --merge /nonexistent -j 2", "--jobs excludes --merge"},
       {"engine-study " + s + " --list -j 2", "--jobs excludes --list"},
+      // Issue 53 item 20: a scene the tolerance file does not list ran, then printed "gate broken: * scene = 0 > 0".
+      {"compare " + s + " --gate " + em::test::sourcePath("data/tolerances.json"),
+       "/data/tolerances.json: no tolerances for scene 'chain02' (it lists pendulum5, pendulum5_ball, tree_mixed)"},
       // Issue 53 item 17: a plugin's name given to --method was "x not in {...}" alone.
       {"simulate " + s + " --plugin x=" + std::string(EM_BINARY_DIR) + "/lib/libhostile_ok.so --method x",
        "--method: x not in {classical,"},
@@ -1096,4 +1099,14 @@ TEST_CASE("plot draws a CSV from outside without a sidecar: its columns against 
   CHECK(h.status == 2);
   CHECK_THAT(h.out, Catch::Contains("headless.csv: no sidecar") && Catch::Contains("no header line starting 't,'"));
   fs::remove_all(dir);
+}
+
+TEST_CASE("a damped motion's exponent below zero has no e-folding time, said so", "[cli][comparison][lyapunov]") {
+  // Issue 53 item 20: "an error grows e-fold every -10.6 s when > 0".
+  const Run r = eigenmass("compare " + scene("spring_damper.json") + " --t-end 3 --methods classical --out " +
+                          std::string(EM_BINARY_DIR) + "/cli_damped.json --no-progress");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("finite-time Lyapunov exponent -") &&
+                        Catch::Contains("not positive: nearby motions do not separate over this run, no e-folding time"));
+  CHECK_THAT(r.out, !Catch::Contains("e-fold every -"));
 }

@@ -167,3 +167,19 @@ TEST_CASE("a plugin's child does not outlive eigenmass when it is interrupted", 
     CHECK(WEXITSTATUS(st) == 0);
   }
 }
+
+// Issue 53 item 20: a plugin's stdout was mixed into eigenmass's, its last buffer lost.
+TEST_CASE("a plugin's printing goes to standard error, every byte of it, never into eigenmass's standard output", "[cli][outside]") {
+  const std::string d = folder("print");
+  const Run r = eigenmass("simulate " + scene("pendulum5.json") + " --t-end 0.1 --plugin p=" + lib("hostile_print") + " --out " + d +
+                              "/run.csv --no-progress",
+                          false, d + "/stdout.txt");
+  REQUIRE(r.status == 0);
+  std::ifstream in(d + "/stdout.txt");
+  const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(out.find("the plugin talks") == std::string::npos);
+  // Once per child that created it: the probe and the run.
+  size_t said = 0;
+  for (size_t at = r.out.find("the plugin talks on stdout"); at != std::string::npos; at = r.out.find("the plugin talks on stdout", at + 1)) ++said;
+  CHECK(said == 2);
+}
