@@ -118,25 +118,86 @@ nlohmann::json toJson(const std::vector<Row>& rows, int threads);
 
 }  // namespace
 
+namespace {
+
+struct BenchArgs {
+  std::vector<int> sizes = {5, 10, 20, 50, 100};
+  std::string out;
+  std::vector<std::string> plugins;
+  int threads = 1;
+};
+
+void addBenchOptions(CLI::App& app, BenchArgs& a) {
+  app.add_option("sizes", a.sizes, "Chain lengths n (data/scenes/chainNN.json or data/bench/)")
+      ->check(CLI::Range(1, 999))
+      ->capture_default_str();
+  app.add_option("--out", a.out, "Also write the timings as JSON (machine, median/min/max per method and n)");
+  app.add_option("--plugin", a.plugins,
+                 "A method from outside, NAME=path/libx.so (docs/plugins.md), timed beside the engines' u' in this "
+                 "process (probed first in a child process at each chain's initial state; repeatable)");
+  app.add_option("--threads", a.threads, "Threads of Eigen's matrix products (a build with -DEM_OPENMP=ON)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+}
+
+// Settings that cannot be honoured, refused before any timing: "" when all can.
+std::string refusedSetting(const BenchArgs& a) {
+#ifdef _OPENMP
+  Eigen::setNbThreads(a.threads);
+#else
+  if (a.threads != 1) return "--threads: this build has no OpenMP (configure with -DEM_OPENMP=ON)";
+#endif
+  if (!a.out.empty() && !writableOutput(a.out)) return "--out " + a.out + ": cannot write here";  // now, not after the benchmark
+  return "";
+}
+
+void loadPlugins(const BenchArgs& a) {
+  for (const std::string& v : a.plugins) {
+    const auto [name, path] = splitNamedFile("--plugin", v);
+    try {
+      g_plugins.push_back(addPlugin(name, path));
+      for (int n : a.sizes) probePlugin(g_plugins.back(), chain(n));
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(std::string("--plugin: ") + e.what());
+    }
+  }
+}
+
+// Timings compare the same equations: an engine's A and B within round-off of
+// ours (chains have no full inertias), every u' within ~eps cond(A) of
+// classical's (a plugin's own accuracy is its business: printed, not held).
+// The first disagreement, or "".
+std::string disagreement(const Row& r, int n) {
+  char line[256];
+  for (const EngineTiming& e : r.engines)
+    if (std::max(e.A_err, e.B_err) > 1e-12) {
+      std::snprintf(line, sizeof line, "%s's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)", e.name.c_str(), n,
+                    e.A_err, e.B_err);
+      return line;
+    }
+  for (size_t k = 0; k + g_plugins.size() < r.engine_udot.size(); ++k)
+    if (r.engine_udot_err[k] > 1e-12 * r.cond_A) {
+      std::snprintf(line, sizeof line, "%s's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)",
+                    r.engine_udot[k].first.c_str(), n, r.engine_udot_err[k], r.cond_A);
+      return line;
+    }
+  if (r.articulated_err > 1e-12 * r.cond_A) {
+    std::snprintf(line, sizeof line, "articulated's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)", n,
+                  r.articulated_err, r.cond_A);
+    return line;
+  }
+  return "";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   setCommandLine(argc, argv);
   useEngines();
-  std::vector<int> sizes = {5, 10, 20, 50, 100};
-  std::string out;
+  BenchArgs a;
   CLI::App app{"Times one right-hand-side evaluation per method against the engines' forward dynamics (Simbody's realize(Acceleration), MuJoCo's mj_forward)",
                "eigenmass_bench"};
-  app.add_option("sizes", sizes, "Chain lengths n (data/scenes/chainNN.json or data/bench/)")
-      ->check(CLI::Range(1, 999))
-      ->capture_default_str();
-  app.add_option("--out", out, "Also write the timings as JSON (machine, median/min/max per method and n)");
-  std::vector<std::string> plugins;
-  app.add_option("--plugin", plugins,
-                 "A method from outside, NAME=path/libx.so (docs/plugins.md), timed beside the engines' u' in this "
-                 "process (probed first in a child process at each chain's initial state; repeatable)");
-  int threads = 1;
-  app.add_option("--threads", threads, "Threads of Eigen's matrix products (a build with -DEM_OPENMP=ON)")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
+  addBenchOptions(app, a);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -144,51 +205,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "eigenmass_bench: error: %s (see --help)\n", e.what());
     return 2;
   }
-#ifdef _OPENMP
-  Eigen::setNbThreads(threads);
-#else
-  if (threads != 1) {
-    std::fprintf(stderr, "eigenmass_bench: error: --threads: this build has no OpenMP (configure with -DEM_OPENMP=ON)\n");
-    return 2;
-  }
-#endif
-  if (!out.empty() && !writableOutput(out)) {  // now, not after the whole benchmark
-    std::fprintf(stderr, "eigenmass_bench: error: --out %s: cannot write here\n", out.c_str());
+  if (const std::string why = refusedSetting(a); !why.empty()) {
+    std::fprintf(stderr, "eigenmass_bench: error: %s\n", why.c_str());
     return 2;
   }
   try {
-    for (const std::string& v : plugins) {
-      const auto [name, path] = splitNamedFile("--plugin", v);
-      try {
-        g_plugins.push_back(addPlugin(name, path));
-        for (int n : sizes) probePlugin(g_plugins.back(), chain(n));
-      } catch (const std::exception& e) {
-        throw std::invalid_argument(std::string("--plugin: ") + e.what());
-      }
-    }
+    loadPlugins(a);
     std::vector<Row> rows;
-    for (int n : sizes) {
+    for (int n : a.sizes) {
       rows.push_back(measure(n));
-      for (const EngineTiming& e : rows.back().engines)
-        if (std::max(e.A_err, e.B_err) > 1e-12) {  // the same equations: round-off only (chains have no full inertias)
-          std::fprintf(stderr, "eigenmass_bench: %s's A or B differs from the in-house one on chain %d (A %.3g, B %.3g)\n",
-                       e.name.c_str(), n, e.A_err, e.B_err);
-          return 1;
-        }
-      for (size_t k = 0; k + g_plugins.size() < rows.back().engine_udot.size(); ++k)  // a plugin's own accuracy is its business: printed
-        if (rows.back().engine_udot_err[k] > 1e-12 * rows.back().cond_A) {  // another formulation: ~eps cond(A) too
-          std::fprintf(stderr, "eigenmass_bench: %s's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n",
-                       rows.back().engine_udot[k].first.c_str(), n, rows.back().engine_udot_err[k], rows.back().cond_A);
-          return 1;
-        }
-      if (rows.back().articulated_err > 1e-12 * rows.back().cond_A) {  // both solves err by ~eps cond(A)
-        std::fprintf(stderr, "eigenmass_bench: articulated's u' differs from classical's on chain %d (%.3g, cond(A) %.3g)\n", n,
-                     rows.back().articulated_err, rows.back().cond_A);
+      if (const std::string why = disagreement(rows.back(), n); !why.empty()) {
+        std::fprintf(stderr, "eigenmass_bench: %s\n", why.c_str());
         return 1;
       }
     }
     printTable(rows);
-    if (!out.empty()) writeJsonAtomic(toJson(rows, threads), out);
+    if (!a.out.empty()) writeJsonAtomic(toJson(rows, a.threads), a.out);
     return finishStandardOutput("eigenmass_bench", 0);  // a table lost to a full disk is an error
   } catch (const std::exception& e) {
     std::fprintf(stderr, "eigenmass_bench: error: %s\n", e.what());

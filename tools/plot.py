@@ -30,8 +30,14 @@ python3-matplotlib.
 """
 import argparse, csv, glob, json, math, os, re, shutil, signal, sys
 
+import warnings
+
 import matplotlib
 matplotlib.use("Agg")
+# plot prints the figures it wrote, one path per line: matplotlib's layout warnings
+# (tight layout, an empty legend) are about the drawing, not the numbers, and do not
+# go between those lines (docs/figures.md).
+warnings.filterwarnings("ignore", category=UserWarning, module="matplotlib")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402

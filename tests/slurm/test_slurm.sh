@@ -99,7 +99,13 @@ for _ in $(seq 300); do  # up to 60 s: the node may start slowly beside a loaded
   [ "$state" = idle ] && break
   sleep 0.2
 done
-[ "$state" = idle ] || fail "the node is not idle (sinfo: '$state'); $(tail -n 5 "$work/log/slurmctld.log" "$work/log/slurmd.log" 2>&1)"
+if [ "$state" != idle ]; then
+  # slurmd exits at once where no cgroup filesystem is mounted: say so from its own lines, not only the node's state.
+  if ! kill -0 "${pids[-1]}" 2>/dev/null && grep -qi cgroup "$work/log/slurmd.log" "$work/log/slurmd.out" 2>/dev/null; then
+    fail "slurmd could not start: no usable cgroup filesystem (mount one: mount -t cgroup2 none /sys/fs/cgroup); slurmd said: $(grep -hi cgroup "$work/log/slurmd.log" "$work/log/slurmd.out" | tail -n 2 | tr '\n' ' ')"
+  fi
+  fail "the node is not idle (sinfo: '$state'); $(tail -n 5 "$work/log/slurmctld.log" "$work/log/slurmd.log" "$work/log/slurmd.out" 2>&1)"
+fi
 echo "slurm: $(sinfo --version), node $host idle: $node"
 
 # The README's Slurm task, as written, in a folder that sees what the README's

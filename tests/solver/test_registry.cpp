@@ -5,6 +5,7 @@
 
 #include "solver/dynamics.hpp"
 #include "solver/run_spec.hpp"
+#include "solver/text.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -169,4 +170,13 @@ TEST_CASE("a method from outside is retired after its call: its name freed and u
   row.name = "for-one-call";
   CHECK(addMethod(row) != m);  // the name is free again: a new row
   CHECK_THROWS_AS(retireMethod(Method::Classical), std::logic_error);  // built-in rows stay
+}
+
+TEST_CASE("a number beyond its bound is printed with the digits that tell them apart", "[text]") {
+  // Issue 53 item 20: "1 beyond 1 rad" for 1.0000001, "1e+06 samples, more than the budget of 1e+06".
+  CHECK(gnumApart(1.0000001, 1) == std::make_pair(std::string("1.0000001"), std::string("1")));
+  CHECK(gnumApart(1000001, 1e6, 3) == std::make_pair(std::string("1000001"), std::string("1000000")));
+  CHECK(gnumApart(2e6, 1e6, 3) == std::make_pair(std::string("2e+06"), std::string("1e+06")));
+  CHECK(gnumApart(1, 1) == std::make_pair(std::string("1"), std::string("1")));
+  CHECK(gnumApart(1 + 1e-15, 1).first != gnumApart(1 + 1e-15, 1).second);
 }

@@ -1,6 +1,8 @@
 // Sweeps: the plan format and its one-line errors, the cases a plan expands
 // to, the pieces of the tables, and the command run both ways (local worker
 // processes, GNU parallel over --list) giving the same merged results.
+#include <regex>
+
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
@@ -351,4 +353,22 @@ TEST_CASE("a plan names a plugin and a recorded run: their cases equal classical
   p["scenes"].erase(1);
   p["runs"]["bad"] = "nowhere.csv";
   CHECK_THAT(planError(p), Catch::Contains("runs.bad: ") && Catch::Contains("cannot open the recorded run"));
+}
+
+TEST_CASE("docs/sweep.md's case counts are the shipped plans' own", "[sweep][docs]") {
+  // Issue 53 item 20: the page said 49, 636 and 31 where the plans had 56, 894 and 60.
+  const std::string page = readFile(test::sourcePath("docs/sweep.md"), "docs");
+  const std::vector<std::pair<std::string, std::string>> plans = {
+      {"`work-precision.json`", "work-precision.json"}, {"`cost-vs-size.json`", "cost-vs-size.json"},
+      {"`eigen-block.json`", "eigen-block.json"},       {"`paper-ensemble.json`", "paper-ensemble.json"},
+      {"`sigma/paper-sigma-{1e-6,1e-4,1e-2}.json`", "sigma/paper-sigma-1e-6.json"}, {"`engines.json`", "engines.json"}};
+  for (const auto& [named, file] : plans) {
+    INFO(named);
+    const size_t at = page.find(named);
+    REQUIRE(at != std::string::npos);
+    const std::string after = page.substr(at, 400);
+    std::smatch m;
+    REQUIRE(std::regex_search(after, m, std::regex("([0-9]+) cases")));
+    CHECK(std::stoul(m[1].str()) == planCases(loadPlan(test::sourcePath("data/plans/" + file))).size());
+  }
 }
