@@ -207,6 +207,9 @@ void readEnds(const json& v, const std::string& path, std::string& body_a, Vec3&
   body_b = stringAt(requireKey(v, path, "body_b"), at(path, "body_b"));
   point_a = v.contains("point_a") ? vec3(v["point_a"], at(path, "point_a")) : Vec3::Zero();
   point_b = v.contains("point_b") ? vec3(v["point_b"], at(path, "point_b")) : Vec3::Zero();
+  for (const auto& [key, p] : {std::pair<const char*, const Vec3&>{"point_a", point_a}, {"point_b", point_b}})
+    if (p.cwiseAbs().maxCoeff() > kMaxDisplacement)  // the displacement bound: beyond it a double no longer resolves 1e-12 m
+      throw Err(at(path, key), "a coordinate beyond +-" + gnum(kMaxDisplacement) + " m");
   if (body_a == body_b) throw Err(at(path, "body_b"), "joins body '" + printable(body_a, 40) + "' to itself");
 }
 
@@ -241,6 +244,7 @@ ForceSpec force(const json& v, const std::string& path) {
   if (!(f.c >= 0)) throw Err(at(path, "c"), "must be >= 0");
   f.length = numberAt(requireKey(v, path, "length"), at(path, "length"));
   if (!(f.length > 0)) throw Err(at(path, "length"), "a rest length must be > 0");
+  if (f.length > kMaxDisplacement) throw Err(at(path, "length"), gnum(f.length) + " m beyond " + gnum(kMaxDisplacement) + " m");
   f.extra = extras(v);
   return f;
 }

@@ -136,6 +136,10 @@ case("loop_unknown_type", "loops[0].type", "unknown loop type 'slider'",
      top("loops", [{"name": "l", "type": "slider", "body_a": "upper", "body_b": "ground"}]))
 case("force_negative_k", "forces[0].k", "must be >= 0",
      top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": -1, "length": 1}]))
+case("force_huge_length", "forces[0].length", "1e+300 m beyond 10000 m",
+     top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": 1, "length": 1e300}]))
+case("loop_far_point", "loops[0].point_a", "a coordinate beyond +-10000 m",
+     top("loops", [{"name": "l", "type": "ball", "body_a": "upper", "point_a": [1e300, 0, 0], "body_b": "ground"}]))
 case("force_zero_length", "forces[0].length", "a rest length must be > 0",
      top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": 1, "length": 0}]))
 case("force_coincident_points", "forces[0]", "its two points coincide",
