@@ -127,13 +127,16 @@ void checkInitialState(const Scene& scene) {
                              gimbalLockHint(m, m.q0().data()));
 }
 
-Equations inhouseEquations(const Model& m) {
-  const Workspace ws = equationsAtStart(m);
+Equations inhouseEquations(const Model& m) { return inhouseEquations(m, m.q0(), m.u0()); }
+
+Equations inhouseEquations(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  Workspace ws(m);
+  formEquations(m, q.data(), u.data(), ws);
+  formEnergies(m, q.data(), ws);
   const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
   if (llt.info() != Eigen::Success)
-    throw std::runtime_error("mass matrix A is not positive definite at the initial state" + gimbalLockHint(m, m.q0().data()));
+    throw std::runtime_error("mass matrix A is not positive definite at this state" + gimbalLockHint(m, q.data()));
   if (m.loops.empty()) return toFileOrder(m, ws.A, ws.B, llt.solve(ws.B), ws.kinetic, ws.potential);
-  const Eigen::VectorXd u = m.u0();
   const ConstrainedEquations c = constrainedAt(m, ws, u.data());
   Equations e = toFileOrder(m, ws.A, ws.B, c.udot, ws.kinetic, ws.potential);
   const std::vector<int> p = m.uFilePermutation();
@@ -146,15 +149,17 @@ Equations inhouseEquations(const Model& m) {
   return e;
 }
 
-Equations engineEquations(const Model& m, Engine e) {
-  if (e == Engine::InHouse) return inhouseEquations(m);
+Equations engineEquations(const Model& m, Engine e) { return engineEquations(m, e, m.q0(), m.u0()); }
+
+Equations engineEquations(const Model& m, Engine e, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  if (e == Engine::InHouse) return inhouseEquations(m, q, u);
   const EngineCode& code = engineCode(e);
   if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
   if (m.isMechanism() && !code.mechanism_refusal)
     throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism here: its row maps no loops, point springs or drives yet");
   if (const std::string why = mechanismRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
-  const EngineEquations q = code.model(m)->at(m.q0(), m.u0());
-  return toFileOrder(m, q.A, q.B, q.udot, q.kinetic, q.potential);
+  const EngineEquations x = code.model(m)->at(q, u);
+  return toFileOrder(m, x.A, x.B, x.udot, x.kinetic, x.potential);
 }
 
 std::vector<Engine> enginesWithEquations() {

@@ -67,10 +67,14 @@ struct Equations {
   Eigen::VectorXd g, lambda;  ///< (loop_rows): the gaps and the multipliers
   int rank = 0;               ///< of G A^-1 G^T
 };
+/// At the initial state, or at (q, u) in internal order (the Python module's
+/// equations at any state): the same code, so the CLI and the module agree.
 Equations inhouseEquations(const Model& m);
+Equations inhouseEquations(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& u);
 /// The same from engine `e` (its row's model; throws std::invalid_argument
 /// for an engine that gives no equations at a state).
 Equations engineEquations(const Model& m, Engine e);
+Equations engineEquations(const Model& m, Engine e, const Eigen::VectorXd& q, const Eigen::VectorXd& u);
 /// The engines whose rows give equations at a state, the in-house one first.
 std::vector<Engine> enginesWithEquations();
 

@@ -217,33 +217,20 @@ py::dict equations(const Scene& s, const std::string& engine, std::optional<py::
   const Eigen::VectorXd u = u_in ? internal(*u_in, m.nu, "u", m.uFilePermutation()) : m.u0();
   if (const std::string why = beyondStateBounds(m, q, u); !why.empty())  // the bounds a scene's q0 and u0 are held to
     throw std::invalid_argument(why);
-  Eigen::MatrixXd A;
-  Eigen::VectorXd B, udot;
-  double T = 0, V = 0;
-  if (e == Engine::InHouse) {
-    Workspace ws(m);
-    formEquations(m, q.data(), u.data(), ws);
-    formEnergies(m, q.data(), ws);
-    const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
-    if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite at this state");
-    A = ws.A, B = ws.B, udot = llt.solve(ws.B), T = ws.kinetic, V = ws.potential;
-  } else {
-    const EngineCode& code = engineCode(e);
-    if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
-    const EngineEquations x = code.model(m)->at(q, u);
-    A = x.A, B = x.B, udot = x.udot, T = x.kinetic, V = x.potential;
-  }
-  const std::vector<int> p = m.uFilePermutation();
-  Eigen::MatrixXd Af(m.nu, m.nu);
-  for (int i = 0; i < m.nu; ++i)
-    for (int j = 0; j < m.nu; ++j) Af(i, j) = A(p[i], p[j]);
+  const Equations x = engineEquations(m, e, q, u);  // the CLI's equations, at this state
   py::dict d;
   d["engine"] = engine;
-  d["A"] = mat(Af);
-  d["B"] = vec(fileOrder(B, p));
-  d["udot"] = vec(fileOrder(udot, p));
-  d["eigenvalues"] = vec(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Af, Eigen::EigenvaluesOnly).eigenvalues());
-  d["kinetic"] = T, d["potential"] = V, d["total"] = T + V;
+  d["A"] = mat(x.A);
+  d["B"] = vec(x.B);
+  d["udot"] = vec(x.udot);  // a mechanism's: the constrained u'
+  d["eigenvalues"] = vec(x.eigenvalues);
+  d["kinetic"] = x.kinetic, d["potential"] = x.potential, d["total"] = x.kinetic + x.potential;
+  if (x.has_loops) {  // as the CLI's "loops": G (the scene's order), its rank, the gaps and the multipliers
+    d["G"] = mat(x.G);
+    d["rank"] = x.rank;
+    d["g"] = vec(x.g);
+    d["lambda"] = vec(x.lambda);
+  }
   return d;
 }
 

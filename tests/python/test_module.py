@@ -238,3 +238,18 @@ def test_a_mechanism_compares_as_on_the_cli(tmp_path):
     assert strip(got) == strip(want)
     assert got["methods"][0]["loops"]["rank"] == 6
     assert got["methods"][0]["loops"]["max_position_violation_m"] < 1e-9
+
+
+def test_a_mechanisms_equations_equal_the_cli():
+    """equations on a mechanism (issue 50): the constrained u', G, its rank and lambda, as the CLI prints them."""
+    path = scene(os.path.join("mechanisms", "andrews.json"))
+    status, out, _ = cli("equations", path)
+    assert status == 0
+    j = json.loads(out)
+    e = em.equations(em.load(path))
+    assert np.array_equal(e["udot"], np.array(j["udot"]))
+    assert np.array_equal(e["G"], np.array(j["loops"]["G"]))
+    assert e["rank"] == j["loops"]["rank"] == 6
+    assert np.array_equal(e["lambda"], np.concatenate([c["lambda"] for c in j["loops"]["closures"]]))
+    # The constrained u' keeps the loops: G u' = -c (here u = 0 at the start, so c = 0 and G u' = 0).
+    assert np.abs(e["G"] @ e["udot"]).max() < 1e-9 * np.abs(e["udot"]).max()
