@@ -204,9 +204,20 @@ Scene load(const py::object& path_arg, bool balance_inertia, const std::vector<s
   o.balance_inertia = balance_inertia;
   o.lock_joints = lock_joints;
   o.floating_base = floating_base;
-  Scene s = loadScene(path, o);
-  checkInitialState(s);
-  return s;
+  try {
+    Scene s = loadScene(path, o);
+    checkInitialState(s);
+    return s;
+  } catch (const std::exception& e) {
+    // The import options' lines name the CLI's flags: name the keyword arguments instead.
+    std::string what = e.what();
+    for (const auto& [flag, keyword] : {std::pair<std::string, std::string>{"--balance-inertia", "balance_inertia"},
+                                        {"--lock-joint", "lock_joints"}, {"--floating-base", "floating_base"}})
+      for (size_t at = what.find(flag); at != std::string::npos; at = what.find(flag, at + keyword.size()))
+        what.replace(at, flag.size(), keyword);
+    if (dynamic_cast<const std::invalid_argument*>(&e)) throw std::invalid_argument(what);
+    throw std::runtime_error(what);
+  }
 }
 
 py::dict equations(const Scene& s, const std::string& engine, std::optional<py::array_t<double>> q_in,
