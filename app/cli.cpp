@@ -213,11 +213,9 @@ void refuseUnreadRunOptions(const CLI::App& cmd, const std::vector<Method>& meth
     if (!read)
       throw std::invalid_argument(optionName(p) + ": no method of this run takes it (only " + joined(takers) + ")");
     if (p.read_when) {
-      const std::vector<MethodParam> params = methodParams();
-      const auto under = std::find_if(params.begin(), params.end(), [&](const MethodParam& q) { return std::string(q.name) == p.read_when; });
-      if (under == params.end()) throw std::logic_error(std::string("registry: ") + p.name + " is read under an option no row has");
-      const std::string option = optionName(*under);
-      const double value = cmd.count(option) ? cmd.get_option(option)->as<double>() : under->fallback;
+      const MethodParam under = methodParam(p.read_when);
+      const std::string option = optionName(under);
+      const double value = cmd.count(option) ? cmd.get_option(option)->as<double>() : under.fallback;
       if (!(value > 0))
         throw std::invalid_argument(optionName(p) + ": read only with " + option + " > 0, and " + option + " is " + gnum(value));
     }

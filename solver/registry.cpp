@@ -380,6 +380,12 @@ std::vector<MethodParam> methodParams() {
   return all;
 }
 
+MethodParam methodParam(const std::string& name) {
+  for (const MethodParam& p : methodParams())
+    if (name == p.name) return p;
+  throw std::logic_error("registry: no row has the option " + name);
+}
+
 void requireCompatible(Method method, Integrator integrator) {
   const Engine e = info(method).engine;
   if (!info(integrator).runs(e))

@@ -261,6 +261,8 @@ std::vector<std::string> integratorNames();
 std::vector<std::string> integratorNames(Engine e);
 /// Every option any method takes, once each, in table order (CLI, plans).
 std::vector<MethodParam> methodParams();
+/// The option of that name (a row's read_when names one); std::logic_error when no row has it.
+MethodParam methodParam(const std::string& name);
 /// A method's colour in figures: its row's, else one of a fixed palette by its id.
 std::string methodColour(Method m);
 

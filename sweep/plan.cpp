@@ -222,9 +222,7 @@ void readMethodParams(const json& doc, MethodOptions& options) {
   for (const MethodParam& m : methodParams())  // an option read only under another's > 0 (refine_tol under refine)
     if (m.read_when && doc.contains(m.name)) {
       const auto it = options.params.find(m.read_when);
-      double under = 0;
-      for (const MethodParam& q : methodParams())
-        if (std::string(q.name) == m.read_when) under = it != options.params.end() ? it->second : q.fallback;
+      const double under = it != options.params.end() ? it->second : methodParam(m.read_when).fallback;
       if (!(under > 0)) throw InputError(m.name, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
     }
 }
@@ -268,9 +266,11 @@ Ensemble ensembleAt(const json& v, double t_end) {
   // Members are nearby states: a draw lies within 8.6 sigma (53-bit Box-Muller),
   // so sigma_q <= 1 keeps every member within 8.6 rad (m) of the scene's state,
   // inside the bounds the scene's own q0 is held to (io/scene_json.cpp).
-  if (e.sigma_q > kMaxSigmaQ)
-    throw InputError("ensemble.perturb.q", gnumApart(e.sigma_q, kMaxSigmaQ).first + " beyond " + gnumApart(e.sigma_q, kMaxSigmaQ).second +
+  if (e.sigma_q > kMaxSigmaQ) {
+    const auto [sigma, bound] = gnumApart(e.sigma_q, kMaxSigmaQ);
+    throw InputError("ensemble.perturb.q", sigma + " beyond " + bound +
                                                " rad (m): an ensemble perturbs a state to nearby states");
+  }
   if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
     throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");
   if (v.contains("claim")) e.claim = claimAt(v["claim"], t_end);
