@@ -39,6 +39,14 @@ void printSummary(const Trajectory& tr, const std::string& path) {
     if (l.projections)
       std::printf("; %ld projections, %ld Gauss-Newton iterations, %ld unconverged", l.projections, l.projection_iterations,
                   l.projections_unconverged);
+    if (l.newton_solves)
+      std::printf("; %ld Newton solves, %ld iterations, %ld unconverged", l.newton_solves, l.newton_iterations, l.newton_unconverged);
+    if (l.repartitions) {
+      std::printf("; re-partitioned %ld times, at t =", l.repartitions);
+      for (double t : l.repartition_times) std::printf(" %.6g", t);
+      if (static_cast<long>(l.repartition_times.size()) < l.repartitions) std::printf(" ...");
+      std::printf(" s");
+    }
   }
   if (regularOutput(path)) std::printf("\ntrajectory: %s (run, status and provenance: %s.json)\n", path.c_str(), path.c_str());
   else std::printf("\ntrajectory: %s (run, status and provenance: on standard error)\n", path.c_str());

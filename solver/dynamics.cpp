@@ -25,7 +25,7 @@ std::unique_ptr<MethodImpl> make(const Model& m, Method method, const MethodOpti
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
       size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)),
-      loops_(m), solve_(m), project_(m), Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows),
+      loops_(m), solve_(m), project_(m), partition_(m), consistent_(partitions() ? size_ : 0), Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows),
       M_(m.loops.empty() ? 0 : m.nu, m.loops.empty() ? 0 : m.nu), llt_(m.nu) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
@@ -55,9 +55,15 @@ std::string gimbalLockHint(const Model& m, const double* q) {
   return hint.empty() ? hint : hint + ")";
 }
 
-Status Dynamics::rhs(double t, const double* y, double* dydt, EvalInfo* info) {
+Status Dynamics::rhs(double t, const double* y_in, double* dydt, EvalInfo* info) {
   const int nq = model_.nq;
-  if (!allFinite(y, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
+  if (!allFinite(y_in, size_)) return Status::failure(t, Failure::NonFinite, "non-finite state (NaN or Inf)");
+  const double* y = y_in;
+  if (partitions()) {  // the ODE is the independent coordinates': the dependent ones follow (eq. (M12))
+    consistent_ = Eigen::Map<const Eigen::VectorXd>(y_in, size_);
+    if (Status s = partitionOntoLoops(t, consistent_.data(), false); !s) return s;
+    y = consistent_.data();
+  }
   formQdot(model_, y, y + nq, dydt);
   // A mechanism needs A for its multipliers and the kinematics for its point forces.
   const bool mechanism = model_.isMechanism(), loops = !model_.loops.empty();
@@ -81,8 +87,11 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
   if (umax > opt_.blowup_speed)
     return Status::failure(t, Failure::BlowUp, "blow-up: max |u| = " + gnum(umax) + " exceeds " + gnum(opt_.blowup_speed));
   if (!model_.loops.empty()) {
-    if (projects())
+    if (partitions()) {
+      if (Status s = partitionOntoLoops(t, y, true); !s) return s;
+    } else if (projects()) {
       if (Status s = projectOntoLoops(t, y); !s) return s;
+    }
     formKinematics(model_, y, y + nq, ws_);
     formLoops(model_, ws_, y + nq, loops_);
     recordLoops();
@@ -150,6 +159,32 @@ Status Dynamics::projectOntoLoops(double t, double* y) {
   // unconverged, counted, and fails only where the gap passes loop_tol (afterStep).
   if (!r.converged) ++loop_stats_.projections_unconverged;
   project_.velocities(y + model_.nq);
+  return {};
+}
+
+Status Dynamics::partitionOntoLoops(double t, double* y, bool accepted) {
+  const LoopOptions& lo = opt_.loops;
+  LoopStats& st = loop_stats_;
+  if (!partition_.chosen()) {
+    formKinematics(model_, y, y + model_.nq, ws_);
+    formLoops(model_, ws_, y + model_.nq, loops_);
+    partition_.choose(loops_);
+  }
+  ++st.newton_solves;
+  const LoopProjector::Result r = partition_.dependent(model_, ws_, loops_, y, y + model_.nq, lo.projection_tol, lo.projection_iterations);
+  st.newton_iterations += r.iterations;
+  if (!r.finite) return Status::failure(t, Failure::NonFinite, "coordinate partitioning's Newton met a non-finite loop gap");
+  if (!r.converged) ++st.newton_unconverged;  // goes on, counted; fails only beyond loop_tol (afterStep)
+  if (!accepted) return {};
+  if (partition_.degraded(loops_)) {  // chosen anew at the accepted state, which is on the loops
+    partition_.choose(loops_);
+    ++st.repartitions;
+    if (st.repartition_times.size() < kRepartitionTimesKept) st.repartition_times.push_back(t);
+  }
+  if (partition_.bestPivotRatio() < kSingularPivotRatio)
+    return Status::failure(t, Failure::Singular, "a singular position: the loops' Jacobian G is within " + gnum(partition_.bestPivotRatio(), 2) +
+                                                     " (its smallest pivot over its largest) of losing rank, which coordinate partitioning "
+                                                     "cannot pass (the projection formulation can)");
   return {};
 }
 

@@ -25,7 +25,12 @@ class Dynamics {
   bool eigenfactor() const { return f_->hasDiagnostics(); }
   bool correctsAfterStep() const { return f_->correctsAfterStep() || projects(); }
   /// Whether afterStep projects onto the loops (the projection formulation on a model with loops).
-  bool projects() const { return !model_.loops.empty() && opt_.loops.formulation == Formulation::Projection; }
+  bool projects() const {
+    return !model_.loops.empty() &&
+           (opt_.loops.formulation == Formulation::Projection || opt_.loops.formulation == Formulation::CoordinatePartitioning);
+  }
+  /// Whether the dependent coordinates follow the independent ones (coordinate partitioning on a model with loops).
+  bool partitions() const { return !model_.loops.empty() && opt_.loops.formulation == Formulation::CoordinatePartitioning; }
   const LoopStats& loopStats() const { return loop_stats_; }
   /// Form the loops at y and count their violation in loopStats() (an output sample).
   void recordLoopsAt(const double* y);
@@ -55,6 +60,9 @@ class Dynamics {
  private:
   Status closeLoops(double t, const double* y, double* udot);
   Status projectOntoLoops(double t, double* y);
+  // Coordinate partitioning: y's dependent coordinates from its independent ones
+  // (eq. (M12)), counted; `accepted`: after a step, where the partition may change.
+  Status partitionOntoLoops(double t, double* y, bool accepted);
   void recordLoops();
   const Eigen::MatrixXd& inverseATimesGt(const double* x);  // A^-1 G^T at the formed A (the method's factors, else Cholesky)
   const Eigen::MatrixXd& inverseSquareRoot(const double* x);  // M M^T = A^-1 at the formed A (the same)
@@ -70,6 +78,8 @@ class Dynamics {
   LoopState loops_;
   ConstrainedSolve solve_;
   LoopProjector project_;
+  CoordinatePartition partition_;
+  Eigen::VectorXd consistent_;  // (size) coordinate partitioning: the evaluated state, its dependent coordinates solved
   Eigen::MatrixXd Gt_, AinvGt_;  // (nu x m)
   Eigen::MatrixXd M_;            // (nu x nu): M M^T = A^-1 (Udwadia-Kalaba)
   Eigen::LLT<Eigen::MatrixXd> llt_;

@@ -10,6 +10,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "solver/augmented_lagrangian.hpp"
 #include "solver/ida.hpp"
 #include "solver/text.hpp"
 
@@ -264,16 +265,52 @@ int runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y
   return m.loops.empty() ? -1 : ida.rank();
 }
 
+// The trapezoidal rule of the augmented Lagrangian (solver/augmented_lagrangian.hpp):
+// exact multiples of dt, every step checked as the fixed-step rows' are.
+// Returns its Newton counts and G's rank.
+LoopStats runTrapezoidal(Integration& run, const RunSpec& spec, long n_out, long per_output, Eigen::VectorXd& y) {
+  const Model& m = run.dynamics().model();
+  AugmentedLagrangianRun al(m, spec.options.loops, spec.dt, y.data());
+  for (long k = 1; k <= n_out; ++k) {
+    bool ok = true;
+    for (long s = 0; s < per_output && ok; ++s) {
+      const double t = ((k - 1) * per_output + s) * spec.dt;
+      const Status st = al.step(t, y.data());
+      ok = st ? run.accept(t + spec.dt, y.data()) : run.fail(st);
+    }
+    if (!ok) break;
+    run.sample(k * spec.output_dt, y.data());
+  }
+  run.countEvaluations(al.evaluations());
+  return al.stats();
+}
+
 }  // namespace
+
+void refuseUnrunnable(const Model& m, const RunSpec& spec) {
+  const IntegratorInfo& scheme = info(spec.integrator);
+  if (scheme.stepsItself() && info(spec.method).extra != ExtraState::None)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself: method " +
+                                methodName(spec.method) + " carries its own state (run it with classical)");
+  if (!scheme.stepsItself() && (scheme.fixed_step ? !scheme.step : !scheme.gsl))  // a row no code of ours steps (a recorded run's)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);
+  if (scheme.augmented_lagrangian)
+    if (const int b = firstQuaternionBody(m); b >= 0)
+      throw std::invalid_argument("integrator trapezoidal integrates q' = u: body '" + m.bodies[b].name + "' has a " +
+                                  jointRow(m.bodies[b].joint.type).name + " joint (a quaternion)");
+  if (m.loops.empty() || scheme.dae) return;
+  const bool al = spec.options.loops.formulation == Formulation::AugmentedLagrangian;
+  if (al && !scheme.augmented_lagrangian)
+    throw std::invalid_argument(std::string("formulation augmented-lagrangian runs under its own integrator trapezoidal, not ") + scheme.name);
+  if (!al && scheme.augmented_lagrangian)
+    throw std::invalid_argument(std::string("integrator trapezoidal on a mechanism runs the formulation augmented-lagrangian, not ") +
+                                formulationName(spec.options.loops.formulation));
+}
 
 Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const SampleObserver& observe) {
   const RunSpec& spec = checked_spec;
   const IntegratorInfo& scheme = info(spec.integrator);
-  if (scheme.dae && info(spec.method).extra != ExtraState::None)
-    throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself: method " +
-                                methodName(spec.method) + " carries its own state (run it with classical)");
-  if (!scheme.dae && (scheme.fixed_step ? !scheme.step : !scheme.gsl))  // a row no code of ours steps (a recorded run's)
-    throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);
+  refuseUnrunnable(m, spec);
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   const long per_output = spec.fixedStep() ? stepsPerOutput(spec.output_dt, spec.dt) : 1;
   Dynamics dyn(m, spec.method, spec.options);  // throws for another engine's method
@@ -285,8 +322,11 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
   gsl_error_handler_t* old = gsl_set_error_handler_off();  // GSL errors become statuses, never aborts
   const double c0 = cpuSeconds();
   int dae_rank = -1;
+  LoopStats al_stats;
   if (scheme.dae)
     dae_rank = runIda(run, spec, n_out, y, tr);
+  else if (scheme.augmented_lagrangian)
+    al_stats = runTrapezoidal(run, spec, n_out, per_output, y);
   else if (spec.fixedStep())
     runFixed(run, spec, n_out, per_output, y);
   else
@@ -295,6 +335,13 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
   gsl_set_error_handler(old);
   run.finish(y.data());
   if (scheme.dae && tr.has_loops) tr.loops.rank_min = tr.loops.rank_max = dae_rank;
+  if (scheme.augmented_lagrangian) {  // its Newton and the rank of G; the violations are the samples' and steps', as every run's
+    tr.loops.newton_solves = al_stats.newton_solves;
+    tr.loops.newton_iterations = al_stats.newton_iterations;
+    tr.loops.newton_unconverged = al_stats.newton_unconverged;
+    tr.loops.rank_min = al_stats.rank_min;
+    tr.loops.rank_max = al_stats.rank_max;
+  }
   return tr;
 }
 

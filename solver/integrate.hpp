@@ -12,6 +12,12 @@ namespace em {
 /// integrator). Never throws on a numerical failure: the trajectory carries
 /// status, time and cause. Throws SettingError or std::invalid_argument for
 /// settings that cannot be run.
+/// Throws std::invalid_argument for settings that cannot run on this model:
+/// an integrator that steps A and B itself (ida, trapezoidal) with a method's
+/// own state, trapezoidal on a quaternion joint, the augmented Lagrangian and
+/// its trapezoidal rule apart on a mechanism. simulate() calls it first.
+void refuseUnrunnable(const Model& m, const RunSpec& spec);
+
 Trajectory simulate(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe = {});
 
 }  // namespace em

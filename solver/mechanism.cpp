@@ -1,6 +1,7 @@
 // Closures, point forces and drives (docs/theory.md §15).
 #include "solver/mechanism.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -34,7 +35,13 @@ const std::vector<FormulationInfo>& formulationTable() {
       {Formulation::Projection, "projection", "the same, then after every accepted step q onto g = 0 (Gauss-Newton in A's metric) and u onto G u = 0"},
       {Formulation::UdwadiaKalaba, "udwadia-kalaba",
        "u' = a + M (G M)^+ (b - G a) with M M^T = A^-1 from the method's own factors (eigenfactors: M = C^T Lambda^(-1/2)), "
-       "Baumgarte's b, no projection"}};
+       "Baumgarte's b, no projection"},
+      {Formulation::CoordinatePartitioning, "coordinate-partitioning",
+       "Wehage-Haug: the independent coordinates integrated, the dependent ones by Newton on g = 0 at every evaluation; "
+       "re-partitioned where the pivots degrade tenfold"},
+      {Formulation::AugmentedLagrangian, "augmented-lagrangian",
+       "index-3 augmented Lagrangian with mass-orthogonal projections (Bayo, Garcia de Jalon: ALI3-P), under its own "
+       "integrator trapezoidal (fixed step dt)"}};
   return table;
 }
 
@@ -357,6 +364,78 @@ LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, do
 void LoopProjector::velocities(double* u) {
   solve_.correction(loops_, AinvGt_, loops_.Gu, dv_);  // eq. (M9)
   Eigen::Map<Eigen::VectorXd>(u, dv_.size()) -= dv_;
+}
+
+CoordinatePartition::CoordinatePartition(const Model& m)
+    : Gd_(m.loop_rows, m.nu), qr_(m.loop_rows, m.nu), qr_d_(m.loop_rows, m.nu), step_(m.nu), dv_(m.nu), dq_(m.nq) {
+  dependent_.reserve(m.nu);
+  qr_.setThreshold(kLoopRankTol);
+  qr_d_.setThreshold(kLoopRankTol);
+}
+
+namespace {
+// The smallest pivot of a column-pivoted QR's first r, relative to its largest: 0 for r = 0.
+double pivotRatio(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, int r) {
+  if (r <= 0) return 1.0;
+  const double first = std::abs(qr.matrixQR()(0, 0));
+  return first > 0 ? std::abs(qr.matrixQR()(r - 1, r - 1)) / first : 0.0;
+}
+}  // namespace
+
+int CoordinatePartition::choose(const LoopState& ls) {
+  qr_.compute(ls.G);
+  rank_ = static_cast<int>(qr_.rank());
+  dependent_.assign(qr_.colsPermutation().indices().data(), qr_.colsPermutation().indices().data() + rank_);
+  std::sort(dependent_.begin(), dependent_.end());
+  best_ratio_ = pivotRatio(qr_, rank_);
+  formGd(ls);
+  return rank_;
+}
+
+void CoordinatePartition::formGd(const LoopState& ls) {
+  Gd_.resize(ls.G.rows(), static_cast<Eigen::Index>(dependent_.size()));  // the same size while the partition holds: no allocation
+  for (size_t k = 0; k < dependent_.size(); ++k) Gd_.col(static_cast<Eigen::Index>(k)) = ls.G.col(dependent_[k]);
+  qr_d_.compute(Gd_);
+}
+
+bool CoordinatePartition::degraded(const LoopState& ls) {
+  qr_.compute(ls.G);
+  best_ratio_ = pivotRatio(qr_, static_cast<int>(qr_.rank()));
+  if (static_cast<int>(qr_.rank()) != rank_) return true;
+  formGd(ls);
+  best_ratio_ = pivotRatio(qr_, rank_);
+  return pivotRatio(qr_d_, rank_) * kRepartitionRatio < best_ratio_;
+}
+
+LoopProjector::Result CoordinatePartition::dependent(const Model& m, Workspace& ws, LoopState& ls, double* q, double* u,
+                                                     double tol, int iterations) {
+  LoopProjector::Result r;
+  for (;;) {
+    formKinematics(m, q, u, ws);
+    formLoops(m, ws, u, ls);
+    formGd(ls);
+    const double gap = std::max(ls.position_m, ls.position_rad);
+    if (!std::isfinite(gap)) {
+      r.finite = false;
+      return r;
+    }
+    if (gap <= tol || r.iterations == iterations) {
+      r.converged = gap <= tol;
+      break;
+    }
+    // G_d dv_d = -g (least squares on redundant rows), dv_i = 0; q <- q + qdot(q, dv) (eq. (M12)).
+    step_.head(rank_) = qr_d_.solve(ls.g);
+    dv_.setZero();
+    for (int k = 0; k < rank_; ++k) dv_[dependent_[k]] = -step_[k];
+    formQdot(m, q, dv_.data(), dq_.data());
+    Eigen::Map<Eigen::VectorXd>(q, m.nq) += dq_;
+    normalizeQuaternions(m, q);
+    ++r.iterations;
+  }
+  // u_d -= G_d^+ (G u): then G u = 0 with u_i untouched.
+  step_.head(rank_) = qr_d_.solve(ls.Gu);
+  for (int k = 0; k < rank_; ++k) u[dependent_[k]] -= step_[k];
+  return r;
 }
 
 ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u) {

@@ -140,6 +140,48 @@ class LoopProjector {
   Eigen::VectorXd dv_, dq_;    // (nu), (nq)
 };
 
+/// Coordinate partitioning (Wehage and Haug; docs/theory.md eq. (M12)): G's
+/// columns split into r dependent speeds (the pivots of a column-pivoted QR of
+/// G, r its rank at kLoopRankTol) and nu - r independent ones. The dependent
+/// coordinates follow from the independent ones: q_d by Newton on g(q) = 0 with
+/// q_i held, u_d from G_d u_d = -G_i u_i. The partition is kept while G_d's
+/// pivots hold, and chosen anew where its smallest pivot (relative to its
+/// largest) falls below 1/kRepartitionRatio of the best partition's.
+/// Preallocated for one model: no allocation per call but choose()'s.
+inline constexpr double kRepartitionRatio = 10;
+/// Where even the best partition's smallest pivot ratio falls below this, G is
+/// within 1e-7 of losing rank: a singular position, which coordinate
+/// partitioning cannot pass (G_d^-1 amplifies the step's error 1e7 times; on
+/// IFToMM A02 the Newton then took another branch, E + W_diss off by 1.5e4 J).
+/// The run fails there (`singular`); the projection passes it.
+inline constexpr double kSingularPivotRatio = 1e-7;
+class CoordinatePartition {
+ public:
+  explicit CoordinatePartition(const Model& m);
+  /// Partition at G (ls.G); returns the rank r.
+  int choose(const LoopState& ls);
+  bool chosen() const { return !dependent_.empty() || rank_ == 0; }
+  /// Whether the partition's pivots have degraded at G (then choose() anew):
+  /// its G_d's smallest pivot ratio below the best's / kRepartitionRatio, or G's rank changed.
+  bool degraded(const LoopState& ls);
+  /// q_d onto g(q) = 0 by Newton with q_i held (at most `iterations` steps;
+  /// forms ws's kinematics and `ls` at every iterate), then u_d from G_d u_d =
+  /// -G_i u_i at the last iterate.  // q: (nq), u: (nu)
+  LoopProjector::Result dependent(const Model& m, Workspace& ws, LoopState& ls, double* q, double* u, double tol, int iterations);
+  const std::vector<int>& dependentSpeeds() const { return dependent_; }
+  /// The best partition's smallest pivot relative to its largest, at the last choose() or degraded().
+  double bestPivotRatio() const { return best_ratio_; }
+
+ private:
+  void formGd(const LoopState& ls);  // Gd_ = G's dependent columns, factored
+  std::vector<int> dependent_;
+  int rank_ = -1;
+  double best_ratio_ = 1;
+  Eigen::MatrixXd Gd_;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_, qr_d_;
+  Eigen::VectorXd step_, dv_, dq_;
+};
+
 /// s's largest violations grow by ls's (what a report calls the violation).
 void recordViolation(const LoopState& ls, LoopStats& s);
 

@@ -13,14 +13,23 @@ enum class Formulation {
   Baumgarte,   ///< multipliers at acceleration level, G u' = -c - 2 alpha G u - beta^2 g
   Projection,  ///< the same, and after every accepted step q onto g = 0 and u onto G u = 0 in A's metric
   UdwadiaKalaba,  ///< u' = a + A^(-1/2) (G A^(-1/2))^+ (b - G a), A^(-1/2) from the method's factors; Baumgarte's b
+  CoordinatePartitioning,  ///< Wehage-Haug: dependent coordinates by Newton at every evaluation, re-partitioned when the pivots degrade
+  AugmentedLagrangian,     ///< index-3 augmented Lagrangian, mass-orthogonal projections, the trapezoidal rule (integrator trapezoidal)
 };
 
 /// A mechanism's formulation and its options, with their defaults.
 struct LoopOptions {
   Formulation formulation = Formulation::Projection;
   double alpha = 0, beta = 0;    ///< Baumgarte's (1/s): 0 and 0 integrate the raw index-1 form and show its drift
-  double projection_tol = 1e-12; ///< the projection stops when max |g| <= this (m, rad)
-  int projection_iterations = 10;  ///< Gauss-Newton iterations at most per step (then it goes on unconverged, counted)
+  double projection_tol = 1e-12; ///< the projection (coordinate partitioning's Newton) stops when max |g| <= this (m, rad)
+  int projection_iterations = 10;  ///< Gauss-Newton (Newton) iterations at most per step (then it goes on unconverged, counted)
+  /// The augmented Lagrangian's penalty alpha = penalty_ratio * 4 ||A|| / (dt^2 ||G^T G||) at the start
+  /// (max diagonals), so that the iteration matrix A + (dt^2/4) alpha G^T G weighs the
+  /// loops penalty_ratio times the inertia; its Newton stops when max |dq| <= al_tol
+  /// (rad, m), at most al_iterations.
+  double penalty_ratio = 1e4;
+  double al_tol = 1e-12;
+  int al_iterations = 30;
   double loop_tol = 1e-6;        ///< a run whose loops open beyond this (m, rad) fails (loops-open)
 };
 

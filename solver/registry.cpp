@@ -106,6 +106,10 @@ std::deque<IntegratorInfo>& integrators() {
       {Integrator::IDA, "ida", {Engine::InHouse}, false, nullptr, nullptr,
        "SUNDIALS IDA (variable-order BDF) on the stabilized index-2 form of the equations and the loops, adaptive: "
        "the reference of mechanisms (method classical's formation, IDA's own solves)", "*", true},
+      {Integrator::Trapezoidal, "trapezoidal", {Engine::InHouse}, true, nullptr, nullptr,
+       "the trapezoidal rule, implicit, fixed step, Newton on the index-3 augmented Lagrangian with mass-orthogonal "
+       "projections (formulation augmented-lagrangian; on a tree, on A u' = B); q' = u: no ball or free joints "
+       "(method classical's formation, its own solves)", "P", false, true},
   };
   return table;
 }

@@ -30,7 +30,7 @@ enum class Engine : int { InHouse };
 enum class Method : int { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi };
 
 /// The in-house integrators; another engine's own schemes take the ids after them.
-enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP, IDA };
+enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP, IDA, Trapezoidal };
 
 /// Another engine's integrator, as its row names it: a name already in the
 /// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
@@ -155,6 +155,12 @@ struct IntegratorInfo {
   /// A DAE solver (IDA) that integrates the formation's A and B and the loops
   /// itself (solver/ida.hpp): it runs with a method that has no extra state.
   bool dae = false;
+  /// The trapezoidal rule of the index-3 augmented Lagrangian
+  /// (solver/augmented_lagrangian.hpp): it steps A, B and the loops itself, a
+  /// fixed step dt, with a method that has no extra state.
+  bool augmented_lagrangian = false;
+  /// Integrates the formation's A and B itself (ida, trapezoidal): no step function, no method's state.
+  bool stepsItself() const { return dae || augmented_lagrangian; }
   bool runs(Engine e) const;
 };
 

@@ -48,7 +48,14 @@ struct LoopStats {
   int rank_min = -1, rank_max = -1;         ///< over the evaluations (-1: none)
   long projections = 0, projection_iterations = 0;
   long projections_unconverged = 0;  ///< projections that stopped at the iteration bound above projection_tol (singular positions)
+  /// Coordinate partitioning and the augmented Lagrangian: Newton solves (one
+  /// per evaluation or step), their iterations, those that stopped at the bound
+  /// above projection_tol.
+  long newton_solves = 0, newton_iterations = 0, newton_unconverged = 0;
+  long repartitions = 0;                   ///< coordinate partitioning: partitions chosen anew after the first
+  std::vector<double> repartition_times;   ///< when (s): the first kRepartitionTimesKept of them
 };
+inline constexpr size_t kRepartitionTimesKept = 20;
 
 /// How a run ended and what it cost: one struct that a trajectory, its
 /// metrics (compare/metrics.hpp) and the gallery's entry (extreme/) share,

@@ -387,3 +387,151 @@ TEST_CASE("an open start is refused naming the loop, and assembled onto the loop
   tree.assemble = true;
   CHECK_THROWS_WITH(buildModel(tree), Catch::StartsWith("simulate.assemble"));
 }
+
+namespace {
+
+// The largest relative difference of Andrews' seven angles at t = 0.03 s from the published ones.
+double andrewsError(const Trajectory& tr) {
+  double e = 0;
+  for (int k = 0; k < 7; ++k) e = std::max(e, std::abs(tr.q.back()[k] - kAndrewsAt003[k]) / std::abs(kAndrewsAt003[k]));
+  return e;
+}
+
+double energyBalanceError(const Trajectory& tr) {
+  double e = 0;
+  for (size_t s = 0; s < tr.size(); ++s) e = std::max(e, std::abs(tr.energy[s] + tr.dissipated[s] - tr.energy[0]));
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("coordinate partitioning meets Andrews' published solution, its dependent coordinates by Newton", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/andrews.json");
+  for (const Method method : {Method::Classical, Method::Articulated}) {
+    INFO(methodName(method));
+    const Trajectory tr = run(m, method, Integrator::RK8PD, 1e-13, 0.03, 0.03, Formulation::CoordinatePartitioning);
+    REQUIRE_FALSE(tr.failed());
+    CHECK(andrewsError(tr) < kPublishedRel);  // measured 2.7e-10, as the projection's
+    CHECK(energyBalanceError(tr) < 1e-8);     // measured 1.5e-13 J
+    CHECK(tr.loops.position_m < 1e-12);       // Newton's stopping test (projection_tol), at every evaluation
+    CHECK(tr.loops.velocity_m < 1e-12);       // G u = 0 from u_d, exactly but for round-off
+    CHECK(tr.loops.newton_solves > tr.steps);  // one per evaluation and one per accepted step
+    CHECK(tr.loops.rank_max == 6);
+  }
+}
+
+TEST_CASE("the augmented Lagrangian's trapezoidal rule converges at second order to Andrews' published solution", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/andrews.json");
+  double angle[2], energy[2];
+  const double dts[2] = {1e-5, 5e-6};
+  for (int i = 0; i < 2; ++i) {
+    INFO("dt " << dts[i]);
+    const Trajectory tr = run(m, Method::Classical, Integrator::Trapezoidal, dts[i], 0.03, 0.03, Formulation::AugmentedLagrangian);
+    REQUIRE_FALSE(tr.failed());
+    angle[i] = andrewsError(tr);
+    energy[i] = energyBalanceError(tr);
+    CHECK(tr.loops.position_m < 1e-12);  // index 3: the positions closed to Newton's tolerance at every step (measured 1e-16)
+    CHECK(tr.loops.velocity_m < 1e-7);   // the projection's penalty leaves G u ~ 1/(1 + penalty_ratio) of the trial's (measured 1e-8)
+    CHECK(tr.loops.rank_min == 6);
+    CHECK(tr.loops.newton_unconverged == 0);
+  }
+  // The trapezoidal rule is second order: halving dt divides the error by 4
+  // (measured 4.13 in the angles, 4.02 in E + W_diss; 2.8e-6 relative at 5e-6).
+  CHECK(angle[0] / angle[1] > 3.5);
+  CHECK(angle[0] / angle[1] < 4.5);
+  CHECK(energy[0] / energy[1] > 3.5);
+  CHECK(energy[0] / energy[1] < 4.5);
+  CHECK(angle[1] < 3.5e-6);
+}
+
+TEST_CASE("IFToMM A02 with N = 2: the augmented Lagrangian passes its singular positions, coordinate partitioning stops at one, named", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/iftomm_a02_n2.json");
+  const int N = 2;
+  const FourBars fb{(N + 1) / 3.0 + N, 9.81 * ((N + 1) / 2.0 + N), 0};
+  const FourBars oracle{fb.I, fb.Mgl, 0.5 * fb.I * 1.0 + fb.Mgl};  // theta = pi/2, theta' = -1 at the start
+  const double turn = timeToTurn(oracle, M_PI / 2, 2 * M_PI);
+  // The index-3 augmented Lagrangian keeps the parallel branch through six
+  // passes: after k turns, measured at dt = turn/2000 1.7e-7, 3.4e-7, 5.1e-7
+  // rad from the oracle (the projection under rk8pd at 1e-11: 8.7e-8, 7.9e-6,
+  // 4.1e-5), at turn/4000 4.7e-8, 1.0e-7, 1.7e-7: second order, 3.1-3.6x per halving.
+  double last[2] = {0, 0};
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory al = run(m, Method::Classical, Integrator::Trapezoidal, turn / (2000 << i), 3 * turn, turn, Formulation::AugmentedLagrangian);
+    REQUIRE_FALSE(al.failed());
+    for (int k = 1; k <= 3; ++k) {
+      INFO("dt = turn/" << (2000 << i) << ", after " << k << " turns");
+      CHECK(std::abs(al.q[k][0] - (M_PI / 2 - 2 * M_PI * k)) < 1e-6);
+      CHECK(std::abs(al.q[k][1] - al.q[k][0]) < 1e-8);  // every crank parallel
+      CHECK(std::abs(al.q[k][2] - al.q[k][0]) < 1e-8);
+    }
+    last[i] = std::abs(al.q[3][0] - (M_PI / 2 - 6 * M_PI));
+    CHECK(al.loops.position_m < 1e-9);
+    CHECK(energyBalanceError(al) < 1e-6);  // measured 4.7e-8 and 1.2e-7 J of 70 J
+  }
+  CHECK(last[1] < last[0] / 2.5);
+  // Coordinate partitioning needs G_d invertible. Where an accepted step lands
+  // with every partition's G_d within 1e-7 of singular (kSingularPivotRatio)
+  // it stops, its kind named, before its Newton can jump branch (unguarded, it
+  // did: E + W_diss off by 1.5e4 J); where the steps straddle a singular
+  // position it passes, losing accuracy as the projection does. Which happens
+  // depends on where the steps fall: measured, with samples every 0.05 s it
+  // stops at the second singular position (1.228 s), every turn/8 at the sixth (5.113 s).
+  std::vector<double> singular;  // the cranks along the ground line: theta = 0, -pi, -2 pi, ...
+  for (int j = 0; j < 6; ++j) singular.push_back(timeToTurn(oracle, M_PI / 2, M_PI / 2 + j * M_PI));
+  int stopped = 0;
+  for (const double output_dt : {0.05, turn / 8}) {
+    INFO("samples every " << output_dt << " s");
+    const double t_end = output_dt * std::floor(3 * turn / output_dt);
+    const Trajectory cp = run(m, Method::Classical, Integrator::RK8PD, 1e-11, t_end, output_dt, Formulation::CoordinatePartitioning);
+    for (const Eigen::VectorXd& q : cp.q) CHECK(q.allFinite());
+    CHECK(energyBalanceError(cp) < 1e-4);  // measured 8.6e-10 and 4.6e-5 J (of 70 J) before the stop
+    if (!cp.failed()) continue;
+    ++stopped;
+    CHECK(cp.failure_kind == Failure::Singular);
+    double nearest = 1e9;
+    for (double ts : singular) nearest = std::min(nearest, std::abs(cp.failure_time - ts));
+    CHECK(nearest < 0.02);
+  }
+  CHECK(stopped >= 1);  // the guard was reached
+}
+
+TEST_CASE("Bricard's linkage under coordinate partitioning (re-partitioned once) and the augmented Lagrangian: rank 4, energy kept", "[mechanism]") {
+  const Model m = test::loadData("mechanisms/iftomm_a04.json");
+  const Trajectory cp = run(m, Method::Classical, Integrator::RK8PD, 1e-11, 2.0, 0.01, Formulation::CoordinatePartitioning);
+  REQUIRE_FALSE(cp.failed());
+  CHECK(cp.loops.rank_min == 4);
+  CHECK(cp.loops.rank_max == 4);
+  // The first partition's pivots degrade tenfold as the linkage folds: chosen
+  // anew once (measured at t = 1.17 s), and the energy does not notice.
+  CHECK(cp.loops.repartitions >= 1);
+  CHECK(cp.loops.repartition_times.size() == static_cast<size_t>(std::min<long>(cp.loops.repartitions, kRepartitionTimesKept)));
+  CHECK(energyBalanceError(cp) < 1e-8);  // measured 2.6e-11 J
+  CHECK(cp.loops.position_m < 1e-12);
+  double error[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory al = run(m, Method::Classical, Integrator::Trapezoidal, 1e-3 / (1 << i), 2.0, 0.01, Formulation::AugmentedLagrangian);
+    REQUIRE_FALSE(al.failed());
+    CHECK(al.loops.rank_min == 4);  // of G, by a column-pivoted QR at every step: the penalty needs no rank decision
+    CHECK(al.loops.rank_max == 4);
+    CHECK(al.loops.position_m < 1e-12);
+    error[i] = energyBalanceError(al);
+  }
+  CHECK(error[0] < 5e-6);  // measured 2.2e-6 J at dt 1e-3, 5.5e-7 at 5e-4: second order
+  CHECK(error[0] / error[1] > 3.5);
+  CHECK(error[0] / error[1] < 4.5);
+}
+
+TEST_CASE("the augmented Lagrangian and its trapezoidal rule go together, on joints whose q' is u", "[mechanism]") {
+  const Model andrews = test::loadData("mechanisms/andrews.json");
+  RunSpec al_rk4 = test::runSpec(Method::Classical, Integrator::RK4, 0.03, 1e-5, 0.03);
+  al_rk4.options.loops.formulation = Formulation::AugmentedLagrangian;
+  CHECK_THROWS_WITH(simulate(andrews, checked(al_rk4)), Catch::Contains("augmented-lagrangian runs under its own integrator trapezoidal, not rk4"));
+  RunSpec trap_projection = test::runSpec(Method::Classical, Integrator::Trapezoidal, 0.03, 1e-5, 0.03);
+  CHECK_THROWS_WITH(simulate(andrews, checked(trap_projection)), Catch::Contains("runs the formulation augmented-lagrangian, not projection"));
+  RunSpec trap_eigen = test::runSpec(Method::Eigen, Integrator::Trapezoidal, 0.03, 1e-5, 0.03);
+  trap_eigen.options.loops.formulation = Formulation::AugmentedLagrangian;
+  CHECK_THROWS_WITH(simulate(andrews, checked(trap_eigen)), Catch::Contains("carries its own state"));
+  const Model ball = test::loadData("pendulum5_ball.json");  // a tree: the trapezoidal rule alone, refused as well
+  const RunSpec trap_ball = test::runSpec(Method::Classical, Integrator::Trapezoidal, 0.1, 1e-3, 0.1);
+  CHECK_THROWS_WITH(simulate(ball, checked(trap_ball)), Catch::Contains("integrates q' = u") && Catch::Contains("a quaternion"));
+}

@@ -1,0 +1,114 @@
+// The index-3 augmented Lagrangian with mass-orthogonal projections under the
+// trapezoidal rule (docs/theory.md eq. (M13)).
+#include "solver/augmented_lagrangian.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "solver/text.hpp"
+
+namespace em {
+
+int firstQuaternionBody(const Model& m) {
+  for (int i = 0; i < m.n(); ++i)
+    if (jointQuat(m.bodies[i].joint.type) >= 0) return i;
+  return -1;
+}
+
+AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions& o, double dt, const double* y)
+    : m_(m), o_(o), dt_(dt), ws_(m), loops_(m), qn_(Eigen::Map<const Eigen::VectorXd>(y, m.nq)),
+      un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq),
+      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
+  if (firstQuaternionBody(m) >= 0) throw std::invalid_argument("integrator trapezoidal integrates q' = u: not on quaternion joints");
+  rank_qr_.setThreshold(kLoopRankTol);
+  // u'(0) and the multipliers of eq. (M7): A u' = B + G^T lambda, so the residual's lambda* is -lambda.
+  formEquations(m, qn_.data(), un_.data(), ws_);
+  const ConstrainedEquations start = constrainedAt(m, ws_, un_.data());
+  udn_ = start.udot;
+  if (m.loop_rows) {
+    lambda_ = -start.lambda;
+    // alpha weighs the loops penalty_ratio times the inertia in T (largest diagonals).
+    const double GtG = (start.loops.G.transpose() * start.loops.G).diagonal().maxCoeff();
+    if (GtG > 0) alpha_ = o.penalty_ratio * 4.0 * ws_.A.diagonal().maxCoeff() / (dt * dt * GtG);
+  }
+  if (m.has_dampers) power_n_ = nonConservativePower(m, ws_, un_.data());
+}
+
+void AugmentedLagrangianRun::form(const double* q, const double* u) {
+  formEquations(m_, q, u, ws_);
+  if (m_.loop_rows) formLoops(m_, ws_, u, loops_);
+  ++evaluations_;
+}
+
+void AugmentedLagrangianRun::trial(const Eigen::VectorXd& q) {
+  u_ = (2.0 / dt_) * (q - qn_) - un_;
+  ud_ = (4.0 / (dt_ * dt_)) * (q - qn_) - (4.0 / dt_) * un_ - udn_;
+}
+
+Status AugmentedLagrangianRun::step(double t, double* y) {
+  const double h2 = dt_ * dt_ / 4.0;
+  q_ = qn_ + dt_ * un_ + (dt_ * dt_ / 2.0) * udn_;  // the predictor
+  ++stats_.newton_solves;
+  bool converged = false;
+  for (int it = 0;; ++it) {
+    trial(q_);
+    form(q_.data(), u_.data());
+    if (it > 0 && m_.loop_rows) lambda_ += alpha_ * loops_.g;  // lambda*_{i+1} = lambda*_i + alpha g(q_{i+1})
+    // f = (dt^2/4)(A u'* - B + G^T (lambda* + alpha g)), T = A + (dt^2/4) alpha G^T G.
+    f_.noalias() = ws_.A * ud_;
+    f_ -= ws_.B;
+    T_ = ws_.A;
+    if (m_.loop_rows) {
+      f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
+      T_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
+    }
+    f_ *= h2;
+    llt_.compute(T_);
+    if (llt_.info() != Eigen::Success)
+      return Status::failure(t, Failure::NotPositiveDefinite, "the augmented Lagrangian's iteration matrix A + (dt^2/4) alpha G^T G is not positive definite");
+    dq_ = -llt_.solve(f_);
+    if (!dq_.allFinite()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's Newton step is not finite");
+    q_ += dq_;
+    ++stats_.newton_iterations;
+    if (dq_.cwiseAbs().maxCoeff() <= o_.al_tol) {
+      converged = true;
+      break;
+    }
+    if (it + 1 == o_.al_iterations) break;
+  }
+  if (!converged) ++stats_.newton_unconverged;  // goes on, counted; the run fails only beyond loop_tol
+  // The state at q_{n+1}: lambda* takes its last update, then the mass-orthogonal projections
+  // u = u* - T^-1 (dt^2/4) alpha G^T G u*, u' = u'* - T^-1 (dt^2/4) alpha G^T (G u'* + c).
+  trial(q_);
+  form(q_.data(), u_.data());
+  if (m_.loop_rows) {
+    lambda_ += alpha_ * loops_.g;
+    T_ = ws_.A;
+    T_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
+    llt_.compute(T_);
+    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * loops_.Gu;
+    u_ -= llt_.solve(f_);
+    formKinematics(m_, q_.data(), u_.data(), ws_);  // c at the projected u
+    formLoops(m_, ws_, u_.data(), loops_);
+    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * (loops_.G * ud_ + loops_.c);
+    ud_ -= llt_.solve(f_);
+    rank_qr_.compute(loops_.G);
+    const int rank = static_cast<int>(rank_qr_.rank());
+    stats_.rank_min = stats_.rank_min < 0 ? rank : std::min(stats_.rank_min, rank);
+    stats_.rank_max = std::max(stats_.rank_max, rank);
+  }
+  double* W = m_.has_dampers ? y + m_.nq + m_.nu : nullptr;
+  if (W) {  // W_diss by the same trapezoidal rule
+    const double power = nonConservativePower(m_, ws_, u_.data());
+    *W += dt_ / 2 * (power_n_ + power);
+    power_n_ = power;
+  }
+  qn_ = q_;
+  un_ = u_;
+  udn_ = ud_;
+  Eigen::Map<Eigen::VectorXd>(y, m_.nq) = q_;
+  Eigen::Map<Eigen::VectorXd>(y + m_.nq, m_.nu) = u_;
+  return {};
+}
+
+}  // namespace em
