@@ -2,12 +2,18 @@
 // trapezoidal rule (docs/theory.md eq. (M13)).
 #include "solver/augmented_lagrangian.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "solver/text.hpp"
 
 namespace em {
+
+namespace {
+// Newton iterations beyond which the step's C and K are formed anew for the next.
+constexpr int kFreshTangentIterations = 4;
+}  // namespace
 
 int firstQuaternionBody(const Model& m) {
   for (int i = 0; i < m.n(); ++i)
@@ -18,7 +24,8 @@ int firstQuaternionBody(const Model& m) {
 AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions& o, double dt, const double* y)
     : m_(m), o_(o), dt_(dt), ws_(m), loops_(m), qn_(Eigen::Map<const Eigen::VectorXd>(y, m.nq)),
       un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq),
-      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
+      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), r0_(m.nu),
+      r1_(m.nu), x_(m.nu), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
   if (firstQuaternionBody(m) >= 0) throw std::invalid_argument("integrator trapezoidal integrates q' = u: not on quaternion joints");
   rank_qr_.setThreshold(kLoopRankTol);
   // u'(0) and the multipliers of eq. (M7): A u' = B + G^T lambda, so the residual's lambda* is -lambda.
@@ -45,28 +52,60 @@ void AugmentedLagrangianRun::trial(const Eigen::VectorXd& q) {
   ud_ = (4.0 / (dt_ * dt_)) * (q - qn_) - (4.0 / dt_) * un_ - udn_;
 }
 
+void AugmentedLagrangianRun::residual(const double* q, const double* u, Eigen::VectorXd& r) {
+  formEquations(m_, q, u, ws_);
+  ++evaluations_;
+  r.noalias() = ws_.A * ud_;
+  r -= ws_.B;
+}
+
+// C = d(A u' - B)/du and K = d(A u' - B)/dq at (q_, u_, ud_): the damping and
+// the stiffness (springs, point spring-dampers, the velocity terms), which the
+// tangent needs on stiff scenes (IFToMM A05: without them Newton diverged at
+// dt 1e-2 and 1e-3).
+void AugmentedLagrangianRun::refreshDamping() {
+  constexpr double kRelStep = 1.4901161193847656e-08;  // sqrt(eps)
+  residual(q_.data(), u_.data(), r0_);
+  for (int j = 0; j < m_.nu; ++j) {
+    x_ = u_;
+    const double hu = kRelStep * std::max(1.0, std::abs(u_[j]));
+    x_[j] += hu;
+    residual(q_.data(), x_.data(), r1_);
+    C_.col(j) = (r1_ - r0_) / hu;
+    x_ = q_;
+    const double hq = kRelStep * std::max(1.0, std::abs(q_[j]));
+    x_[j] += hq;
+    residual(x_.data(), u_.data(), r1_);
+    K_.col(j) = (r1_ - r0_) / hq;
+  }
+  stale_ = false;
+}
+
 Status AugmentedLagrangianRun::step(double t, double* y) {
   const double h2 = dt_ * dt_ / 4.0;
   q_ = qn_ + dt_ * un_ + (dt_ * dt_ / 2.0) * udn_;  // the predictor
   ++stats_.newton_solves;
+  if (stale_) {
+    trial(q_);
+    refreshDamping();
+  }
   bool converged = false;
-  for (int it = 0;; ++it) {
+  int it = 0;
+  for (;; ++it) {
     trial(q_);
     form(q_.data(), u_.data());
     if (it > 0 && m_.loop_rows) lambda_ += alpha_ * loops_.g;  // lambda*_{i+1} = lambda*_i + alpha g(q_{i+1})
-    // f = (dt^2/4)(A u'* - B + G^T (lambda* + alpha g)), T = A + (dt^2/4) alpha G^T G.
+    // f = (dt^2/4)(A u'* - B + G^T (lambda* + alpha g)), T = A + (dt/2) C + (dt^2/4)(K + alpha G^T G).
     f_.noalias() = ws_.A * ud_;
     f_ -= ws_.B;
-    T_ = ws_.A;
+    T_ = ws_.A + (dt_ / 2) * C_ + h2 * K_;
     if (m_.loop_rows) {
       f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
       T_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
     }
     f_ *= h2;
-    llt_.compute(T_);
-    if (llt_.info() != Eigen::Success)
-      return Status::failure(t, Failure::NotPositiveDefinite, "the augmented Lagrangian's iteration matrix A + (dt^2/4) alpha G^T G is not positive definite");
-    dq_ = -llt_.solve(f_);
+    lu_.compute(T_);
+    dq_ = -lu_.solve(f_);
     if (!dq_.allFinite()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's Newton step is not finite");
     q_ += dq_;
     ++stats_.newton_iterations;
@@ -77,15 +116,16 @@ Status AugmentedLagrangianRun::step(double t, double* y) {
     if (it + 1 == o_.al_iterations) break;
   }
   if (!converged) ++stats_.newton_unconverged;  // goes on, counted; the run fails only beyond loop_tol
+  stale_ = !converged || it + 1 > kFreshTangentIterations;  // a slow Newton: C and K anew for the next step
   // The state at q_{n+1}: lambda* takes its last update, then the mass-orthogonal projections
   // u = u* - T^-1 (dt^2/4) alpha G^T G u*, u' = u'* - T^-1 (dt^2/4) alpha G^T (G u'* + c).
   trial(q_);
   form(q_.data(), u_.data());
   if (m_.loop_rows) {
     lambda_ += alpha_ * loops_.g;
-    T_ = ws_.A;
-    T_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
-    llt_.compute(T_);
+    P_ = ws_.A;
+    P_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
+    llt_.compute(P_);
     f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * loops_.Gu;
     u_ -= llt_.solve(f_);
     formKinematics(m_, q_.data(), u_.data(), ws_);  // c at the projected u

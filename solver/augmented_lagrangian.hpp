@@ -3,8 +3,9 @@
 /// trapezoidal rule (Bayo and Ledesma 1996; the ALI3-P of Cuadrado, Dopico,
 /// González and Naya, behind IFToMM's reference solutions; docs/theory.md
 /// eq. (M13)): the formulation `augmented-lagrangian`, run by the integrator
-/// `trapezoidal`. Each step solves, by Newton with the approximate tangent
-/// T = A + (dt^2/4) alpha G^T G,
+/// `trapezoidal`. Each step solves, by Newton with the tangent
+/// T = A + (dt/2) C + (dt^2/4) (K + alpha G^T G), C and K the derivatives of
+/// A u' - B in u and q (forward differences, refreshed where Newton slows),
 ///   (dt^2/4) (A u'* - B + G^T (lambda* + alpha g)) = 0,
 ///   u* = (2/dt)(q - q_n) - u_n,  u'* = (4/dt^2)(q - q_n) - (4/dt) u_n - u'_n,
 /// with lambda* += alpha g at every iterate, then projects u and u'
@@ -32,13 +33,18 @@ class AugmentedLagrangianRun {
  private:
   void form(const double* q, const double* u);  // ws_: A, B and the loops at (q, u)
   void trial(const Eigen::VectorXd& q);         // u*, u'* from q
+  void residual(const double* q, const double* u, Eigen::VectorXd& r);  // A(q) ud_ - B(q, u)
+  void refreshDamping();                        // C_, K_ at (q_, u_, ud_), by forward differences
   const Model& m_;
   LoopOptions o_;
   double dt_, alpha_ = 0;
   Workspace ws_;
   LoopState loops_;
   Eigen::VectorXd qn_, un_, udn_, lambda_, q_, u_, ud_, f_, dq_;
-  Eigen::MatrixXd T_;
+  Eigen::MatrixXd T_, P_, C_, K_;  // Newton's tangent, the projections' A + (dt^2/4) alpha G^T G, dR/du, dR/dq
+  Eigen::VectorXd r0_, r1_, x_;     // scratch of the differences
+  bool stale_ = true;               // C_, K_ to be formed before the next step
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> rank_qr_;
   double power_n_ = 0;  // the non-conservative power at the last step (W_diss by the trapezoidal rule)

@@ -271,6 +271,10 @@ namespace {
 // x = X^+ r by a complete orthogonal decomposition at relative threshold tol; its rank.
 int leastNorm(Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod, const Eigen::MatrixXd& X, double tol,
               const Eigen::VectorXd& r, Eigen::VectorXd& x) {
+  if (X.rows() == 0) {  // no loops (a tree with point springs or drives): nothing to solve; Eigen's QR of 0 rows crashes
+    x.setZero(X.cols());
+    return 0;
+  }
   cod.setThreshold(tol);
   cod.compute(X);
   x = cod.solve(r);

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Writes IFToMM's benchmark problems A01, A02 and A04 as eigenmass scenes
+"""Writes IFToMM's benchmark problems A01, A02, A04 and A05 as eigenmass scenes
 (data/scenes/mechanisms/): the numbers are the library's specifications
 (González, Dopico, Lugrís and Cuadrado; library of computational benchmark
-problems for multibody system dynamics, problems A01, A02 and A04)."""
+problems for multibody system dynamics, problems A01, A02, A04 and A05)."""
 import json
 import math
 import os
@@ -104,6 +104,65 @@ def a04(t_end=10.0, output_dt=0.01):
         "simulate": {"t_end": t_end, "output_dt": output_dt}}
 
 
+def brick(mass, hx, hy, hz):
+    """Principal moments of a uniform box of half-sides hx, hy, hz about its CM."""
+    return [mass * (hy ** 2 + hz ** 2) / 3, mass * (hx ** 2 + hz ** 2) / 3, mass * (hx ** 2 + hy ** 2) / 3]
+
+
+def a05(t_end=10.0, output_dt=0.01):
+    """The stiff flyball governor, z up: a shaft turning about z on the ground
+    at 2 pi rad/s; a slider on it (s = 0.5 m up); two rods hinged at the
+    shaft's top, 0.05 m either side, each with a 5 kg point mass welded at its
+    far end and a stiff spring-damper from the slider's side to its middle.
+    A tree: the point springs are its only force elements besides gravity."""
+    rho, point = 3000.0, 5.0
+    bar = rho * 1.0 * 0.01 * 0.01                      # 0.3 kg: 1 m x 0.01 m x 0.01 m
+    slider = rho * 0.1 ** 3                            # 3 kg: a 0.1 m cube
+    bar_inertia = brick(bar, 0.005, 0.005, 0.5)        # about its CM, long axis z
+    # A rod with its point mass at its tip (0.5 m from its middle) is one rigid
+    # body: mass 5.3 kg, CM c = 5 * 0.5 / 5.3 from the middle toward the tip,
+    # moments about that CM by the parallel-axis theorem (the point mass adds
+    # nothing about the rod's own axis).
+    rod_mass = bar + point
+    c = point * 0.5 / rod_mass
+    shift = bar * c ** 2 + point * (0.5 - c) ** 2
+    rod_inertia = [bar_inertia[0] + shift, bar_inertia[1] + shift, bar_inertia[2]]
+    tilt = 2 * math.pi / 3  # each rod from pointing up to 30 degrees below the horizontal, outward
+    bodies = [
+        {"name": "shaft", "parent": "ground", "mass": bar, "inertia": bar_inertia,
+         "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [0, 0, -0.5],
+                   "q0": [0.0], "u0": [2 * math.pi]}},
+        {"name": "slider", "parent": "shaft", "mass": slider, "inertia": brick(slider, 0.05, 0.05, 0.05),
+         "joint": {"type": "prismatic", "axis": [0, 0, 1], "in_parent": [0, 0, -0.5], "in_body": [0, 0, 0],
+                   "q0": [0.5], "u0": [0.0]}},
+    ]
+    for name, side, sign in (("rod1", 0.05, 1.0), ("rod2", -0.05, -1.0)):
+        bodies.append({"name": name, "parent": "shaft", "mass": rod_mass, "inertia": rod_inertia,
+                       "joint": {"type": "revolute", "axis": [0, 1, 0], "in_parent": [side, 0, 0.5],
+                                 "in_body": [0, 0, -0.5 - c], "q0": [sign * tilt], "u0": [0.0]}})
+    forces = [{"name": "spring%d" % i, "type": "spring", "body_a": "slider", "point_a": [side, 0, 0], "body_b": rod,
+               "point_b": [0, 0, -c], "k": 8e5, "c": 4e4, "length": 0.5}
+              for i, (rod, side) in enumerate((("rod1", 0.05), ("rod2", -0.05)), start=1)]
+    return {
+        "format": "eigenmass-scene/1", "name": "iftomm_a05",
+        "x-comment": "IFToMM benchmark A05, the stiff flyball governor (z up here): a shaft (1 x 0.01 x 0.01 m, "
+                     "3000 kg/m^3: 0.3 kg) turning about the vertical at 2 pi rad/s; a slider (0.1 m cube, 3 kg) on it at "
+                     "s = 0.5 m; two rods like the shaft hinged at its top 0.05 m either side, 30 degrees below the "
+                     "horizontal, each with a 5 kg point mass at its end (rod and mass are one body here: 5.3 kg, CM 0.4717 m "
+                     "from the rod's middle, moments by the parallel-axis theorem); two spring-dampers (k = 8e5 N/m, "
+                     "c = 4e4 N s/m, rest length 0.5 m, at rest at the start) from the slider's sides (+-0.05 m) to the "
+                     "rods' middles. Stiff: the springs' time constant c/k = 0.05 s against the spin of 1 s.",
+        "x-source": "Specification of problem A05 (IFToMM library; Gonzalez, Dopico, Lugris, Cuadrado 2006) as tabled by "
+                    "the OpenSim port (RehabEngGroup/MBSbenchmarksInOpenSim, help/benchmarks/A05_FlyballGovernor.rst and "
+                    "src/A05-FlyballGovernor: dimensions, density, point masses, K, C, rest length, s = 0.5 m, "
+                    "alpha = 30 degrees, 2 pi rad/s; the pins at (+-0.05, 0, 0.5) on the shaft, the springs from "
+                    "(+-0.05, 0, 0) on the slider to the rods' CMs); the error measure is the slider's s; the horizon "
+                    "10 s as that port reports it (its parameter file runs 350 s; the specification's own horizon was "
+                    "not reachable here). Written by tools/make_mechanisms.py.",
+        "gravity": [0, 0, -9.81], "bodies": bodies, "forces": forces,
+        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+
+
 def write(doc):
     path = os.path.join(OUT, doc["name"] + ".json")
     with open(path, "w") as f:
@@ -117,4 +176,5 @@ if __name__ == "__main__":
     write(a02(40))
     write(a02(2))
     write(a04())
+    write(a05())
     sys.exit(0)
