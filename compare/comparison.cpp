@@ -1,6 +1,7 @@
 #include "compare/comparison.hpp"
 
 #include "engines/engine.hpp"
+#include "solver/integrate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,6 +80,22 @@ void CompareOptions::leaveOutRefused(const Model& m) {
     const std::string why = methodRefusal(method, m);
     if (why.empty()) kept.push_back(method);
     else left_out.emplace_back(method, why);
+  }
+  methods = kept;
+}
+
+void CompareOptions::leaveOutUnrunnable(const Model& m, bool named) {
+  std::vector<Method> kept;
+  for (Method method : methods) {
+    RunSpec s = inhouse;
+    s.method = method;
+    try {
+      if (info(method).engine == Engine::InHouse) refuseUnrunnable(m, s);
+      kept.push_back(method);
+    } catch (const std::invalid_argument& e) {
+      if (named) throw;
+      left_out.emplace_back(method, e.what());
+    }
   }
   methods = kept;
 }

@@ -28,6 +28,11 @@ struct CompareOptions {
   /// Leave out of `methods` those whose engine cannot take `m` (a default
   /// list: a method named by the user is refused instead), into left_out.
   void leaveOutRefused(const Model& m);
+  /// The in-house methods `inhouse`'s integrator cannot run on `m`
+  /// (refuseUnrunnable: ida or trapezoidal with a method's own state, the
+  /// augmented Lagrangian and trapezoidal apart): left out into left_out, or,
+  /// where the user named the methods (`named`), refused in one line.
+  void leaveOutUnrunnable(const Model& m, bool named);
   RunSpec inhouse;           ///< integrator and step/tolerance of the in-house methods (rk4, dt kDefaultDt)
   /// Every other engine as a compared method, one spec each: its default
   /// integrator and tolerance kEngineTol (Simbody: rkmerson at 1e-6). A

@@ -58,7 +58,7 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
   CHECK(info(defaultIntegrator(Engine::InHouse)).runs(Engine::InHouse));
   CHECK_FALSE(info(adaptiveIntegrator(Engine::InHouse)).fixed_step);
   for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function or its GSL stepper
-    if (i.runs(Engine::InHouse)) CHECK((i.dae || (i.fixed_step ? i.step != nullptr : i.gsl != nullptr)));  // a DAE solver (ida) steps itself
+    if (i.runs(Engine::InHouse)) CHECK((i.stepsItself() || (i.fixed_step ? i.step != nullptr : i.gsl != nullptr)));  // ida and trapezoidal step themselves
   CHECK_NOTHROW(requireCompatible(Method::Classical, Integrator::BSIMP));
 }
 
