@@ -69,10 +69,12 @@ Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
   requireMethodTakes(spec.method, m);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
-  if (recordedRun(spec.method)) return recordedTrajectory(m, checked_spec);  // a run made elsewhere: nothing runs
-  if (info(spec.method).isolated) return simulateIsolated(m, checked_spec, observe);  // code from outside: in a child process
-  if (spec.engine() == Engine::InHouse) return simulate(m, checked_spec, observe);
-  return engineCode(spec.engine()).simulate(m, checked_spec, observe);
+  Trajectory tr = recordedRun(spec.method)       ? recordedTrajectory(m, checked_spec)  // a run made elsewhere: nothing runs
+                  : info(spec.method).isolated    ? simulateIsolated(m, checked_spec, observe)  // code from outside: in a child process
+                  : spec.engine() == Engine::InHouse ? simulate(m, checked_spec, observe)
+                                                     : engineCode(spec.engine()).simulate(m, checked_spec, observe);
+  recordLoopSamples(m, tr);  // every run's closures at its samples, measured one way
+  return tr;
 }
 
 std::string engineSceneNote(Engine e, const Model& m) {

@@ -25,6 +25,11 @@ void writeRow(std::ostream& out, const Trajectory& tr, size_t k) {
     const SampleDiagnostics& d = tr.diag[k];
     out << ',' << d.orth_err << ',' << d.offdiag_rel << ',' << d.min_gap << ',' << d.max_Omega << ',' << d.inv_err;
   }
+  if (!tr.loop_samples.empty()) {
+    const LoopSample& l = tr.loop_samples[k];
+    out << ',' << l.position_m << ',' << l.position_rad << ',' << l.velocity_m << ',' << l.velocity_rad;
+    for (int i = 0; i < l.lambda.size(); ++i) out << ',' << l.lambda[i];
+  }
   out << '\n';
 }
 }  // namespace
@@ -37,6 +42,10 @@ std::vector<std::string> csvColumns(const Trajectory& tr) {
   for (const auto& b : tr.body_names)
     for (const char* col : kPoseColumns) c.push_back(b + "." + col);
   if (!tr.diag.empty()) c.insert(c.end(), kDiagnosticColumns.begin(), kDiagnosticColumns.end());
+  if (!tr.loop_samples.empty()) {
+    c.insert(c.end(), kLoopColumns.begin(), kLoopColumns.end());
+    c.insert(c.end(), tr.lambda_names.begin(), tr.lambda_names.end());
+  }
   return c;
 }
 

@@ -17,6 +17,9 @@ namespace em {
 inline constexpr std::array<const char*, 7> kPoseColumns = {"x", "y", "z", "qw", "qx", "qy", "qz"};
 inline constexpr std::array<const char*, 3> kEnergyColumns = {"energy", "kinetic", "dissipated"};
 inline constexpr std::array<const char*, 5> kDiagnosticColumns = {"orth_err", "offdiag_rel", "min_gap", "max_Omega", "inv_err"};
+/// A mechanism's columns (Trajectory::loop_samples), then its lambda.<loop>.<row> ones.
+inline constexpr std::array<const char*, 4> kLoopColumns = {"loops.position_m", "loops.position_rad", "loops.velocity_m_per_s",
+                                                           "loops.velocity_rad_per_s"};
 
 /// Most lines a CSV file read from outside may have (with the 256 MiB bound on
 /// its bytes, io/json_input.hpp): what is read stays within ~1 GiB.

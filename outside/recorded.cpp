@@ -22,7 +22,8 @@ namespace {
 // Columns eigenmass's own CSV has beside t, q, u and poses (io/csv.hpp): read past, recomputed.
 bool ownColumn(const std::string& c) {
   return std::find(kEnergyColumns.begin(), kEnergyColumns.end(), c) != kEnergyColumns.end() ||
-         std::find(kDiagnosticColumns.begin(), kDiagnosticColumns.end(), c) != kDiagnosticColumns.end();
+         std::find(kDiagnosticColumns.begin(), kDiagnosticColumns.end(), c) != kDiagnosticColumns.end() ||
+         std::find(kLoopColumns.begin(), kLoopColumns.end(), c) != kLoopColumns.end() || c.rfind("lambda.", 0) == 0;
 }
 
 struct Entry {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "solver/text.hpp"
@@ -453,6 +454,33 @@ ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const do
   out.rank = solve.solve(out.loops, AinvGt, 0.0, 0.0, out.udot);
   out.lambda = solve.lambda();
   return out;
+}
+
+void recordLoopSamples(const Model& m, Trajectory& tr) {
+  tr.loop_samples.clear();
+  tr.lambda_names.clear();
+  if (m.loops.empty()) return;
+  for (const Loop& l : m.loops)
+    for (int r = 0; r < loopRow(l.type).equations; ++r) tr.lambda_names.push_back("lambda." + l.name + "." + std::to_string(r));
+  const std::vector<int> pq = m.qFilePermutation(), pu = m.uFilePermutation();
+  Eigen::VectorXd q(m.nq), u(m.nu);
+  Workspace ws(m);
+  for (size_t s = 0; s < tr.size(); ++s) {
+    for (int k = 0; k < m.nq; ++k) q[pq[k]] = tr.q[s][k];
+    for (int k = 0; k < m.nu; ++k) u[pu[k]] = tr.u[s][k];
+    formEquations(m, q.data(), u.data(), ws);
+    LoopSample ls;
+    try {
+      const ConstrainedEquations e = constrainedAt(m, ws, u.data());
+      ls = {e.loops.position_m, e.loops.position_rad, e.loops.velocity_m, e.loops.velocity_rad, e.lambda};
+    } catch (const std::runtime_error&) {  // A not positive definite at a failed run's last state
+      LoopState g(m);
+      formLoops(m, ws, u.data(), g);
+      ls = {g.position_m, g.position_rad, g.velocity_m, g.velocity_rad,
+            Eigen::VectorXd::Constant(m.loop_rows, std::numeric_limits<double>::quiet_NaN())};
+    }
+    tr.loop_samples.push_back(std::move(ls));
+  }
 }
 
 void finishMechanism(Model& m) {

@@ -211,6 +211,12 @@ struct ConstrainedEquations {
 /// From a Workspace whose A and B are formed at (q, u) (formEquations).  // u: (nu)
 ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u);
 
+/// tr.loop_samples and tr.lambda_names at every sample of a run on `m` (a
+/// model with loops; nothing otherwise): the violation by our g(q) and G u,
+/// and (M7)'s lambda at the sampled state, whoever made the run (an engine's
+/// samples are measured the same way). Bookkeeping after the run: it allocates.
+void recordLoopSamples(const Model& m, Trajectory& tr);
+
 /// Set each weld's relative orientation from the model's initial state
 /// (Loop::rel); a model without welds is left as it is.
 void finishMechanism(Model& m);

@@ -29,6 +29,16 @@ struct SampleDiagnostics {
   double orth_err, offdiag_rel, min_gap, max_Omega, inv_err;
 };
 
+/// A mechanism's closures at one sample (docs/theory.md §15): the violation
+/// (largest |g| over the point rows, m, and the turn of the direction rows,
+/// rad; largest |G u|, m/s and rad/s) and the multipliers lambda of eq. (M7)
+/// at the sampled state (alpha = beta = 0; NaN where A is not positive
+/// definite there), one per closure row.
+struct LoopSample {
+  double position_m, position_rad, velocity_m, velocity_rad;
+  Eigen::VectorXd lambda;
+};
+
 /// Counters of the eigenfactor methods over a whole run.
 struct EigenStats {
   long jacobi_sweeps = 0, jacobi_rotations = 0;
@@ -93,6 +103,8 @@ struct Trajectory : RunEnd {
   std::vector<double> dissipated;          ///< W_diss per sample (0 without dampers)
   std::vector<std::vector<Pose>> poses;    ///< per sample, per body
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
+  std::vector<LoopSample> loop_samples;    ///< per sample on a model with loops (recordLoopSamples), else empty
+  std::vector<std::string> lambda_names;   ///< "lambda.<loop>.<row>", one per closure row, with loop_samples
   // Run summary: how it ended and its cost are RunEnd's.
   /// The largest distance (m) between a joint's two points over the steps:
   /// a maximal-coordinate engine's constraint violation (ODE); NaN otherwise.

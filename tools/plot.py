@@ -22,6 +22,7 @@ precision  a precision file (eigenmass-precision/1):
          <scene>-work-precision  error against CPU time and against the step or tolerance
 trajectory  a trajectory CSV (simulate --out) with its sidecar <csv>.json:
          <stem>-state, <stem>-energy  coordinates and speeds, the energy balance error
+         <stem>-loops         a mechanism's constraint violation against time
 
 One colour per method and one marker per integrator in every figure. Prints
 each file written, one per line. An input of the right format but not of its
@@ -595,6 +596,28 @@ def trajectory_figures(csv_path, meta, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     save(fig, out, stem + "-energy")
+    loop_figure(cols, method, title, meta, out, stem)
+
+
+LOOP_COLUMNS = (("loops.position_m", "position, m", "-"), ("loops.position_rad", "position, rad", "--"),
+                ("loops.velocity_m_per_s", "velocity, m/s", "-."), ("loops.velocity_rad_per_s", "velocity, rad/s", ":"))
+
+
+def loop_figure(cols, method, title, meta, out, stem):
+    """A mechanism's run: its closures' violation against time (the CSV's loops.* columns)."""
+    if not all(c in cols for c, _, _ in LOOP_COLUMNS):
+        return  # a tree, or a CSV from outside: no loops to draw
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for c, label, style in LOOP_COLUMNS:
+        ax.semilogy(cols["t"], [max(abs(v), FLOOR) for v in cols[c]], ls=style, lw=1.2, color=color(method), label=label)
+    if meta.get("failure") and cols["t"]:
+        mark_failure(ax, method, cols["t"][-1], max(abs(cols["loops.position_m"][-1]), FLOOR))
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("largest |g| (position) and |G u| (velocity)")
+    ax.set_title("Constraint violation at the samples: " + title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, out, stem + "-loops")
 
 
 # ---------------------------------------------------------------------------------------- extreme

@@ -166,3 +166,22 @@ TEST_CASE("compare under trapezoidal leaves out the methods with their own state
   CHECK_THAT(named.out, Catch::Contains("method eigen carries its own state"));
   CHECK_THAT(named.out, !Catch::Contains("running"));  // refused before the reference ran
 }
+
+TEST_CASE("a mechanism's trajectory CSV carries the violation and lambda per sample, and plot draws the violation against time", "[cli][mechanism]") {
+  const std::string dir = tempDir() + "/loopcsv";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/a04.csv";
+  REQUIRE(eigenmass("simulate " + scene("mechanisms/iftomm_a04.json") + " --integrator rk8pd --tol 1e-10 --t-end 0.5 --out " + csv).status == 0);
+  std::ifstream in(csv);
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  CHECK_THAT(header, Catch::EndsWith(",loops.position_m,loops.position_rad,loops.velocity_m_per_s,loops.velocity_rad_per_s,"
+                                     "lambda.O2.0,lambda.O2.1,lambda.O2.2,lambda.O2.3,lambda.O2.4"));
+  CHECK(std::count(first.begin(), first.end(), ',') == std::count(header.begin(), header.end(), ','));
+  const Run p = eigenmass("plot " + csv + " --out " + dir + "/figs --format svg");
+  REQUIRE(p.status == 0);
+  CHECK_THAT(p.out, Catch::Contains(dir + "/figs/a04-loops.svg"));
+  CHECK(std::filesystem::file_size(dir + "/figs/a04-loops.svg") > 1000);
+}

@@ -363,6 +363,18 @@ TEST_CASE("a static four-bar: lambda at the closure against the hand calculation
   // Held: the constrained u' vanishes (the tree's u' alone does not: the coupler would fall).
   CHECK(c.udot.cwiseAbs().maxCoeff() < 1e-12);
   CHECK(Eigen::LLT<Eigen::MatrixXd>(ws.A).solve(ws.B).cwiseAbs().maxCoeff() > 1.0);
+  // Simulated, it stays put, and every sample's lambda (the trajectory CSV's
+  // lambda.Q.* columns) is the hand calculation's; the violation columns stay at round-off.
+  Trajectory tr = run(m, Method::Classical, Integrator::RK4, 1e-3, 1.0, 0.1);
+  REQUIRE_FALSE(tr.failed());
+  recordLoopSamples(m, tr);
+  REQUIRE(tr.loop_samples.size() == tr.size());
+  CHECK(tr.lambda_names == std::vector<std::string>{"lambda.Q.0", "lambda.Q.1", "lambda.Q.2"});
+  for (const LoopSample& l : tr.loop_samples) {
+    CHECK(std::abs(l.lambda[0] - (mc + mk) * g / std::tan(th) / 2) < 1e-9);  // a held state drifts by round-off only
+    CHECK(std::abs(l.lambda[1] - mk * g / 2) < 1e-9);
+    CHECK(l.position_m < 1e-12);
+  }
 }
 
 TEST_CASE("an open start is refused naming the loop, and assembled onto the loops when asked", "[mechanism][io]") {
