@@ -47,10 +47,27 @@ std::vector<ExtremeSetting> defaultSettings() {
 
 namespace {
 
-// x-extreme: {"runs": ["rk4:1e-3", ...], "reference_tol": 1e-10}; anything else is refused.
+std::vector<std::string> adaptiveInHouseNames() {
+  std::vector<std::string> n;
+  for (const IntegratorInfo& i : integratorTable())
+    if (i.runs(Engine::InHouse) && !i.fixed_step) n.emplace_back(i.name);
+  return n;
+}
+
+// x-extreme: {"runs": ["rk4:1e-3", ...], "reference_tol": 1e-10, "reference_integrator": "rk8pd"};
+// anything else is refused.
 void readExtremeKeys(const json& x, ExtremeCase& c) {
   const std::string at = "x-extreme";
-  onlyKeys(x, at, {"runs", "reference_tol"});
+  onlyKeys(x, at, {"runs", "reference_tol", "reference_integrator"});
+  if (x.contains("reference_integrator")) {
+    const std::string path = jsonPath(at, "reference_integrator");
+    const std::string name = stringAt(x["reference_integrator"], path);
+    Integrator i;
+    if (!findIntegrator(name, i) || !info(i).runs(Engine::InHouse) || info(i).fixed_step)
+      throw InputError(path, "'" + printable(name, 40) + "' is not an in-house adaptive integrator (" +
+                                 joined(adaptiveInHouseNames()) + ")");
+    c.reference_integrator = i;
+  }
   if (x.contains("runs")) {
     const std::string path = jsonPath(at, "runs");
     const json runs = nonEmptyArrayAt(x["runs"], path);
@@ -144,8 +161,17 @@ CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const E
   o.second_engine = false;  // the gallery compares MuJoCo as a method; its floor would double the cost
   o.inhouse.integrator = s.integrator;
   (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
+  // A mechanism case: the methods whose engine cannot take it are left out,
+  // each said in its report, and the reference is the mechanisms' (classical under ida).
+  o.leaveOutRefused(c.scene.model);
+  o.useMechanismReference(c.scene.model);
   if (c.reference_tol) o.reference.tol = *c.reference_tol;
+  if (c.reference_integrator) {
+    o.reference.method = Method::Classical;
+    o.reference.integrator = *c.reference_integrator;
+  }
   for (RunSpec* spec : o.allSpecs()) spec->options = opt.options;
+  o.leaveOutUnrunnable(c.scene.model, false);
   o.grid = opt.grid;
   o.thresholds = {kDivergedRad, kWrongRad};
   return o;

@@ -34,6 +34,10 @@ struct ExtremeCase {
   std::string path, why;
   std::vector<ExtremeSetting> settings;  ///< x-extreme.runs, else defaultSettings()
   std::optional<double> reference_tol;   ///< x-extreme.reference_tol
+  /// x-extreme.reference_integrator: an in-house adaptive one in place of the
+  /// default (a mechanism through singular positions, where ida's rows, chosen
+  /// once, stop: rk8pd with the projection passes them).
+  std::optional<Integrator> reference_integrator;
 };
 /// Load a case; a URDF has no x- keys. Throws one line naming the file and key.
 ExtremeCase loadExtremeCase(const std::string& path, const UrdfOptions& urdf = {});

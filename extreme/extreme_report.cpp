@@ -31,6 +31,16 @@ json eigenJson(const ExtremeEntry& e) {
           {"first_drift", e.first_drift.empty() ? json(nullptr) : json({{"name", e.first_drift}, {"t", e.first_drift_t}})}};
 }
 
+// A mechanism's run: how far its closures opened (our g and G u at its steps
+// and samples) and the rank it saw (null: an engine's); null for a tree.
+json loopsJson(const ExtremeEntry& e) {
+  if (!e.has_loops) return nullptr;
+  const LoopStats& l = e.loops;
+  return {{"max_position_violation_m", l.position_m}, {"max_position_violation_rad", l.position_rad},
+          {"max_velocity_violation_m_per_s", l.velocity_m}, {"rank", l.rank_max < 0 ? json(nullptr) : json(l.rank_max)},
+          {"rank_min", l.rank_min < 0 ? json(nullptr) : json(l.rank_min)}};
+}
+
 json entryJson(const ExtremeEntry& e) {
   return {{"name", e.method},           {"outcome", outcomeName(e.outcome)},
           {"failure", e.outcome == Outcome::Failed ? failureJson(e.failedAt(), e.failure_kind, e.failure, e.failure_cond_A) : json(nullptr)},         {"diverged_" + thresholdKey(kDivergedRad) + "_s", orNull(e.diverged_at)},
@@ -38,7 +48,8 @@ json entryJson(const ExtremeEntry& e) {
           {"energy_error_max", finiteOrNull(e.max_energy)}, {"run_time_s", e.run_time_s},
           {"steps", e.steps},           {"rhs_evals", e.rhs_evals},
           {"step_retries", e.step_retries},
-          {"eigen", eigenJson(e)}};
+          {"eigen", eigenJson(e)},
+          {"loops", loopsJson(e)}};
 }
 
 json runJson(const ExtremeRun& r) {
@@ -176,6 +187,20 @@ void tableRow(std::ostream& o, const ExtremeCaseResult& c, const ExtremeRun& r, 
     << " | " << (std::isfinite(e.failure_cond_A) ? sci(e.failure_cond_A) : "") << " |\n";
 }
 
+// A mechanism's runs: each method's largest closure gap and the rank it saw, on one line.
+void loopsLine(std::ostream& o, const ExtremeRun& r) {
+  std::string line;
+  for (const ExtremeEntry& e : r.entries) {
+    if (!e.has_loops) continue;
+    const LoopStats& l = e.loops;
+    line += (line.empty() ? "" : ", ") + e.method + " " + sci(l.position_m) + " m / " + sci(l.position_rad) + " rad" +
+            (l.rank_max >= 0 ? (l.rank_min == l.rank_max ? " (rank " + std::to_string(l.rank_max) + ")"
+                                                         : " (rank " + std::to_string(l.rank_min) + "-" + std::to_string(l.rank_max) + ")")
+                             : "");
+  }
+  if (!line.empty()) o << "  - loops, the largest gap over the steps and samples (in-house: the rank of G A^-1 G^T): " << line << ".\n";
+}
+
 void casePart(std::ostream& o, const ExtremeCaseResult& c) {
   o << "\n### " << c.name << "\n\n" << (c.why.empty() ? "(no x-why)" : c.why) << "\n\n";
   o << "`" << c.file << "`: " << c.nu << " speeds; at t = 0 the eigenvalues of A span " << sci(c.lambda_min0) << " to "
@@ -192,6 +217,7 @@ void casePart(std::ostream& o, const ExtremeCaseResult& c) {
       const std::string d = diagnosis(e, c, r);
       if (!d.empty()) o << "  - " << e.method << ": " << d << "\n";
     }
+    loopsLine(o, r);
   }
 }
 

@@ -11,6 +11,7 @@ import copy, json, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from make_scenes import ROD, GIMBAL, ball_equivalent, chain, scene, write  # noqa: E402
+import make_mechanisms  # noqa: E402
 
 OUT = "data/scenes/extreme"
 G = 9.81
@@ -176,6 +177,13 @@ def copy_scene(path, name, why, t_end=None, **extreme):
     return out
 
 
+def mechanism_case(doc, name, why, t_end, **extreme):
+    """A shipped mechanism (tools/make_mechanisms.py) as a gallery case: its loops kept."""
+    out = case(name, doc["bodies"], why, t_end, gravity=doc["gravity"], **extreme)
+    out["loops"] = doc["loops"]
+    return out
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
     falling = [1.0, 1e-4, 1e-8]
@@ -207,6 +215,14 @@ def main():
         copy_scene("data/scenes/pendulum5.json", "long_horizon",
                    "Pendulum5 for 1000 s: far beyond the reference horizon (chaos), so only energy drift and "
                    "failures count.", t_end=1000.0, runs=["rk4:1e-3"], reference_tol=1e-8),
+        mechanism_case(make_mechanisms.a02(2), "singular_fourbars",
+                       "IFToMM A02 with N = 2: at 0.714 s and 1.228 s the cranks lie along the ground line and the "
+                       "closures lose rank (1 to 3 degrees of freedom); ida's rows, chosen once, stop at the first, so "
+                       "the reference is rk8pd with the projection.", 2.0, reference_integrator="rk8pd",
+                       reference_tol=1e-12),
+        mechanism_case(make_mechanisms.a04(), "redundant_bricard",
+                       "Bricard's linkage (IFToMM A04): 5 coordinates, a hinge closure of 5 equations of rank 4 at every "
+                       "position, one degree of freedom Grubler does not count: redundant rows.", 2.0),
     ]
     for d in docs:
         write(os.path.join(OUT, d["name"] + ".json"), d)

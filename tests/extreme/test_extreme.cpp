@@ -100,7 +100,7 @@ TEST_CASE("gallery scenes: A and B agree with Simbody at the initial and at rand
       CHECK(row.B <= kRoundOff);
     }
   }
-  CHECK(scenes == 15);
+  CHECK(scenes == 17);  // 15 trees and two mechanisms (A and B are the tree's: the loops add G, checked in test_crosscheck)
   CHECK(rows == 4 * scenes);  // the initial state and three random ones, each
 }
 
@@ -138,6 +138,14 @@ TEST_CASE("x-extreme is validated, naming the file and the key", "[extreme]") {
   CHECK_THAT(errorOf("{\"runs\": []}"), Catch::Contains("case.json: x-extreme.runs: expected a non-empty list"));
   CHECK_THAT(errorOf("{\"reference_tol\": -1}"), Catch::Contains("case.json: x-extreme.reference_tol: must be a finite number > 0"));
   CHECK_THAT(errorOf("{\"run\": [\"rk4:1e-3\"]}"), Catch::Contains("case.json: x-extreme.run: unknown key"));
+  CHECK_THAT(errorOf("{\"reference_integrator\": \"rk4\"}"),
+             Catch::Contains("case.json: x-extreme.reference_integrator: 'rk4' is not an in-house adaptive integrator (rkf45, rk8pd, bsimp, ida)"));
+  CHECK_THAT(errorOf("{\"reference_integrator\": \"rkmerson\"}"), Catch::Contains("'rkmerson' is not an in-house adaptive integrator"));
+  // The singular four-bars' reference passes the singular positions: rk8pd with the projection, not ida.
+  const ExtremeCase singular = loadExtremeCase(gallery("singular_fourbars"));
+  REQUIRE(singular.reference_integrator);
+  CHECK(*singular.reference_integrator == Integrator::RK8PD);
+  CHECK(singular.scene.model.loop_rows == 6);
   const ExtremeCase ok = loadExtremeCase(gallery("stiff_springs"));
   REQUIRE(ok.settings.size() == 3);
   CHECK(ok.settings[2].integrator == Integrator::BSIMP);
