@@ -114,7 +114,7 @@ inline Model randomTree(unsigned seed, int n, bool all_kinds = false, bool revol
     b.joint.q0 = 0.5 * Eigen::VectorXd::NullaryExpr(nq, [&] { return uni(rng); });
     b.joint.u0 = Eigen::VectorXd::NullaryExpr(nu, [&] { return uni(rng); });
     if (at >= 0) b.joint.q0.segment<4>(at).normalize();
-    if (all_kinds) {
+    if (all_kinds || revolute_only) {  // full inertia tensors, turned off the joint axes (a diagonal-only export must show)
       const Mat3 R = Eigen::Quaterniond(Eigen::Vector4d(uni(rng), uni(rng), uni(rng), uni(rng)).normalized()).toRotationMatrix();
       b.inertia = R * b.inertia * R.transpose();
     }
