@@ -18,7 +18,7 @@ const MethodParam kRefine = {"refine", 0, 0, 10, true,
 const MethodParam kRefineTol = {"refine_tol", 1e-6, 0, 1, false,
                                 "Eigenfactor methods with refine > 0: after the last correction the relative residual "
                                 "sqrt(r^T H r / B^T H B) must be within this, or the run fails as refinement-not-converged "
-                                "(docs/theory.md §8, eq. (R'))",
+                                "(docs/theory.md §8, eq. (R')); it bounds u''s relative error in the A-norm, not in the 2-norm (up to sqrt(cond A) larger)",
                                 "refine"};
 const MethodParam kBlockGap = {"block_gap", 3e-2, 0, 1, false,
                                "eigen-block: eigenvalues closer than this times the largest share a block (delta; "
