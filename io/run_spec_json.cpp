@@ -50,19 +50,20 @@ nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
     j["projections_unconverged"] = l.projections_unconverged;
     j["projection_tol"] = o.projection_tol;
   }
-  if (o.formulation == Formulation::CoordinatePartitioning) {
-    j["newton_solves"] = l.newton_solves;
+  // Coordinate partitioning's Newton runs per evaluation, the augmented Lagrangian's per step.
+  const auto newton = [&](const char* solves, double tol) {
+    j[solves] = l.newton_solves;
     j["newton_iterations"] = l.newton_iterations;
     j["newton_unconverged"] = l.newton_unconverged;
-    j["newton_tol"] = o.projection_tol;
+    j["newton_tol"] = tol;
+  };
+  if (o.formulation == Formulation::CoordinatePartitioning) {
+    newton("newton_solves", o.projection_tol);
     j["repartitions"] = l.repartitions;
     j["repartition_times"] = l.repartition_times;  // the first kRepartitionTimesKept
   }
   if (o.formulation == Formulation::AugmentedLagrangian) {
-    j["newton_steps"] = l.newton_solves;
-    j["newton_iterations"] = l.newton_iterations;
-    j["newton_unconverged"] = l.newton_unconverged;
-    j["newton_tol"] = o.al_tol;
+    newton("newton_steps", o.al_tol);
     j["penalty_ratio"] = o.penalty_ratio;
   }
   return j;

@@ -590,13 +590,19 @@ def trajectory_figures(csv_path, meta, out):
                 color=color(method), lw=1.2, label=method)
     if meta.get("failure") and cols["t"]:
         mark_failure(ax, method, cols["t"][-1], max(abs(cols["energy"][-1] + cols["dissipated"][-1] - e0) / scale, FLOOR))
+    finish_against_time(fig, ax, "|E(t) + W_diss(t) - E(0)| / max kinetic energy", "Energy balance error: " + title, out,
+                        stem + "-energy")
+    loop_figure(cols, method, title, meta, out, stem)
+
+
+def finish_against_time(fig, ax, ylabel, title, out, name):
+    """One run's log-scale quantity against time: labels, grid, legend, saved as `name`."""
     ax.set_xlabel("time t, s")
-    ax.set_ylabel("|E(t) + W_diss(t) - E(0)| / max kinetic energy")
-    ax.set_title("Energy balance error: " + title, fontsize=9)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    save(fig, out, stem + "-energy")
-    loop_figure(cols, method, title, meta, out, stem)
+    save(fig, out, name)
 
 
 LOOP_COLUMNS = (("loops.position_m", "position, m", "-"), ("loops.position_rad", "position, rad", "--"),
@@ -612,12 +618,8 @@ def loop_figure(cols, method, title, meta, out, stem):
         ax.semilogy(cols["t"], [max(abs(v), FLOOR) for v in cols[c]], ls=style, lw=1.2, color=color(method), label=label)
     if meta.get("failure") and cols["t"]:
         mark_failure(ax, method, cols["t"][-1], max(abs(cols["loops.position_m"][-1]), FLOOR))
-    ax.set_xlabel("time t, s")
-    ax.set_ylabel("largest |g| (position) and |G u| (velocity)")
-    ax.set_title("Constraint violation at the samples: " + title, fontsize=9)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    save(fig, out, stem + "-loops")
+    finish_against_time(fig, ax, "largest |g| (position) and |G u| (velocity)", "Constraint violation at the samples: " + title,
+                        out, stem + "-loops")
 
 
 # ---------------------------------------------------------------------------------------- extreme
