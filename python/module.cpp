@@ -15,12 +15,16 @@
 #include "compare/comparison.hpp"
 #include "compare/engines.hpp"
 #include "compare/report.hpp"
+#include "io/csv.hpp"
 #include "io/json_input.hpp"
+#include "io/run_spec_json.hpp"
 #include "io/scene_json.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
 #include "engines/engine.hpp"
 #include "solver/formation.hpp"
+#include "solver/integrate.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/method.hpp"
 
 namespace py = pybind11;
@@ -260,6 +264,20 @@ py::dict trajectoryDict(const Trajectory& tr) {
                                                    py::arg("cause") = tr.failure))
                              : py::object(py::none());
   d["steps"] = tr.steps, d["rhs_evals"] = tr.rhs_evals, d["run_time_s"] = tr.run_time_s;
+  if (tr.has_loops) {  // a mechanism: the report's loops object, and per sample the CSV's loops.* and lambda.* columns
+    d["loops"] = fromJson(loopsJson(tr, tr.run));
+    const Eigen::Index n = static_cast<Eigen::Index>(tr.loop_samples.size()), m = static_cast<Eigen::Index>(tr.lambda_names.size());
+    Eigen::MatrixXd violation(n, 4), lambda(n, m);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const LoopSample& l = tr.loop_samples[k];
+      violation.row(k) << l.position_m, l.position_rad, l.velocity_m, l.velocity_rad;
+      lambda.row(k) = l.lambda.transpose();
+    }
+    d["loop_violation"] = mat(violation);
+    d["loop_violation_names"] = std::vector<std::string>(kLoopColumns.begin(), kLoopColumns.end());
+    d["lambda"] = mat(lambda);
+    d["lambda_names"] = tr.lambda_names;
+  }
   return d;
 }
 
@@ -278,24 +296,42 @@ void inHouseSettings(RunSpec& spec, Engine engine, const std::optional<std::stri
 }
 
 // The run settings as the CLI resolves them, checked once.
+// formulation=: a table name on a scene with loops (the CLI's --formulation
+// and its refusals, named as the keyword), into the loop options.
+void applyFormulation(const Scene& s, const std::optional<std::string>& formulation, LoopOptions& loops) {
+  if (!formulation) return;
+  if (s.model.loops.empty()) throw std::invalid_argument("formulation: scene '" + s.model.name + "' has no loops");
+  if (!findFormulation(*formulation, loops.formulation)) {
+    std::vector<std::string> names;
+    for (const FormulationInfo& f : formulationTable()) names.emplace_back(f.name);
+    throw std::invalid_argument("formulation: '" + printable(*formulation, 40) + "' is not one of " + joined(names));
+  }
+}
+
 CheckedRunSpec runSpec(const Scene& s, Method method, const std::optional<std::string>& integrator, std::optional<double> dt,
-                       std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+                       std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt,
+                       const std::optional<std::string>& formulation = std::nullopt) {
   RunSpec spec;
   spec.method = method;
   inHouseSettings(spec, spec.engine(), integrator, dt, tol);
   requireCompatible(spec.method, spec.integrator);
-  return checked(onGrid(spec, s, Grid{t_end, output_dt}));
+  applyFormulation(s, formulation, spec.options.loops);
+  const RunSpec grid = onGrid(spec, s, Grid{t_end, output_dt});
+  if (spec.engine() == Engine::InHouse) refuseUnrunnable(s.model, grid);  // before any work, as the CLI
+  return checked(grid);
 }
 
 py::dict simulatePy(const Scene& s, py::object method, std::optional<std::string> integrator, std::optional<double> dt,
-                    std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt) {
+                    std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt,
+                    std::optional<std::string> formulation) {
   CallMethods call;
-  return trajectoryDict(runTrajectory(s.model, runSpec(s, call.of(method, "method"), integrator, dt, tol, t_end, output_dt)));
+  return trajectoryDict(
+      runTrajectory(s.model, runSpec(s, call.of(method, "method"), integrator, dt, tol, t_end, output_dt, formulation)));
 }
 
 py::object comparePy(const Scene& s, py::list methods, std::optional<std::string> integrator, std::optional<double> dt,
                      std::optional<double> tol, std::optional<double> t_end, std::optional<double> output_dt,
-                     py::dict plugins, py::dict runs) {
+                     py::dict plugins, py::dict runs, std::optional<std::string> formulation) {
   CallMethods call;
   CompareOptions o;
   o.keywords = true;
@@ -311,6 +347,8 @@ py::object comparePy(const Scene& s, py::list methods, std::optional<std::string
   inHouseSettings(o.inhouse, Engine::InHouse, integrator, dt, tol);
   refuseUnreadInHouseSettings(o, {integrator.has_value(), dt.has_value(), tol.has_value()});
   o.useMechanismReference(s.model);
+  applyFormulation(s, formulation, o.inhouse.options.loops);
+  o.leaveOutUnrunnable(s.model, true);  // methods= names them: refused, as the CLI refuses named ones
   o.grid = Grid{t_end, output_dt};
   return fromJson(makeReport(runComparison(s, o)));
 }
@@ -388,14 +426,15 @@ PYBIND11_MODULE(eigenmass, mod) {
   mod.def("simulate", &simulatePy,
           "One run: arrays t, q, u, energy, kinetic, dissipated, and its status and failure; method a name or (name, f)",
           py::arg("scene"), py::arg("method") = "classical", py::arg("integrator") = py::none(), py::arg("dt") = py::none(),
-          py::arg("tol") = py::none(), py::arg("t_end") = py::none(), py::arg("output_dt") = py::none());
+          py::arg("tol") = py::none(), py::arg("t_end") = py::none(), py::arg("output_dt") = py::none(),
+          py::arg("formulation") = py::none());
   mod.def("compare", &comparePy,
           "Methods against the reference: the report `eigenmass compare --out` writes, as a dict. A method is a name "
           "or (name, f) with f(t, q, u) -> u' (numpy arrays, the scene's order), run under the in-house integrators",
           py::arg("scene"), py::arg("methods") = py::list(py::cast(std::vector<std::string>{"classical"})),
           py::arg("integrator") = py::none(), py::arg("dt") = py::none(), py::arg("tol") = py::none(),
           py::arg("t_end") = py::none(), py::arg("output_dt") = py::none(),
-          py::arg("plugins") = py::dict(), py::arg("runs") = py::dict());
+          py::arg("plugins") = py::dict(), py::arg("runs") = py::dict(), py::arg("formulation") = py::none());
   mod.def("plot", &plotPy, "Draw a report, precision file, trajectory, sweep results folder or extreme summary: "
           "`eigenmass plot` itself (its printed lines returned)", py::arg("input"), py::arg("out") = py::none(),
           py::arg("format") = "png");

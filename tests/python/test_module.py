@@ -259,3 +259,27 @@ def test_a_mechanisms_equations_equal_the_cli():
     assert np.array_equal(e["lambda"], np.concatenate([c["lambda"] for c in j["loops"]["closures"]]))
     # The constrained u' keeps the loops: G u' = -c (here u = 0 at the start, so c = 0 and G u' = 0).
     assert np.abs(e["G"] @ e["udot"]).max() < 1e-9 * np.abs(e["udot"]).max()
+
+
+def test_a_mechanism_runs_every_formulation_and_returns_its_violation_and_lambda():
+    """Issue 50: formulation= as --formulation; the loops object and, per sample, the violation and lambda."""
+    s = em.load(scene(os.path.join("mechanisms", "iftomm_a04.json")))
+    for f, settings in (("projection", dict(integrator="rk8pd", tol=1e-10)),
+                        ("coordinate-partitioning", dict(integrator="rk8pd", tol=1e-10)),
+                        ("augmented-lagrangian", dict(integrator="trapezoidal", dt=1e-3))):
+        r = em.simulate(s, t_end=0.5, formulation=f, **settings)
+        assert r["status"] == "ok"
+        assert r["loops"]["formulation"] == f
+        assert r["loops"]["rank"] == 4  # Bricard: 5 rows of rank 4
+        assert r["loop_violation"].shape == (len(r["t"]), 4)
+        assert r["lambda"].shape == (len(r["t"]), 5)
+        assert r["lambda_names"][0] == "lambda.O2.0"
+        assert r["loop_violation"].max() < 1e-9  # each closes Bricard's hinge over 0.5 s
+    rep = em.compare(s, methods=["classical"], formulation="coordinate-partitioning", tol=1e-10, t_end=0.1)
+    assert rep["methods"][0]["loops"]["formulation"] == "coordinate-partitioning"
+    with pytest.raises(ValueError, match="formulation: 'lagrange' is not one of"):
+        em.simulate(s, formulation="lagrange")
+    with pytest.raises(ValueError, match="augmented-lagrangian runs under its own integrator trapezoidal, not rk4"):
+        em.simulate(s, integrator="rk4", dt=1e-3, formulation="augmented-lagrangian")
+    with pytest.raises(ValueError, match="formulation: scene 'pendulum5' has no loops"):
+        em.simulate(em.load(scene("pendulum5.json")), formulation="projection")
