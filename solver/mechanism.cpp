@@ -449,6 +449,7 @@ ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const do
   const Eigen::LLT<Eigen::MatrixXd> llt(ws.A);
   if (llt.info() != Eigen::Success) throw std::runtime_error("mass matrix A is not positive definite");
   out.udot = llt.solve(ws.B);
+  if (m.loop_rows == 0) return out;  // a tree with point springs or drives: no multipliers (Eigen's 0-column solves bind null references)
   const Eigen::MatrixXd AinvGt = llt.solve(out.loops.G.transpose());
   ConstrainedSolve solve(m);
   out.rank = solve.solve(out.loops, AinvGt, 0.0, 0.0, out.udot);
