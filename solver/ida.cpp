@@ -79,10 +79,12 @@ IdaRun::IdaRun(const Model& m, double tol, double max_step) : impl_(std::make_un
   // on the selected rows (full rank); mu = 0; q' = qdot(q, u).
   const Eigen::LLT<Eigen::MatrixXd> llt(s.ws.A);
   const Eigen::VectorXd a = llt.solve(s.ws.B);
-  const Eigen::MatrixXd AinvGt = llt.solve(s.Gr.transpose());
+  // No rows (a tree with point springs or drives, A05): no multipliers; Eigen's
+  // solves with 0 columns bind null references (UBSan).
+  const Eigen::MatrixXd AinvGt = s.r ? Eigen::MatrixXd(llt.solve(s.Gr.transpose())) : Eigen::MatrixXd::Zero(m.nu, 0);
   Eigen::VectorXd c(s.r);
   for (int i = 0; i < s.r; ++i) c[i] = s.ls.c[s.rows[i]];
-  const Eigen::VectorXd lambda = (s.Gr * AinvGt).ldlt().solve(-c - s.Gr * a);
+  const Eigen::VectorXd lambda = s.r ? Eigen::VectorXd((s.Gr * AinvGt).ldlt().solve(-c - s.Gr * a)) : Eigen::VectorXd();
   const int n = s.size();
   Eigen::VectorXd Y = Eigen::VectorXd::Zero(n), Yp = Eigen::VectorXd::Zero(n);
   Y.head(m.nq) = q0;
