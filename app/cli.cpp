@@ -116,6 +116,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneS
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
   if (tr.has_loops) meta["loops"] = loopsJson(tr, tr.run);
+  if (std::isfinite(tr.max_joint_separation)) meta["max_joint_separation_m"] = tr.max_joint_separation;
   if (source) meta["scene_source"] = sceneSourceJson(*source);  // the file's digest, import notes, an assembly
   if (!regularOutput(path)) {  // a device, a FIFO (/dev/stdout, /dev/null): no sidecar beside it, the metadata on stderr
     std::fprintf(stderr, "eigenmass: %s is not a regular file, so no %s.json beside it; its metadata: %s\n", path.c_str(),

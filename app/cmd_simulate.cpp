@@ -30,6 +30,8 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
               drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));
   if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
+  if (std::isfinite(tr.max_joint_separation))  // a maximal-coordinate engine's (ODE's) joints, loops included
+    std::printf("\njoints: their two points drifted apart by up to %.3g m (after every step)", tr.max_joint_separation);
   if (tr.has_loops) {
     const LoopStats& l = tr.loops;
     std::printf("\nloops: largest violation %.3g m and %.3g rad, %.3g m/s and %.3g rad/s", l.position_m, l.position_rad, l.velocity_m,

@@ -17,6 +17,17 @@
 // step's start, held over it: ODE has no joint springs. ODE gives no
 // accelerations at a state, so it has no crosscheck rows and no u' method.
 //
+// Mechanisms (docs/reference-engines.md, "Mechanisms"): a loop is one more
+// ODE joint between its two bodies (the static world for the ground), made at
+// the assembled initial state: a ball closure a ball joint at the point, a
+// hinge a hinge about axis_a, a weld a fixed joint (dJointSetFixed keeps the
+// relative pose it finds). Loops hold as the tree's joints do, by constraint
+// forces at ERP and CFM, and their points' separation counts in the run's
+// max_joint_separation. Point spring-dampers are forces at their points, and
+// drives (a constant generalized force) joint torques, both from the state at
+// a step's start, held over it as the joint springs are.
+#include "solver/mechanism.hpp"
+//
 // Two schemes: ode-step (dWorldStep: a direct solve of the constraint forces,
 // then semi-implicit Euler) and ode-quickstep (dWorldQuickStep: 20 iterations
 // of projected Gauss-Seidel, its default, in place of the direct solve).
@@ -92,6 +103,15 @@ OdeJoint odeJoint(JointType t) {
   return OdeJoint::Missing;
 }
 
+// What of a mechanism ODE's row does not map, or "": every closure kind maps
+// to an ODE joint; a drive on a free joint has no joint to act through.
+std::string odeMechanismRefusal(const Model& m) {
+  for (const Body& b : m.bodies)
+    if (b.joint.torque.size() > 0 && b.joint.type == JointType::Free)
+      return "the drive on body '" + b.name + "': a free joint is no ODE joint, and its mixed forces and torques are not mapped";
+  return "";
+}
+
 // Why ODE cannot take `m` (a joint kind it has no joint for), or "".
 std::string odeRefusal(const Model& m) {
   for (const Body& b : m.bodies)
@@ -123,7 +143,8 @@ class OdeSystem {
     }
     setBodies(zeroConfiguration(m), Eigen::VectorXd::Zero(m.nu));
     for (int i = 0; i < m.n(); ++i) joint_[i] = makeJoint(i);
-    setBodies(m.q0(), m.u0());
+    setBodies(m.q0(), m.u0());  // assembled: every loop's points meet (finishMechanism)
+    for (const Loop& l : m.loops) makeLoopJoint(l);
     g_message.clear();
   }
   ~OdeSystem() { dWorldDestroy(world_); }  // its bodies and joints with it
@@ -160,27 +181,48 @@ class OdeSystem {
       jointSpeeds(b.joint, q.data() + b.iq, p.R.transpose() * (s.w - p.w), xdot, u.data() + b.iu);
       apart = std::max(apart, jointSeparation(b.joint, x));
     }
+    for (const Loop& l : m_.loops) apart = std::max(apart, (at(l.b).p - at(l.a).p).norm());
     last_q_ = q;
     return apart;
   }
 
-  // The springs' and dampers' generalized forces Q = -k (q - q_rest) - c u at
-  // (q, u), as torques (a slider's: forces at the joint point) on the body
-  // and the opposite on its parent: Q = E^T tau for tau = E (E^T E)^-1 Q.
-  void addSpringForces(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  // The joint springs', dampers' and drives' generalized forces
+  // Q = -k (q - q_rest) - c u + tau at (q, u), as torques (a slider's: forces
+  // at the joint point) on the body and the opposite on its parent:
+  // Q = E^T f for f = E (E^T E)^-1 Q.
+  void addJointForces(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
-      if (!b.joint.has_spring) continue;  // ball and free joints carry none (io/scene_json.cpp)
-      const Spring& sp = b.joint.spring;
+      const bool driven = b.joint.torque.size() > 0;
+      if (!b.joint.has_spring && !driven) continue;  // ball and free joints carry no spring (io/scene_json.cpp)
       const int nu = b.nu();
-      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> Q(nu);
-      for (int k = 0; k < nu; ++k) Q[k] = -sp.k[k] * (q[b.iq + k] - sp.q_rest[k]) - sp.c[k] * u[b.iu + k];
+      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> Q = Eigen::VectorXd::Zero(nu);
+      if (b.joint.has_spring) {
+        const Spring& sp = b.joint.spring;
+        for (int k = 0; k < nu; ++k) Q[k] -= sp.k[k] * (q[b.iq + k] - sp.q_rest[k]) + sp.c[k] * u[b.iu + k];
+      }
+      if (driven) Q += b.joint.torque;
       const Mat3 Rp = b.parent < 0 ? Mat3::Identity() : rotationOf(body_[b.parent]);
       Axes E;
       worldAxes(b.joint, Rp, q.data() + b.iq, E);  // world frame
       const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> EtE = E.transpose() * E;
       const Vec3 f = E * EtE.ldlt().solve(Q);
       applyPair(i, f, jointNt(b.joint.type) > 0);
+    }
+  }
+
+  // The point spring-dampers' tensions k (l - length) + c l' along the line
+  // from a's point to b's, pulling the points together (theory.md §15).
+  void addPointSpringForces() {
+    for (const PointSpring& s : m_.point_springs) {
+      const Point a = at(s.a), b = at(s.b);
+      const Vec3 d = b.p - a.p;
+      const double l = d.norm();
+      if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
+      const Vec3 e = d / l;
+      const Vec3 f = (s.k * (l - s.length) + s.c * e.dot(b.v - a.v)) * e;  // on a; -f on b
+      if (a.body) dBodyAddForceAtPos(a.body, f.x(), f.y(), f.z(), a.p.x(), a.p.y(), a.p.z());
+      if (b.body) dBodyAddForceAtPos(b.body, -f.x(), -f.y(), -f.z(), b.p.x(), b.p.y(), b.p.z());
     }
   }
 
@@ -203,9 +245,50 @@ class OdeSystem {
       if (b.joint.has_spring)
         for (int k = 0; k < b.nu(); ++k) V += 0.5 * b.joint.spring.k[k] * std::pow(q[b.iq + k] - b.joint.spring.q_rest[k], 2);
     }
+    for (const PointSpring& s : m_.point_springs) {
+      const double e = (at(s.b).p - at(s.a).p).norm() - s.length;
+      V += 0.5 * s.k * e * e;
+    }
   }
 
  private:
+  // A loop's or point spring's point as ODE moves it: its body (nullptr: the static world), position and velocity.
+  struct Point {
+    dBodyID body = nullptr;
+    Vec3 p = Vec3::Zero(), v = Vec3::Zero();
+  };
+  Point at(const Attachment& x) const {
+    if (x.body < 0) return {nullptr, x.point, Vec3::Zero()};
+    const BodyState s = state(x.body);
+    const Vec3 arm = s.R * x.point;
+    return {body_[x.body], s.r + arm, s.v + s.w.cross(arm)};
+  }
+
+  // A closure as an ODE joint between its two bodies, made where its points meet.
+  void makeLoopJoint(const Loop& l) {
+    const Point a = at(l.a), b = at(l.b);
+    const Vec3 axis = (a.body ? rotationOf(a.body) : Mat3::Identity()) * l.axis_a;  // world frame
+    dJointID j = nullptr;
+    switch (l.type) {
+      case LoopType::Ball:
+        j = dJointCreateBall(world_, nullptr);
+        dJointAttach(j, a.body, b.body);
+        dJointSetBallAnchor(j, a.p.x(), a.p.y(), a.p.z());
+        break;
+      case LoopType::Hinge:
+        j = dJointCreateHinge(world_, nullptr);
+        dJointAttach(j, a.body, b.body);
+        dJointSetHingeAnchor(j, a.p.x(), a.p.y(), a.p.z());
+        dJointSetHingeAxis(j, axis.x(), axis.y(), axis.z());
+        break;
+      case LoopType::Weld:  // b's pose relative to a's as it is now: rel, and the points met
+        j = dJointCreateFixed(world_, nullptr);
+        dJointAttach(j, a.body, b.body);
+        dJointSetFixed(j);
+        break;
+    }
+  }
+
   BodyState state(int i) const {
     return {rotationOf(body_[i]), ev(dBodyGetPosition(body_[i])), ev(dBodyGetLinearVel(body_[i])),
             ev(dBodyGetAngularVel(body_[i]))};
@@ -277,13 +360,14 @@ class OdeStepper : public FixedStepEngine {
   OdeStepper(const Model& m, const RunSpec& spec)
       : m_(m), ode_(m), dt_(spec.dt), quick_(std::string(integratorName(spec.integrator)) == "ode-quickstep"),
         q_(m.q0()), u_(m.u0()) {
-    for (const Body& b : m.bodies) springs_ = springs_ || b.joint.has_spring;
+    for (const Body& b : m.bodies) joint_forces_ = joint_forces_ || b.joint.has_spring || b.joint.torque.size() > 0;
   }
   std::string step() override {
-    if (springs_) {
+    if (joint_forces_) {
       ode_.getState(q_, u_);
-      ode_.addSpringForces(q_, u_);
+      ode_.addJointForces(q_, u_);
     }
+    ode_.addPointSpringForces();
     const int ok = quick_ ? dWorldQuickStep(ode_.world(), dt_) : dWorldStep(ode_.world(), dt_);
     ++evaluations_;
     if (!ok) return "ODE: the step could not allocate its working memory";
@@ -299,22 +383,23 @@ class OdeStepper : public FixedStepEngine {
     ode_.poses(poses);
     ode_.energies(q_, kinetic, potential);
   }
-  // P = sum c u^2 at the read-back speeds; ODE gives no u', so P' = 0 (W_diss
-  // by the plain trapezoid rule: second order, ODE's own error is first).
+  // P (dampers' power less the drives', theory.md eq. (M6)) at the read-back
+  // state; ODE gives no u', so P' = 0 (W_diss by the plain trapezoid rule:
+  // second order, ODE's own error is first).
   void dissipation(double& P, double& Pdot) override {
     ode_.getState(q_, u_);
-    P = Pdot = 0;
-    for (const Body& b : m_.bodies)
-      if (b.joint.has_spring)
-        for (int k = 0; k < b.nu(); ++k) P += b.joint.spring.c[k] * u_[b.iu + k] * u_[b.iu + k];
+    formKinematics(m_, q_.data(), u_.data(), ws_);
+    P = nonConservativePower(m_, ws_, u_.data());
+    Pdot = 0;
   }
 
  private:
   const Model& m_;
   OdeSystem ode_;
   double dt_;
-  bool quick_, springs_ = false;
+  bool quick_, joint_forces_ = false;
   Eigen::VectorXd q_, u_;  // (nq), (nu): the state the springs act at
+  Workspace ws_{m_};       // the read-back state's kinematics, for the point dampers' power
   double apart_ = 0;
   long evaluations_ = 0;
 };
@@ -334,6 +419,7 @@ EngineRow odeEngine() {
   r.info.colour = "navy";
   r.code.simulate = simulateFixedStep<OdeStepper>;
   r.code.refusal = odeRefusal;
+  r.code.mechanism_refusal = odeMechanismRefusal;
   // no model: ODE gives no accelerations at a state
   r.code.version = [] { return std::string(dODE_VERSION); };
   return r;

@@ -133,3 +133,62 @@ TEST_CASE("ODE's stepping closes the energy balance on a damped scene at first o
   CHECK(balance[0] <= 0.1);
   CHECK(balance[0] > 1.6 * balance[1]);
 }
+
+// Mechanisms in ODE (engines/ode.cpp): each loop one more ODE joint, held as
+// the tree's are (ERP 0.2, CFM 1e-10), a drive a joint torque and a point
+// spring forces at its points, held over a step. Oracle: the IVP test set's
+// published solution of Andrews' squeezer at 0.03 s (andrews.json's
+// x-reference). Measured (crank angle error; joints' and loops' points apart;
+// max |E + W_diss - E(0)| over samples every ms): dt 1e-5: 3.7e-3 rad,
+// 2.2e-6 m, 1.8e-3 J; dt 1e-6: 5.6e-4 rad, 2.2e-8 m, 1.8e-4 J. The error falls
+// 6.7-fold for 10-fold dt (first order, not yet asymptotic), the balance
+// 10-fold; the separation 100-fold (a step's own drift, dt^2, as on trees).
+TEST_CASE("ODE runs Andrews' squeezer toward the published solution at first order, its loops as joints", "[ode][mechanism]") {
+  const Model m = test::loadData("mechanisms/andrews.json");
+  const double crank = 15.81077119629904;  // the IVP test set's SOLN, beta at 0.03 s
+  double err[2], apart[2], balance[2];
+  for (int i = 0; i < 2; ++i) {
+    const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 0.03, i == 0 ? 1e-5 : 1e-6, 0.001)));
+    REQUIRE_FALSE(o.failed());
+    REQUIRE(o.has_loops);
+    err[i] = std::abs(o.q.back()[0] - crank);
+    apart[i] = o.max_joint_separation;
+    balance[i] = 0;
+    for (size_t s = 0; s < o.size(); ++s) balance[i] = std::max(balance[i], std::abs(o.energy[s] + o.dissipated[s] - o.energy[0]));
+  }
+  INFO("crank error " << err[0] << " -> " << err[1] << " rad; apart " << apart[0] << " -> " << apart[1] << " m; balance "
+                      << balance[0] << " -> " << balance[1] << " J");
+  CHECK(err[1] < 1.5e-3);
+  CHECK(err[0] > 4 * err[1]);
+  CHECK(err[0] < 15 * err[1]);
+  CHECK(apart[0] > 30 * apart[1]);
+  CHECK(balance[1] < 5e-4);
+  CHECK(balance[0] > 5 * balance[1]);
+}
+
+// Weld and hinge closures as ODE's fixed and hinge joints, and a point spring
+// (A05's), against the in-house reference (rk8pd 1e-12, projection): pose
+// errors first order in dt; the loops' violation by our g(q) shrinks (ERP
+// leaves a step's drift, dt^2). Measured over 0.5 s at dt 1e-4 / 5e-5 (pose
+// error; loops open, m): door and plate 3.4e-4 / 1.7e-4, 6.2e-7 / 1.6e-7;
+// A04 7.3e-5 / 3.6e-5, 4.2e-8 / 1.1e-8; A05 (no loops) 2.2e-4 / 9.5e-5.
+TEST_CASE("ODE's fixed and hinge loop joints and point springs converge at first order to the in-house motion", "[ode][mechanism]") {
+  for (const char* file : {"tests/scenes/mechanisms/door_and_plate.json", "data/scenes/mechanisms/iftomm_a04.json",
+                           "data/scenes/mechanisms/iftomm_a05.json"}) {
+    INFO(file);
+    const Model m = loadScene(test::sourcePath(file)).model;
+    const Trajectory ref = runTrajectory(m, checked(test::runSpec(test::method("classical"), Integrator::RK8PD, 0.5, 1e-12)));
+    REQUIRE_FALSE(ref.failed());
+    double err[2], gap[2];
+    for (int i = 0; i < 2; ++i) {
+      const Trajectory o = runTrajectory(m, checked(odeSpec("ode-step", 0.5, i == 0 ? 1e-4 : 5e-5)));
+      REQUIRE_FALSE(o.failed());
+      err[i] = test::maxPoseDiff(o, ref);
+      gap[i] = o.has_loops ? std::max(o.loops.position_m, o.loops.position_rad) : 0;
+    }
+    INFO("pose error " << err[0] << " -> " << err[1] << "; loops open " << gap[0] << " -> " << gap[1]);
+    CHECK(err[0] > 1.6 * err[1]);
+    CHECK(err[0] < 2.4 * err[1]);
+    if (!m.loops.empty()) CHECK(gap[0] > 3.2 * gap[1]);
+  }
+}
