@@ -22,6 +22,18 @@
 // has no joint springs. Its own velocity damping (0.04 on every link by
 // default) is turned off.
 //
+// Mechanisms (docs/reference-engines.md, "Mechanisms"): a ball closure is a
+// btMultiBodyPoint2Point, a hinge two (the points, and the points 1 m along
+// the axes), a weld a btMultiBodyFixedConstraint holding the link frames'
+// relative rotation and the points as found at the assembled start; the
+// ground is the fixed base, or for a floating tree Bullet's world (no rigid
+// body). Bullet's constraint solver holds them at the velocity level, its
+// drift fed back at ERP 0.2 over 10 sequential-impulse iterations, its
+// btContactSolverInfo defaults, kept and stated. Drives are joint torques
+// (the floating base's: a force at its CM and a torque), point springs forces
+// at their points (tension from the read-back state), held over a step as the
+// joint springs are.
+//
 // Two ways to run it: `bullet` is btMultiBodyDynamicsWorld::stepSimulation at
 // a fixed dt with no sub-steps: semi-implicit Euler (bullet-euler), or
 // btMultiBody's own rk4 (bullet-rk4). `bullet-udot` is Bullet's u' (its
@@ -32,15 +44,21 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyFixedConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyPoint2Point.h>
 #include <LinearMath/btScalar.h>
 
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "engines/engine.hpp"
 #include "engines/fixed_step.hpp"
+#include "solver/formation.hpp"
 #include "solver/joint.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/method.hpp"
 
 static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build (bullet-float64)");
@@ -149,9 +167,13 @@ class BulletChain {
   // Our u' at (q, u), the state last set: Bullet's forward dynamics under
   // gravity and the springs and dampers.  // udot: (nu)
   void forwardDynamics(const double* q, const double* u, double* udot);
-  // Gravity and the springs' and dampers' torques at (q, u), added to Bullet's forces.
+  // Gravity, and the springs', dampers' and drives' torques at (q, u), added to Bullet's forces.
   void addGravity();
-  void addSpringTorques(const double* q, const double* u);
+  void addJointTorques(const double* q, const double* u);
+  // The point spring-dampers' forces at their points, tensions at (q, u), added to Bullet's forces.
+  void addPointSpringForces(const double* q, const double* u);
+  // The mechanism's closures as Bullet's constraints, made at the state the chain is in (assembled).
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> closures();
   // Bullet's accelerations with the forces added ([w', v'_CM] of the base, the links'), forces cleared after.
   const double* solve();
   // Bullet's mass matrix in its speeds from firstSpeed(), at the state last set (then set again).  // (speeds^2)
@@ -166,6 +188,15 @@ class BulletChain {
   double potential(const double* q) const;
 
  private:
+  // A closure's end in Bullet: the multibody (nullptr: the world, for a floating
+  // tree's ground), its link (-1: the base) and our frame -> Bullet's (P^T).
+  struct End {
+    btMultiBody* mb = nullptr;
+    int link = -1;
+    Mat3 Pt = Mat3::Identity();
+  };
+  End end(int body) const;
+  Mat3 linkFrame(const End& e) const;  // Bullet's link frame in the world, now
   void addLinks(const Body& b, const BulletLink& me);
   void setBase(const Body& b, const BulletLink& me, const double* q, const double* u);
   void getBase(const Body& b, const BulletLink& me, double* q, double* u) const;
@@ -179,6 +210,8 @@ class BulletChain {
   btAlignedObjectArray<btVector3> scratch_v_;
   btAlignedObjectArray<btMatrix3x3> scratch_m_;
   mutable btAlignedObjectArray<btVector3> w_, v_; // (links + 1): link velocities, local frames
+  mutable Workspace ws_;                          // the read-back state's kinematics: point springs' lines, potential
+  Eigen::VectorXd zero_u_;                        // (nu): speeds where only positions matter
 };
 
 // Body i's place in Bullet: a free root alone is the floating base; else its
@@ -193,7 +226,7 @@ BulletLink bulletLink(const Body& b, bool base) {
   return l;
 }
 
-BulletChain::BulletChain(const Model& m) : m_(m), links_(m.n()), last_q_(m.q0()) {
+BulletChain::BulletChain(const Model& m) : m_(m), links_(m.n()), last_q_(m.q0()), ws_(m), zero_u_(Eigen::VectorXd::Zero(m.nu)) {
   int roots = 0, nlinks = 0;
   for (const Body& b : m.bodies) roots += b.parent < 0;
   floating_ = roots == 1 && bulletJoint(m.bodies[0].joint).floats;
@@ -320,24 +353,101 @@ void BulletChain::addGravity() {
   for (int l = 0; l < mb_->getNumLinks(); ++l) mb_->addLinkForce(l, g * mb_->getLinkMass(l));
 }
 
-void BulletChain::addSpringTorques(const double* q, const double* u) {
+void BulletChain::addJointTorques(const double* q, const double* u) {
   for (int i = 0; i < m_.n(); ++i) {
     const Body& b = m_.bodies[i];
-    if (!b.joint.has_spring) continue;  // ball and free joints carry none (io/scene_json.cpp)
-    const Spring& s = b.joint.spring;
+    const bool driven = b.joint.torque.size() > 0;
+    if (!b.joint.has_spring && !driven) continue;  // ball and free joints carry no spring (io/scene_json.cpp)
     const BulletLink& l = links_[i];
     const double *qi = q + b.iq, *ui = u + b.iu;
-    Vec3 Q = Vec3::Zero();
-    for (int k = 0; k < b.nu(); ++k) Q[k] = -s.k[k] * (qi[k] - s.q_rest[k]) - s.c[k] * ui[k];
+    Eigen::Matrix<double, 6, 1> Q = Eigen::Matrix<double, 6, 1>::Zero();  // per speed of ours
+    if (b.joint.has_spring)
+      for (int k = 0; k < b.nu(); ++k) Q[k] = -b.joint.spring.k[k] * (qi[k] - b.joint.spring.q_rest[k]) - b.joint.spring.c[k] * ui[k];
+    if (driven) Q.head(b.nu()) += b.joint.torque;
+    if (l.link < 0) {  // the floating base, [v, w] ours: Q = G^T [tau, F] for [w, v_CM] = [w, v + (R c) x w]
+      const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body, F = Q.head<3>();
+      mb_->addBaseForce(bt(F));
+      mb_->addBaseTorque(bt(Vec3(Q.segment<3>(3)) + Rc.cross(F)));
+      continue;
+    }
     for (int k = 0; k < l.scalars; ++k) mb_->addJointTorque(l.first + k, Q[k]);
-    if (l.spherical) {  // a gimbal's: Q = G^T tau
+    if (l.spherical) {  // ball and gimbal: Q = G^T tau
       Mat3 G;
       Vec3 g;
-      sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui, G, g);
-      const Vec3 tau = G.transpose().partialPivLu().solve(Q);
+      sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui + l.scalars, G, g);
+      const Vec3 tau = G.transpose().partialPivLu().solve(Vec3(Q.segment<3>(l.scalars)));
       mb_->addJointTorqueMultiDof(l.link, tau.data());
     }
   }
+}
+
+void BulletChain::addPointSpringForces(const double* q, const double* u) {
+  if (m_.point_springs.empty()) return;
+  formKinematics(m_, q, u, ws_);
+  for (const PointSpring& s : m_.point_springs) {
+    const PointMotion a = pointMotion(ws_, s.a), b = pointMotion(ws_, s.b);
+    const Vec3 d = b.x - a.x;
+    const double l = d.norm();
+    if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
+    const Vec3 n = d / l, f = (s.k * (l - s.length) + s.c * n.dot(b.v - a.v)) * n;  // on a; -f on b
+    for (const auto& [body, x, force] : {std::tuple<int, Vec3, Vec3>{s.a.body, a.x, f}, {s.b.body, b.x, -f}}) {
+      if (body < 0) continue;
+      const int link = links_[body].link;
+      const Vec3 cm = ev(link < 0 ? mb_->getBasePos() : mb_->localPosToWorld(link, btVector3(0, 0, 0)));
+      const Vec3 torque = (x - cm).cross(force);
+      if (link < 0) mb_->addBaseForce(bt(force)), mb_->addBaseTorque(bt(torque));
+      else mb_->addLinkForce(link, bt(force)), mb_->addLinkTorque(link, bt(torque));
+    }
+  }
+}
+
+BulletChain::End BulletChain::end(int body) const {
+  if (body < 0) return {floating_ ? nullptr : mb_.get(), -1, Mat3::Identity()};  // the fixed base is the world's origin
+  return {mb_.get(), links_[body].link, links_[body].frame.P.transpose()};
+}
+
+Mat3 BulletChain::linkFrame(const End& e) const {
+  if (!e.mb) return Mat3::Identity();
+  if (e.link < 0) return ev(mb_->getWorldToBaseRot()).transpose();
+  const btMatrix3x3 B = mb_->localFrameToWorld(e.link, btMatrix3x3::getIdentity());
+  Mat3 R;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R(r, c) = B[r][c];
+  return R;
+}
+
+std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
+  constexpr double kLever = 1.0;  // m: a hinge's second pair of points, along the axes
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> out;
+  for (const Loop& loop : m_.loops) {
+    End a = end(loop.a.body), b = end(loop.b.body);
+    Vec3 xa = loop.a.point, xb = loop.b.point, da = loop.axis_a, db = loop.axis_b;
+    if (!a.mb) std::swap(a, b), std::swap(xa, xb), std::swap(da, db);  // the world as Bullet's B side
+    const auto pivot = [](const End& e, const Vec3& x) { return bt(e.Pt * x); };
+    const auto connect = [&](const Vec3& pa, const Vec3& pb) {
+      if (!b.mb) out.push_back(std::make_unique<btMultiBodyPoint2Point>(a.mb, a.link, nullptr, pivot(a, pa), bt(pb)));
+      else out.push_back(std::make_unique<btMultiBodyPoint2Point>(a.mb, a.link, b.mb, b.link, pivot(a, pa), pivot(b, pb)));
+    };
+    switch (loop.type) {
+      case LoopType::Ball: connect(xa, xb); break;
+      case LoopType::Hinge:
+        connect(xa, xb);
+        connect(xa + kLever * da, xb + kLever * db);
+        break;
+      case LoopType::Weld: {  // the link frames' relative rotation as it is now (assembled: rel)
+        btMatrix3x3 frame_a, identity = btMatrix3x3::getIdentity();
+        const Mat3 rel = linkFrame(a).transpose() * linkFrame(b);
+        frame_a.setValue(rel(0, 0), rel(0, 1), rel(0, 2), rel(1, 0), rel(1, 1), rel(1, 2), rel(2, 0), rel(2, 1), rel(2, 2));
+        if (!b.mb)
+          out.push_back(std::make_unique<btMultiBodyFixedConstraint>(a.mb, a.link, nullptr, pivot(a, xa), bt(xb), frame_a, identity));
+        else
+          out.push_back(std::make_unique<btMultiBodyFixedConstraint>(a.mb, a.link, b.mb, b.link, pivot(a, xa), pivot(b, xb),
+                                                                     frame_a, identity));
+        break;
+      }
+    }
+  }
+  return out;
 }
 
 const double* BulletChain::solve() {
@@ -349,7 +459,8 @@ const double* BulletChain::solve() {
 void BulletChain::forwardDynamics(const double* q, const double* u, double* udot) {
   mb_->clearForcesAndTorques();
   addGravity();
-  addSpringTorques(q, u);
+  addJointTorques(q, u);
+  addPointSpringForces(q, u);
   ours(q, u, solve(), udot);
 }
 
@@ -468,6 +579,10 @@ double BulletChain::potential(const double* q) const {
         const double x = q[b.iq + k] - b.joint.spring.q_rest[k];
         V += 0.5 * b.joint.spring.k[k] * x * x;
       }
+  if (!m_.point_springs.empty()) {
+    formKinematics(m_, q, zero_u_.data(), ws_);  // positions alone matter
+    V += pointSpringPotential(m_, ws_);
+  }
   return V;
 }
 
@@ -497,24 +612,49 @@ class BulletModel : public EngineModel {
   BulletChain chain_;
 };
 
+// btMultiBodyDynamicsWorld with its multibody constraints solved as one
+// group. Bullet 3.24 reaches them only through colliders' simulation islands:
+// with none (eigenmass adds no colliders) no island is processed, and its
+// island-less branch passes the count of typed constraints, 0, as theirs
+// (MultiBodyInplaceSolverIslandCallback::processIsland). So the group is
+// handed to the same solver directly, between the same two stages.
+class ClosedLoopWorld : public btMultiBodyDynamicsWorld {
+ public:
+  using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
+  void solveConstraints(btContactSolverInfo& info) override {
+    solveExternalForces(info);
+    if (const int n = m_multiBodyConstraints.size())
+      m_multiBodyConstraintSolver->solveMultiBodyGroup(nullptr, 0, nullptr, 0, nullptr, 0, &m_multiBodyConstraints[0], n, info,
+                                                       m_debugDrawer, m_dispatcher1);
+    solveInternalConstraints(info);
+  }
+};
+
 // btMultiBodyDynamicsWorld::stepSimulation at exactly dt (no sub-steps), no
 // colliders: Bullet's semi-implicit Euler, or btMultiBody's rk4 (four
 // forward dynamics per step), the springs' torques held over the step.
 class BulletStepper : public FixedStepEngine {
  public:
   BulletStepper(const Model& m, const RunSpec& spec)
-      : m_(m), chain_(m), dt_(spec.dt), q_(m.q0()), u_(m.u0()), udot_(m.nu), springs_(false) {
-    for (const Body& b : m.bodies) springs_ = springs_ || b.joint.has_spring;
+      : m_(m), chain_(m), dt_(spec.dt), q_(m.q0()), u_(m.u0()), udot_(m.nu), forces_(false) {
+    forces_ = m.hasAppliedForces();
     rk4_ = std::string(integratorName(spec.integrator)) == "bullet-rk4";
     chain_.body().useRK4Integration(rk4_);
     world_.setGravity(bt(m.gravity));
     world_.addMultiBody(&chain_.body());
+    closures_ = chain_.closures();
+    for (auto& c : closures_) world_.addMultiBodyConstraint(c.get());
+
   }
-  ~BulletStepper() override { world_.removeMultiBody(&chain_.body()); }
+  ~BulletStepper() override {
+    for (auto& c : closures_) world_.removeMultiBodyConstraint(c.get());
+    world_.removeMultiBody(&chain_.body());
+  }
   std::string step() override {
-    if (springs_) {
+    if (forces_) {
       chain_.getState(q_, u_);
-      chain_.addSpringTorques(q_.data(), u_.data());
+      chain_.addJointTorques(q_.data(), u_.data());
+      chain_.addPointSpringForces(q_.data(), u_.data());
     }
     world_.stepSimulation(dt_, 0, dt_);
     evaluations_ += rk4_ ? 5 : 1;  // rk4: four stages and a fifth at the start state (btMultiBodyDynamicsWorld)
@@ -530,6 +670,12 @@ class BulletStepper : public FixedStepEngine {
   }
   void dissipation(double& P, double& Pdot) override {
     chain_.getState(q_, u_);
+    if (m_.isMechanism()) {  // P by theory.md eq. (M6); the tree's u' is not the mechanism's, so P' = 0 (the plain trapezoid rule)
+      formKinematics(m_, q_.data(), u_.data(), ws_);
+      P = nonConservativePower(m_, ws_, u_.data());
+      Pdot = 0;
+      return;
+    }
     chain_.forwardDynamics(q_.data(), u_.data(), udot_.data());
     P = Pdot = 0;
     for (const Body& b : m_.bodies) {
@@ -547,13 +693,15 @@ class BulletStepper : public FixedStepEngine {
   BulletChain chain_;
   double dt_;
   Eigen::VectorXd q_, u_, udot_;  // (nq), (nu), (nu): the state the springs act at
-  bool springs_, rk4_ = false;
+  Workspace ws_{m_};              // a mechanism's read-back kinematics, for its power
+  bool forces_, rk4_ = false;
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> closures_;  // removed from the world before it goes
   long evaluations_ = 0;
   btDefaultCollisionConfiguration config_;
   btCollisionDispatcher dispatcher_{&config_};
   btDbvtBroadphase broadphase_;
   btMultiBodyConstraintSolver solver_;
-  btMultiBodyDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &config_};
+  ClosedLoopWorld world_{&dispatcher_, &broadphase_, &solver_, &config_};
 };
 
 // bullet-udot: Bullet's u' (its forward dynamics) under the in-house integrators.
@@ -597,6 +745,7 @@ EngineRow bulletEngine() {
   r.code.version = [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); };
   r.code.udot_method = {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
                                        "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot};
+  r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
   r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
                           "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
   return r;
