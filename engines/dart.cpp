@@ -16,11 +16,25 @@
 // So u_D = G u with G orthogonal per joint, A = G^T M_D G,
 // B = G^T (B_D - M_D g), u' = G^T (u'_D - g), g = G' u.
 //
+// Mechanisms (docs/reference-engines.md, "Mechanisms"): DART's constraint
+// solver closes the loops, made at the assembled initial state: a ball closure
+// a BallJointConstraint at the point, a hinge two (the points, and the points
+// 1 m along the axes), a weld a WeldJointConstraint (the relative transform it
+// finds); the ground is the world. They are impulses at the velocity level,
+// the drift fed back at DART's DynamicJointConstraint defaults (ERP, its
+// error allowance and CFM, read from DART and stated in every report). Drives
+// are joint forces (u_D = G u, G orthogonal: DART's forces G tau), point
+// springs external forces at their points, from DART's own poses and
+// velocities, held over a step.
+//
 // Two ways to run it: `dart` is World::step, DART's semi-implicit Euler at a
 // fixed dt with its own (implicit) springs and dampers: what a Gazebo user
 // gets. `dart-udot` is DART's u' (its articulated-body forward dynamics) under
 // the in-house integrators: DART's formulation apart from its integrator.
 #include <dart/config.hpp>
+#include <dart/constraint/BallJointConstraint.hpp>
+#include <dart/constraint/ConstraintSolver.hpp>
+#include <dart/constraint/WeldJointConstraint.hpp>
 #include <dart/dynamics/BallJoint.hpp>
 #include <dart/dynamics/BodyNode.hpp>
 #include <dart/dynamics/EulerJoint.hpp>
@@ -40,6 +54,8 @@
 #include "engines/engine.hpp"
 #include "engines/fixed_step.hpp"
 #include "engines/urdf_text.hpp"
+#include "solver/formation.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/method.hpp"
 
 namespace em {
@@ -178,6 +194,7 @@ class DartSkeleton {
   }
 
   const dd::SkeletonPtr& skeleton() const { return skel_; }
+  dd::BodyNode* node(int i) const { return nodes_[i]; }  // internal order
 
   // Our (q, u), internal order, into DART's positions and speeds.
   void setState(const double* q, const double* u) {
@@ -412,9 +429,14 @@ class DartStepper : public FixedStepEngine {
     world_->addSkeleton(dart_.skeleton());
     dart_.setState(m.q0().data(), m.u0().data());
     u_ = m.u0();
+    q_ = m.q0();
+    for (const Loop& l : m.loops) addClosure(l);  // assembled: the points meet
+    if (m.has_drives) G_.resize(m.nu, m.nu), g_.resize(m.nu), tau_.resize(m.nu), forces_.resize(m.nu);
   }
   std::string step() override {
-    world_->step();
+    addDrives();
+    addPointSprings();
+    world_->step();  // then clears the forces and commands
     ++evaluations_;  // one forward dynamics per step
     return "";
   }
@@ -427,8 +449,20 @@ class DartStepper : public FixedStepEngine {
     dart_.poses(poses);
     kinetic = dart_.skeleton()->computeKineticEnergy();
     potential = dart_.skeleton()->computePotentialEnergy();
+    if (!m_.point_springs.empty()) {  // the point springs' own: DART has none
+      dart_.getState(q_, u_);
+      formKinematics(m_, q_.data(), u_.data(), ws_);
+      potential += pointSpringPotential(m_, ws_);
+    }
   }
   void dissipation(double& P, double& Pdot) override {
+    if (m_.isMechanism()) {  // P by theory.md eq. (M6); the tree's u' is not the mechanism's, so P' = 0 (the plain trapezoid rule)
+      dart_.getState(q_, u_);
+      formKinematics(m_, q_.data(), u_.data(), ws_);
+      P = nonConservativePower(m_, ws_, u_.data());
+      Pdot = 0;
+      return;
+    }
     const dd::SkeletonPtr& s = dart_.skeleton();
     s->computeForwardDynamics();  // u' at the current state (the step's own is of the state before)
     P = Pdot = 0;
@@ -441,10 +475,74 @@ class DartStepper : public FixedStepEngine {
   }
 
  private:
+  // A closure as DART's joint constraints between its bodies (the world for the ground).
+  void addClosure(const Loop& l) {
+    const Attachment& on = l.a.body >= 0 ? l.a : l.b;  // DART's first body is never the world
+    const Attachment& other = l.a.body >= 0 ? l.b : l.a;
+    dd::BodyNode* first = dart_.node(on.body);
+    dd::BodyNode* second = other.body >= 0 ? dart_.node(other.body) : nullptr;
+    const Eigen::Isometry3d& T = first->getWorldTransform();  // its frame: ours, at the CM
+    const Vec3 axis = T.linear() * (&on == &l.a ? l.axis_a : l.axis_b);
+    const auto ball = [&](const Vec3& p) {
+      if (second) add(std::make_shared<dart::constraint::BallJointConstraint>(first, second, p));
+      else add(std::make_shared<dart::constraint::BallJointConstraint>(first, p));
+    };
+    const Vec3 p = T * on.point;
+    switch (l.type) {
+      case LoopType::Ball: ball(p); break;
+      case LoopType::Hinge:
+        ball(p);
+        ball(p + kHingeLever * axis);
+        break;
+      case LoopType::Weld:
+        if (second) add(std::make_shared<dart::constraint::WeldJointConstraint>(first, second));
+        else add(std::make_shared<dart::constraint::WeldJointConstraint>(first));
+        break;
+    }
+  }
+  void add(const dart::constraint::ConstraintBasePtr& c) { world_->getConstraintSolver()->addConstraint(c); }
+
+  // The drives as DART's joint forces, G tau (G orthogonal per joint).
+  void addDrives() {
+    if (!m_.has_drives) return;
+    tau_.setZero();
+    for (const Body& b : m_.bodies)
+      if (b.joint.torque.size()) tau_.segment(b.iu, b.nu()) = b.joint.torque;
+    dart_.speedMap(u_.data(), G_, g_);  // G depends on q alone
+    forces_.noalias() = G_ * tau_;
+    dart_.skeleton()->setForces(forces_);
+  }
+
+  // The point springs as external forces at their points, from DART's poses and velocities.
+  void addPointSprings() {
+    for (const PointSpring& s : m_.point_springs) {
+      const auto at = [&](const Attachment& x, Vec3& p, Vec3& v) {
+        if (x.body < 0) return p = x.point, v.setZero(), static_cast<dd::BodyNode*>(nullptr);
+        dd::BodyNode* n = dart_.node(x.body);
+        p = n->getWorldTransform() * x.point;
+        v = n->getLinearVelocity(x.point);  // world frame, the point fixed in the body
+        return n;
+      };
+      Vec3 pa, va, pb, vb;
+      dd::BodyNode* na = at(s.a, pa, va);
+      dd::BodyNode* nb = at(s.b, pb, vb);
+      const Vec3 d = pb - pa;
+      const double l = d.norm();
+      if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
+      const Vec3 e = d / l, f = (s.k * (l - s.length) + s.c * e.dot(vb - va)) * e;  // on a; -f on b
+      if (na) na->addExtForce(f, s.a.point, false, true);
+      if (nb) nb->addExtForce(-f, s.b.point, false, true);
+    }
+  }
+
+  static constexpr double kHingeLever = 1.0;  // m: a hinge's second pair of points, along the axis
   const Model& m_;
   DartSkeleton dart_;
   dart::simulation::WorldPtr world_;
-  Eigen::VectorXd u_;
+  Eigen::VectorXd q_, u_;
+  Workspace ws_{m_};                   // the read-back state's kinematics: point springs, a mechanism's power
+  Eigen::MatrixXd G_;                  // (nu x nu): u_D = G u (drives)
+  Eigen::VectorXd g_, tau_, forces_;   // (nu): G' u, our drives, DART's joint forces
   long evaluations_ = 0;
 };
 
@@ -491,6 +589,7 @@ EngineRow dartEngine() {
     return std::make_unique<DartUrdfModel>(m, source);
   };
   r.code.version = [] { return std::string(DART_VERSION); };
+  r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
   r.code.udot_method = {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
                                      "formulation apart from its integrator", "#ad4a8c", makeDartUdot};
   return r;
