@@ -55,15 +55,17 @@ int runCrossCheck(const CrossCheckArgs& a) {
     for (const CrossCheckRow& r : c.rows)
       if (r.engine == engine) {
         any = true;
-        worst.udot_only = r.udot_only;
+        worst.udot_only = r.udot_only, worst.A_only = r.A_only;
         worst.A = std::max(worst.A, r.A), worst.B = std::max(worst.B, r.B), worst.udot = std::max(worst.udot, r.udot);
       }
     if (any && worst.udot_only) std::printf("%-12s %10s %10s %10.2e\n", engine.c_str(), "-", "-", worst.udot);
+    else if (any && worst.A_only) std::printf("%-12s %10.2e %10s %10s\n", engine.c_str(), worst.A, "-", "-");
     else if (any) std::printf("%-12s %10.2e %10.2e %10.2e\n", engine.c_str(), worst.A, worst.B, worst.udot);
   }
   for (Engine e : otherEngines()) {
     if (const char* note = engineCode(e).mass_note; note && !mechanism) std::printf("(%s: %s)\n", massRowName(engineName(e)).c_str(), note);
     if (const char* note = engineCode(e).soft_closures; note && mechanism) std::printf("(%s: %s)\n", engineName(e), note);
+    if (const char* note = engineCode(e).mechanism_state; note && mechanism) std::printf("(%s: %s)\n", engineName(e), note);
     if (const char* note = engineCode(e).equations_note) std::printf("(%s: %s)\n", engineName(e), note);
   }
   double worst = 0;

@@ -20,6 +20,7 @@ struct CrossCheckRow {
   std::string engine;
   double A = 0, B = 0, udot = 0;
   bool udot_only = false;  ///< a plugin's row: it gives u' alone (A and B are 0)
+  bool A_only = false;     ///< an engine whose equations at a state are a mechanism's tree (EngineCode::mechanism_state): A alone (B and u' are 0)
   double worst() const { return std::max(A, std::max(B, udot)); }
 };
 

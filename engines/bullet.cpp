@@ -746,6 +746,9 @@ EngineRow bulletEngine() {
   r.code.udot_method = {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
                                        "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot};
   r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
+  r.code.mechanism_state = "Bullet's forward dynamics at a state is its multibody's, a mechanism's tree: its constraints act "
+                           "only inside its solver's step, and point springs and drives are applied there; its A is judged, "
+                           "its B and u' of a mechanism are not exposed";
   r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
                           "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
   return r;

@@ -590,6 +590,9 @@ EngineRow dartEngine() {
   };
   r.code.version = [] { return std::string(DART_VERSION); };
   r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
+  r.code.mechanism_state = "DART's equations at a state are its skeleton's, a mechanism's tree: its joint constraints act "
+                           "only as impulses inside World::step, and point springs and drives are applied there; its A is "
+                           "judged, its B and u' of a mechanism are not exposed";
   r.code.udot_method = {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
                                      "formulation apart from its integrator", "#ad4a8c", makeDartUdot};
   return r;

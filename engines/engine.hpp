@@ -101,6 +101,11 @@ struct EngineCode {
   /// named with the loop), or "" when it maps every loop, point spring and
   /// drive of `m`; nullptr: it maps no mechanism yet, and every one is refused.
   std::string (*mechanism_refusal)(const Model& m) = nullptr;
+  /// One line on why its equations at a state are the tree's alone on a
+  /// mechanism (DART, Bullet: closures, point springs and drives act only
+  /// inside its step), or nullptr: crosscheck then judges its A alone, and
+  /// prints its B and u' as not exposed.
+  const char* mechanism_state = nullptr;
   /// One line on how its closures are soft (MuJoCo's equalities), so that its
   /// u' of a mechanism at a state is not the exact constrained one: crosscheck
   /// prints it and does not judge that u'; nullptr: its closures are exact.
