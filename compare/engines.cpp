@@ -159,6 +159,8 @@ Equations engineEquations(const Model& m, Engine e, const Eigen::VectorXd& q, co
   if (!code.model) throw std::invalid_argument(std::string(engineName(e)) + " gives no equations at a state");
   if (m.isMechanism() && !code.mechanism_refusal)
     throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism here: its row maps no loops, point springs or drives yet");
+  if (m.isMechanism() && code.mechanism_state)  // its equations at a state are the tree's: never printed as the mechanism's
+    throw std::invalid_argument(std::string(engineName(e)) + " gives no equations of a mechanism at a state: " + code.mechanism_state);
   if (const std::string why = mechanismRefusal(e, m); !why.empty()) throw std::invalid_argument(std::string(engineName(e)) + ": " + why);
   const EngineEquations x = code.model(m)->at(q, u);
   return toFileOrder(m, x.A, x.B, x.udot, x.kinetic, x.potential);

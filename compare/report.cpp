@@ -86,14 +86,15 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   for (size_t i = 0; i < th.size(); ++i)
     meaningful[thresholdKey(th[i])] = m.divergence_time_s[i] ? json(bool(m.divergence_meaningful[i])) : json(nullptr);
   j["divergence_meaningful"] = meaningful;
+  const MethodInfo& row = info(m.run.method);
+  for (const MethodParam& p : row.params) {  // the row's own options, as run (an engine's: its closures')
+    if (p.loops_only && !m.has_loops) continue;  // not read on a tree
+    const double v = row.param(p.name, m.run.options);
+    j[p.name] = p.whole ? json(static_cast<long>(v)) : json(v);
+  }
   if (!m.has_diagnostics) {
     j["diagnostics"] = nullptr;
     return j;
-  }
-  const MethodInfo& row = info(m.run.method);
-  for (const MethodParam& p : row.params) {  // the row's own options, as run
-    const double v = row.param(p.name, m.run.options);
-    j[p.name] = p.whole ? json(static_cast<long>(v)) : json(v);
   }
   j["diagnostics"] = {{"orthogonality_error_max", peak(m.orth_err)},
                       {"offdiag_rel_max", peak(m.offdiag_rel)},

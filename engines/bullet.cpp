@@ -644,6 +644,11 @@ class BulletStepper : public FixedStepEngine {
     world_.addMultiBody(&chain_.body());
     closures_ = chain_.closures();
     for (auto& c : closures_) world_.addMultiBodyConstraint(c.get());
+    if (!closures_.empty()) {
+      const MethodInfo& row = info(spec.method);
+      world_.getSolverInfo().m_erp = row.param("bullet_erp", spec.options);
+      world_.getSolverInfo().m_numIterations = static_cast<int>(row.param("bullet_iterations", spec.options));
+    }
 
   }
   ~BulletStepper() override {
@@ -739,6 +744,10 @@ EngineRow bulletEngine() {
   r.info.fixed_scheme = "bullet-euler";
   r.info.adaptive_scheme = "bullet-euler";  // Bullet has no adaptive scheme
   r.info.colour = "darkgoldenrod";
+  // Its closures' stabilization: btContactSolverInfo's defaults, read only where loops are.
+  r.info.params = {
+      {"bullet_erp", 0.2, 0, 1, false, "Bullet: its closures' error reduction parameter, the share of a loop's violation fed back per step (its default 0.2)", nullptr, true},
+      {"bullet_iterations", 10, 1, 10000, true, "Bullet: its constraint solver's sequential-impulse iterations per step (its default 10)", nullptr, true}};
   r.code.simulate = simulateFixedStep<BulletStepper>;
   r.code.model = [](const Model& m) -> std::unique_ptr<EngineModel> { return std::make_unique<BulletModel>(m); };
   // no urdf: Bullet's URDF importer is not in libbullet-dev

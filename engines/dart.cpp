@@ -430,6 +430,11 @@ class DartStepper : public FixedStepEngine {
     dart_.setState(m.q0().data(), m.u0().data());
     u_ = m.u0();
     q_ = m.q0();
+    if (!m.loops.empty()) {  // DART keeps these per process (static): every run sets them
+      const MethodInfo& row = info(spec.method);
+      dart::constraint::DynamicJointConstraint::setErrorReductionParameter(row.param("dart_erp", spec.options));
+      dart::constraint::DynamicJointConstraint::setConstraintForceMixing(row.param("dart_cfm", spec.options));
+    }
     for (const Loop& l : m.loops) addClosure(l);  // assembled: the points meet
     if (m.has_drives) G_.resize(m.nu, m.nu), g_.resize(m.nu), tau_.resize(m.nu), forces_.resize(m.nu);
   }
@@ -579,6 +584,10 @@ EngineRow dartEngine() {
   r.info.fixed_scheme = "dart-euler";
   r.info.adaptive_scheme = "dart-euler";  // DART has no adaptive scheme
   r.info.colour = "tab:pink";
+  // Its closures' stabilization: DynamicJointConstraint's defaults, read only where loops are.
+  r.info.params = {
+      {"dart_erp", 0.01, 0, 1, false, "DART: its joint constraints' error reduction parameter (its default 0.01)", nullptr, true},
+      {"dart_cfm", 1e-9, 0, 1, false, "DART: its joint constraints' constraint force mixing (its default 1e-9)", nullptr, true}};
   r.code.simulate = [](const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe) {
     QuietDart quiet;
     DartStepper stepper(m, spec);

@@ -33,6 +33,13 @@ class MujocoStepper : public FixedStepEngine {
  public:
   MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
     peer_.configure(scheme(spec.integrator), spec.dt);
+    if (!m.loops.empty()) {
+      const MethodInfo& row = info(spec.method);
+      const double solref[2] = {row.param("mujoco_solref_time", spec.options), row.param("mujoco_solref_damping", spec.options)};
+      const double solimp[3] = {row.param("mujoco_solimp_d0", spec.options), row.param("mujoco_solimp_dwidth", spec.options),
+                                row.param("mujoco_solimp_width", spec.options)};
+      peer_.soften(solref, solimp);
+    }
     peer_.setState(m.q0(), m.u0());
     peer_.forward();
     mjcb_passive = countEvaluation;
@@ -136,6 +143,13 @@ EngineRow mujocoEngine() {
   r.info.fixed_scheme = "rk4";
   r.info.adaptive_scheme = "rk4";  // MuJoCo 2.2 has no adaptive scheme
   r.info.colour = "tab:red";
+  // Its closures' softness, MuJoCo's defaults (mjModel's eq_solref, eq_solimp), read only where loops are.
+  r.info.params = {
+      {"mujoco_solref_time", 0.02, 0, 1e3, false, "MuJoCo: its closures' solref time constant (s): how fast a loop's violation is pulled back (its default 0.02)", nullptr, true},
+      {"mujoco_solref_damping", 1, 0, 1e3, false, "MuJoCo: its closures' solref damping ratio (its default 1, critical)", nullptr, true},
+      {"mujoco_solimp_d0", 0.9, 0, 0.9999, false, "MuJoCo: its closures' solimp impedance at zero violation (its default 0.9)", nullptr, true},
+      {"mujoco_solimp_dwidth", 0.95, 0, 0.9999, false, "MuJoCo: its closures' solimp impedance at a violation of width (its default 0.95)", nullptr, true},
+      {"mujoco_solimp_width", 0.001, 0, 1e3, false, "MuJoCo: its closures' solimp width (m or rad; its default 0.001)", nullptr, true}};
   // Beside the reference: rk4 at 1e-4 s, fine enough that its own error (~dt^4) is below the reference's tolerance.
   r.info.roles.second_scheme = "rk4";
   r.info.roles.second_dt = 1e-4;

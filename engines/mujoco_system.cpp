@@ -502,6 +502,14 @@ std::vector<Pose> MujocoSystem::poses() const {
 }
 
 double MujocoSystem::kineticEnergy() const { return impl_->d->energy[1]; }
+void MujocoSystem::soften(const double solref[2], const double solimp[3]) {
+  mjModel* mm = impl_->mm;
+  for (int e = 0; e < mm->neq; ++e) {
+    for (int k = 0; k < 2; ++k) mm->eq_solref[mjNREF * e + k] = solref[k];
+    for (int k = 0; k < 3; ++k) mm->eq_solimp[mjNIMP * e + k] = solimp[k];  // midpoint and power kept (0.5, 2)
+  }
+}
+
 double MujocoSystem::potentialEnergy() const { return impl_->d->energy[0]; }
 
 double MujocoSystem::dissipationRate() const {

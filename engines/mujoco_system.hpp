@@ -65,6 +65,10 @@ class MujocoSystem {
   void configure(int scheme, double dt);
   /// One mj_step (after setState and forward).
   void step();
+  /// Every closure's softness (its connect equalities): solref (time constant
+  /// s, damping ratio) and solimp's first three (d0, d_width, width m); MuJoCo's
+  /// own defaults are 0.02 1 and 0.9 0.95 0.001.
+  void soften(const double solref[2], const double solimp[3]);
   /// In-house q, u (internal order) from qpos, qvel.  // q: (nq), u: (nu)
   void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const;
   /// Body poses (CM position, orientation), internal order, as of the last forward.

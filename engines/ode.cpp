@@ -360,6 +360,9 @@ class OdeStepper : public FixedStepEngine {
   OdeStepper(const Model& m, const RunSpec& spec)
       : m_(m), ode_(m), dt_(spec.dt), quick_(std::string(integratorName(spec.integrator)) == "ode-quickstep"),
         q_(m.q0()), u_(m.u0()) {
+    const MethodInfo& row = info(spec.method);
+    dWorldSetERP(ode_.world(), row.param("ode_erp", spec.options));
+    dWorldSetCFM(ode_.world(), row.param("ode_cfm", spec.options));
     for (const Body& b : m.bodies) joint_forces_ = joint_forces_ || b.joint.has_spring || b.joint.torque.size() > 0;
   }
   std::string step() override {
@@ -417,6 +420,10 @@ EngineRow odeEngine() {
   r.info.fixed_scheme = "ode-step";
   r.info.adaptive_scheme = "ode-step";  // ODE has no adaptive scheme
   r.info.colour = "navy";
+  // Every joint's (a loop's too) stabilization: ODE's defaults in double precision.
+  r.info.params = {
+      {"ode_erp", 0.2, 0, 1, false, "ODE: error reduction parameter of every joint, a loop's too: the share of a joint's separation fed back per step (its default 0.2)"},
+      {"ode_cfm", 1e-10, 0, 1, false, "ODE: constraint force mixing of every joint, a loop's too (its default in double precision 1e-10)"}};
   r.code.simulate = simulateFixedStep<OdeStepper>;
   r.code.refusal = odeRefusal;
   r.code.mechanism_refusal = odeMechanismRefusal;

@@ -272,6 +272,7 @@ Engine addEngine(EngineInfo row) {
   m.summary = row.summary;
   m.colour = row.colour;
   m.owner = row.name;
+  m.params = row.params;
   engines().push_back(row);
   methods().push_back(m);
   return row.id;

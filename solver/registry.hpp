@@ -54,6 +54,23 @@ struct EngineRoles {
 /// of itself (engines/engine.hpp). The registry never looks inside it.
 struct EngineCode;
 
+/// One of a method's own options, a column of its row: the plan key and the
+/// report key are `name`, the CLI option is `--` + name with '_' as '-'.
+struct MethodParam {
+  const char* name;
+  double fallback;   ///< the value when none is set
+  double min, max;   ///< allowed: [min, max] for whole numbers, (min, max] otherwise
+  bool whole;        ///< a whole number (reports and plan keys write it as one)
+  const char* help;  ///< one line: --help and docs
+  /// Another option this one is read under, only when that one is > 0
+  /// (refine_tol under refine); nullptr: always read. Given where it is not
+  /// read, it is refused (the CLI, plans).
+  const char* read_when = nullptr;
+  /// Read only on a scene with loops (an engine's closures' stabilization,
+  /// MuJoCo's solref): given for a tree, it is refused.
+  bool loops_only = false;
+};
+
 /// An engine's row, found by its id (info(Engine)). Its fields are named
 /// where it is written (engines/<name>.cpp); addEngine sets the last three.
 struct EngineInfo {
@@ -65,6 +82,9 @@ struct EngineInfo {
   double max_tol = HUGE_VAL;           ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
   const char* colour = nullptr;        ///< its method's colour in every figure (matplotlib name)
   EngineRoles roles;
+  /// Its method's own options (how soft or stabilized its closures are), with
+  /// the engine's defaults: CLI options, plan keys, and every report writes them as run.
+  std::vector<MethodParam> params;
   const EngineCode* code = nullptr;    ///< its code (nullptr for the in-house engine)
   // Set by addEngine:
   Engine id = Engine::InHouse;
@@ -88,19 +108,6 @@ enum class ExtraState {
 /// Entries of that extra state for N = nu.
 int extraStateSize(ExtraState x, int N);
 
-/// One of a method's own options, a column of its row: the plan key and the
-/// report key are `name`, the CLI option is `--` + name with '_' as '-'.
-struct MethodParam {
-  const char* name;
-  double fallback;   ///< the value when none is set
-  double min, max;   ///< allowed: [min, max] for whole numbers, (min, max] otherwise
-  bool whole;        ///< a whole number (reports and plan keys write it as one)
-  const char* help;  ///< one line: --help and docs
-  /// Another option this one is read under, only when that one is > 0
-  /// (refine_tol under refine); nullptr: always read. Given where it is not
-  /// read, it is refused (the CLI, plans).
-  const char* read_when = nullptr;
-};
 
 struct MethodInfo;
 /// Builds an in-house method's own code for one model (defined in the method's own file).

@@ -20,22 +20,31 @@ std::string tempDir() {
 
 }  // namespace
 
-TEST_CASE("compare on a mechanism: the ida reference, simbody run, the other engines left out, the loops in the report", "[cli][mechanism]") {
+TEST_CASE("compare on a mechanism: the ida reference, every engine run with its loops in the report, the engines' u' methods left out", "[cli][mechanism]") {
   const std::string out = tempDir() + "/andrews.json";
   std::remove(out.c_str());
   const Run r = eigenmass("compare " + scene("mechanisms/andrews.json") + " --tol 1e-10 --out " + out, true);
   REQUIRE(r.status == 0);
   CHECK_THAT(r.out, Catch::Contains("reference: classical/ida"));
-  CHECK_THAT(r.out, Catch::Contains("dart: not run: no mapping of a mechanism's loops"));
   // MuJoCo's soft closures are no check of the reference: the second engine of a mechanism is Simbody's exact constraints.
   CHECK_THAT(r.out, Catch::Contains("second engine: simbody/rkmerson tolerance 1e-10"));
   CHECK_THAT(r.out, Catch::Contains("dart-udot: not run: its u' comes from outside the formation"));
   nlohmann::json report;
   std::ifstream(out) >> report;
-  REQUIRE(report["methods"].size() == 9);  // the seven in-house methods, simbody and mujoco
+  REQUIRE(report["methods"].size() == 12);  // the seven in-house methods and the five engines
   for (const auto& m : report["methods"]) {
     INFO(m["name"]);
+    if (m["name"] == "dart" || m["name"] == "bullet" || m["name"] == "ode") {
+      // Their own closures at compare's engine step 1e-3 s: 30 steps over Andrews' 0.03 s, far too
+      // coarse for its 1000 rad/s (ode-step at 1e-6 s reaches the published solution to 5.6e-4 rad,
+      // test_ode.cpp): wrong, and its violation and stabilization written.
+      CHECK(m["loops"]["formulation"] == m["name"].get<std::string>() + "'s own");
+      CHECK(m["loops"]["max_position_violation_m"].is_number());
+      CHECK(m["outcome"] == "wrong");
+      continue;
+    }
     if (m["name"] == "mujoco") {
+      CHECK(m["mujoco_solref_time"] == 0.02);  // its closures' softness, as run
       // Soft equalities at MuJoCo's default solref: Andrews (links at up to 1000 rad/s within
       // 0.03 s) opens them by 4.5 cm (docs/reference-engines.md): its violation is reported.
       CHECK(m["loops"]["formulation"] == "mujoco's own");
@@ -117,7 +126,7 @@ TEST_CASE("assemble: an open start refused, then assembled and said how far, and
   CHECK(j["loops"]["closures"][0]["lambda"].size() == 5);
   const Run engine = eigenmass("equations " + scene("mechanisms/iftomm_a04.json") + " --engine dart", true);
   CHECK(engine.status == 2);
-  CHECK_THAT(engine.out, Catch::Contains("dart gives no equations of a mechanism"));
+  CHECK_THAT(engine.out, Catch::Contains("dart gives no equations of a mechanism at a state"));
 }
 
 TEST_CASE("compare runs every formulation on the shipped mechanisms with loops, each report naming it with its violation", "[cli][mechanism]") {

@@ -1,0 +1,53 @@
+// Every engine's closures on the same mechanism (engines/*.cpp, "Mechanisms"):
+// the stabilization each engine's row declares as options (MuJoCo's solref,
+// ERP elsewhere) is what the run uses. Oracle: the constraint dynamics each
+// engine documents. MuJoCo's connect is a damped spring of time constant tau,
+// so under a steady load its violation scales as tau^2; ODE, Bullet and DART
+// feed back a share ERP of the violation per step, so what stays open scales
+// as 1/ERP. Measured on A04 over 1 s (loops' or joints' largest opening, m):
+// MuJoCo rk4 dt 1e-4: tau 0.02 1.2e-3, 0.002 1.1e-5 (111x for 10x); at dt
+// 1e-3 ODE (joints apart) ERP 0.2 5.4e-6, 0.8 1.4e-6; Bullet 7.3e-6, 1.8e-6;
+// DART ERP 0.01 9.7e-5, 0.2 1.0e-5.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "compare/engines.hpp"
+#include "engines.hpp"
+#include "support.hpp"
+
+using namespace em;
+
+namespace {
+
+// The largest opening of A04's loops under `engine` with option `param` at `value`.
+double opening(const char* engine, const char* scheme, double dt, const char* param, double value) {
+  const Model m = test::loadData("mechanisms/iftomm_a04.json");
+  RunSpec spec = test::runSpec(test::method(engine), test::scheme(scheme), 1.0, dt);
+  spec.options.params[param] = value;
+  const Trajectory tr = runTrajectory(m, checked(spec));
+  REQUIRE_FALSE(tr.failed());
+  REQUIRE(tr.has_loops);
+  const double loops = std::max(tr.loops.position_m, tr.loops.position_rad);
+  return std::isnan(tr.max_joint_separation) ? loops : tr.max_joint_separation;  // ODE: every joint's, the loops' too
+}
+
+}  // namespace
+
+TEST_CASE("each engine's closures follow the stabilization its options set", "[mechanism][engines]") {
+  struct Case {
+    const char *engine, *scheme, *param;
+    double dt, soft, stiff, ratio;  // the option's two values, and the least ratio of the openings asserted
+  };
+  for (const Case c : {Case{"mujoco", "rk4", "mujoco_solref_time", 1e-4, 0.02, 0.002, 30},
+                       Case{"ode", "ode-step", "ode_erp", 1e-3, 0.2, 0.8, 2.5},
+                       Case{"bullet", "bullet-euler", "bullet_erp", 1e-3, 0.2, 0.8, 2.5},
+                       Case{"dart", "dart-euler", "dart_erp", 1e-3, 0.01, 0.2, 5}}) {
+    const double soft = opening(c.engine, c.scheme, c.dt, c.param, c.soft), stiff = opening(c.engine, c.scheme, c.dt, c.param, c.stiff);
+    INFO(c.engine << " " << c.param << ": " << soft << " m at " << c.soft << ", " << stiff << " m at " << c.stiff);
+    CHECK(soft > c.ratio * stiff);
+    CHECK(soft < 1e-2);
+  }
+}
