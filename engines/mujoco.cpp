@@ -117,16 +117,13 @@ std::string fullInertiaNote(const Model& m) {
 }
 
 // What of a mechanism MuJoCo's row does not map (engines/mujoco_system.cpp maps
-// ball, hinge and weld closures as connects, point springs as spatial tendons,
-// drives as qfrc_applied).
+// ball, hinge and weld closures as connects, point spring-dampers as spatial
+// tendons with stiffness and damping, drives as qfrc_applied).
 std::string mechanismRefusal(const Model& m) {
   for (const Body& b : m.bodies)
     if (b.joint.torque.size() > 0 && (b.joint.type == JointType::Ball || b.joint.type == JointType::Free))
       return "the drive on body '" + b.name + "': MuJoCo reads a " + jointTypeName(b.joint.type) +
              " joint's angular speed in the child's frame, where a constant torque of ours is not constant";
-  for (const PointSpring& s : m.point_springs)
-    if (s.c != 0)
-      return "point spring '" + s.name + "' has a damper (c > 0): its dissipated work is not tracked for MuJoCo yet";
   return "";
 }
 

@@ -517,6 +517,8 @@ double MujocoSystem::dissipationRate() const {
   double P = 0;
   for (int i = 0; i < mm->nv; ++i) P += mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qvel[i];
   for (const auto& [at, tau] : impl_->drives) P -= tau * impl_->d->qvel[at];  // a drive's power counts negative
+  for (int t = 0; t < mm->ntendon; ++t)  // a point damper's (its spatial tendon's damping): c l'^2
+    P += mm->tendon_damping[t] * impl_->d->ten_velocity[t] * impl_->d->ten_velocity[t];
   return P;
 }
 
@@ -525,6 +527,14 @@ double MujocoSystem::dissipationRateDerivative() const {
   double dP = 0;
   for (int i = 0; i < mm->nv; ++i) dP += 2 * mm->dof_damping[i] * impl_->d->qvel[i] * impl_->d->qacc[i];
   for (const auto& [at, tau] : impl_->drives) dP -= tau * impl_->d->qacc[at];
+  // A point damper's 2 c l' l'', l'' taken as J qacc: MuJoCo gives no rate of
+  // the tendon's Jacobian, and the omitted J' qvel leaves W_diss's end
+  // correction second order where point dampers are (fourth elsewhere).
+  for (int t = 0; t < mm->ntendon; ++t) {
+    double ldd = 0;
+    for (int i = 0; i < mm->nv; ++i) ldd += impl_->d->ten_J[t * mm->nv + i] * impl_->d->qacc[i];
+    dP += 2 * mm->tendon_damping[t] * impl_->d->ten_velocity[t] * ldd;
+  }
   return dP;
 }
 
