@@ -386,10 +386,7 @@ void BulletChain::addPointSpringForces(const double* q, const double* u) {
   formKinematics(m_, q, u, ws_);
   for (const PointSpring& s : m_.point_springs) {
     const PointMotion a = pointMotion(ws_, s.a), b = pointMotion(ws_, s.b);
-    const Vec3 d = b.x - a.x;
-    const double l = d.norm();
-    if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
-    const Vec3 n = d / l, f = (s.k * (l - s.length) + s.c * n.dot(b.v - a.v)) * n;  // on a; -f on b
+    const Vec3 f = pointSpringForce(s, a.x, a.v, b.x, b.v);  // on a; -f on b
     for (const auto& [body, x, force] : {std::tuple<int, Vec3, Vec3>{s.a.body, a.x, f}, {s.b.body, b.x, -f}}) {
       if (body < 0) continue;
       const int link = links_[body].link;

@@ -531,10 +531,7 @@ class DartStepper : public FixedStepEngine {
       Vec3 pa, va, pb, vb;
       dd::BodyNode* na = at(s.a, pa, va);
       dd::BodyNode* nb = at(s.b, pb, vb);
-      const Vec3 d = pb - pa;
-      const double l = d.norm();
-      if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
-      const Vec3 e = d / l, f = (s.k * (l - s.length) + s.c * e.dot(vb - va)) * e;  // on a; -f on b
+      const Vec3 f = pointSpringForce(s, pa, va, pb, vb);  // on a; -f on b
       if (na) na->addExtForce(f, s.a.point, false, true);
       if (nb) nb->addExtForce(-f, s.b.point, false, true);
     }

@@ -216,11 +216,7 @@ class OdeSystem {
   void addPointSpringForces() {
     for (const PointSpring& s : m_.point_springs) {
       const Point a = at(s.a), b = at(s.b);
-      const Vec3 d = b.p - a.p;
-      const double l = d.norm();
-      if (l == 0) continue;  // no direction: the scene's validation keeps the points apart
-      const Vec3 e = d / l;
-      const Vec3 f = (s.k * (l - s.length) + s.c * e.dot(b.v - a.v)) * e;  // on a; -f on b
+      const Vec3 f = pointSpringForce(s, a.p, a.v, b.p, b.v);  // on a; -f on b
       if (a.body) dBodyAddForceAtPos(a.body, f.x(), f.y(), f.z(), a.p.x(), a.p.y(), a.p.z());
       if (b.body) dBodyAddForceAtPos(b.body, -f.x(), -f.y(), -f.z(), b.p.x(), b.p.y(), b.p.z());
     }

@@ -245,6 +245,14 @@ void addAppliedForces(const Model& m, const Workspace& ws, const double* q, cons
   }
 }
 
+Vec3 pointSpringForce(const PointSpring& s, const Vec3& pa, const Vec3& va, const Vec3& pb, const Vec3& vb) {
+  const Vec3 d = pb - pa;
+  const double l = d.norm();
+  if (l == 0) return Vec3::Zero();
+  const Vec3 n = d / l;
+  return (s.k * (l - s.length) + s.c * n.dot(vb - va)) * n;
+}
+
 double pointSpringPotential(const Model& m, const Workspace& ws) {
   double V = 0;
   for (const PointSpring& s : m.point_springs) {

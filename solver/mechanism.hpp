@@ -71,6 +71,12 @@ void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& 
 /// Q += the joint springs', the drives' and the point spring-dampers'
 /// generalized forces (theory.md eq. (M5)).  // q: (nq), u, Q: (nu)
 void addAppliedForces(const Model& m, const Workspace& ws, const double* q, const double* u, Eigen::VectorXd& Q);
+/// The force on a's point of point spring-damper `s` whose points are at pa
+/// and pb, moving at va and vb (world): tension k (l - length) + c l' along
+/// the line from a's point to b's; -f acts on b's; zero where the points
+/// coincide (io keeps them apart at the start). The engines that apply point
+/// springs as forces (ODE, Bullet, DART) take it from their own states.
+Vec3 pointSpringForce(const PointSpring& s, const Vec3& pa, const Vec3& va, const Vec3& pb, const Vec3& vb);
 /// Potential of the point springs, sum of k (l - length)^2 / 2.
 double pointSpringPotential(const Model& m, const Workspace& ws);
 /// dW_diss/dt: the power the joint and point dampers dissipate minus the
