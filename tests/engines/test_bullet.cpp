@@ -144,13 +144,5 @@ TEST_CASE("Bullet's stepping closes the energy balance on a damped scene at firs
 // Without the closures handed to the solver (Bullet reaches them only through
 // colliders' islands) the loops open by metres.
 TEST_CASE("Bullet's closures hold and its mechanisms converge at first order to the in-house motion", "[bullet][mechanism]") {
-  for (const char* file : {"tests/scenes/mechanisms/door_and_plate.json", "data/scenes/mechanisms/iftomm_a04.json",
-                           "data/scenes/mechanisms/iftomm_a05.json"}) {
-    const test::MechanismConvergence c = test::mechanismConvergence(file, "bullet", "bullet-euler", 0.5, 1e-4);
-    INFO(file << ": pose error " << c.err[0] << " -> " << c.err[1] << "; loops open " << c.gap[0] << " -> " << c.gap[1]);
-    REQUIRE(c.ran);
-    CHECK(c.err[0] > 1.6 * c.err[1]);
-    CHECK(c.err[0] < 2.4 * c.err[1]);
-    if (c.gap[0] > 0) CHECK(c.gap[0] > 3.2 * c.gap[1]);
-  }
+  test::checkMechanismsFirstOrder("bullet", "bullet-euler");
 }

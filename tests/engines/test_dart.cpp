@@ -98,13 +98,5 @@ TEST_CASE("DART's World::step closes the energy balance on a damped scene to fir
 // 1.5e-4, 1.1e-5 / 2.8e-6; A04 7.1e-5 / 3.6e-5, 8.3e-7 / 2.1e-7; A05 (no
 // loops) 8.3e-5 / 4.2e-5.
 TEST_CASE("DART's joint constraints close loops and its mechanisms converge at first order to the in-house motion", "[dart][mechanism]") {
-  for (const char* file : {"tests/scenes/mechanisms/door_and_plate.json", "data/scenes/mechanisms/iftomm_a04.json",
-                           "data/scenes/mechanisms/iftomm_a05.json"}) {
-    const test::MechanismConvergence c = test::mechanismConvergence(file, "dart", "dart-euler", 0.5, 1e-4);
-    INFO(file << ": pose error " << c.err[0] << " -> " << c.err[1] << "; loops open " << c.gap[0] << " -> " << c.gap[1]);
-    REQUIRE(c.ran);
-    CHECK(c.err[0] > 1.6 * c.err[1]);
-    CHECK(c.err[0] < 2.4 * c.err[1]);
-    if (c.gap[0] > 0) CHECK(c.gap[0] > 3.2 * c.gap[1]);
-  }
+  test::checkMechanismsFirstOrder("dart", "dart-euler");
 }
