@@ -30,6 +30,7 @@ void addExtreme(CLI::App& app);
 void addSweep(CLI::App& app);
 void addPlot(CLI::App& app);
 void addEngineStudy(CLI::App& app);
+void addBenchmark(CLI::App& app);
 /// Run every case of `plan` (read from `plan_path`) not done yet in `dir` on
 /// `jobs` workers (0: every core) and merge them, or, with `list`, print one
 /// command per case (sweep and engine-study share it). Returns the exit status.

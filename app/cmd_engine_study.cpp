@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli.hpp"
-#include "io/atomic_file.hpp"
+#include "app/study_plan.hpp"
 #include "io/json_input.hpp"
 #include "io/scene_json.hpp"
 #include "io/shipped.hpp"
@@ -31,48 +31,6 @@ struct StudyArgs {
   bool list = false;
 };
 
-// The study plan of one scene: the template's lines, reference and tables, this scene and its import options.
-json studyPlan(const StudyArgs& a, const json& tmpl, const std::string& name) {
-  json p = tmpl;
-  json scene = {{"file", fs::absolute(a.scene.path).lexically_normal().string()}};
-  if (a.scene.urdf.balance_inertia) scene["balance_inertia"] = true;
-  if (a.scene.urdf.floating_base) scene["floating_base"] = true;
-  if (!a.scene.urdf.lock_joints.empty()) scene["lock_joint"] = a.scene.urdf.lock_joints;
-  p["scenes"] = json::array({scene});
-  p["name"] = name;
-  p["description"] = "Every engine and in-house route of " + fs::path(a.plan).filename().string() + " on " +
-                     fs::path(a.scene.path).filename().string() + ", written by `eigenmass engine-study`.";
-  if (a.t_end > 0) p["t_end"] = a.t_end;
-  return p;
-}
-
-// Where the study's plan goes in the results folder.
-std::string studyPlanPath(const json& plan, const std::string& dir) {
-  return (fs::path(dir) / (plan.at("name").get<std::string>() + ".plan.json")).string();
-}
-
-// Write the study's plan (checked before: checkStudyPlan) into the results
-// folder; one written before by another study, or a file there that is no
-// plan, is never replaced.
-std::string writeStudyPlan(const json& plan, const std::string& dir) {
-  const std::string path = studyPlanPath(plan, dir);
-  const std::string text = plan.dump(2) + "\n";
-  if (fs::exists(path)) {
-    const std::string there = readFile(path, "study plan");
-    if (there == text) return path;
-    try {
-      parsePlan(there, path, path);
-    } catch (const std::exception& e) {
-      throw std::invalid_argument("--results " + dir + ": holds " + path + ", which is not a readable plan (" + std::string(e.what()) +
-                                  "); remove it or choose another folder");
-    }
-    throw std::invalid_argument("--results " + dir + ": holds " + path + ", the plan of another study (other options, "
-                                "another template); choose another folder or remove it");
-  }
-  writeAtomic(path, "study plan", [&](std::ostream& o) { o << text; });
-  return path;
-}
-
 int runStudy(StudyArgs& a) {
   const Scene scene = a.scene.load();  // a bad scene is named as every command names it, before any file is written
   if (a.plan.empty()) a.plan = shippedFile("data/plans/engines.json", EM_SOURCE_DIR);
@@ -84,11 +42,11 @@ int runStudy(StudyArgs& a) {
   const std::string name = "engine-study-" + stem;
   const std::string dir = a.results.empty() ? "results/" + name : a.results;
   if (a.list) refuseLineBreaks({{"--results", dir}});
-  const json study = studyPlan(a, tmpl, name);
-  // The plan is checked before any file or folder is written: its errors name the template (--plan), not a copy.
-  parsePlan(study.dump(2) + "\n", studyPlanPath(study, dir), "--plan " + a.plan + " (the study's plan made from it)");
-  prepareFolder("--results", dir);
-  const std::string path = writeStudyPlan(study, dir);
+  json study = templatePlan(tmpl, a.scene.path, a.scene.urdf, name,
+                            "Every engine and in-house route of " + fs::path(a.plan).filename().string() + " on " +
+                                fs::path(a.scene.path).filename().string() + ", written by `eigenmass engine-study`.");
+  if (a.t_end > 0) study["t_end"] = a.t_end;
+  const std::string path = writeTemplatePlan(study, dir, "--plan " + a.plan + " (the study's plan made from it)", "--results");
   const Plan plan = loadPlan(path);
   if (!a.list) refuseSweepOverInputs(plan, path, dir);
   std::fprintf(stderr, "engine-study: %s (%d speeds), %zu cases of %s\n", scene.source.file.c_str(), scene.model.nu,

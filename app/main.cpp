@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   em::cli::addExtreme(app);
   em::cli::addSweep(app);
   em::cli::addEngineStudy(app);
+  em::cli::addBenchmark(app);
   em::cli::addPlot(app);
   em::cli::refuseEmptyPaths(app);
   if (argc < 2) {

@@ -27,6 +27,7 @@ Scene fromSpec(SceneSpec spec, const std::string& source, bool assemble = false)
   if (spec.assemble) s.source.assembly = a;
   s.t_end = spec.t_end;
   s.output_dt = spec.output_dt;
+  s.benchmark = spec.benchmark;
   s.source.file = source;
   return s;
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/scene_json.hpp"
 #include "io/urdf.hpp"
 #include "solver/mechanism.hpp"
 #include "solver/model.hpp"
@@ -27,6 +28,7 @@ struct Scene {
   double t_end = 10.0, output_dt = 0.01;  ///< the file's run defaults (simulate.t_end, .output_dt)
   SceneSource source;
   std::vector<std::string> source_joints; ///< URDF: the joint of each body, file order, as written
+  std::optional<BenchmarkSpec> benchmark; ///< the file's "benchmark" (JSON scenes only)
 };
 
 /// Read, validate and build a scene file. Throws std::runtime_error("file: path: what").

@@ -299,11 +299,72 @@ void simulateDefaults(const json& sim, SceneSpec& s) {
   }
 }
 
+// One coordinate of "benchmark.measure": {"name", "body", "point", "axis"}; the body must be one of `bodies`.
+BenchmarkPoint benchmarkPoint(const json& v, const std::string& path, const std::vector<BodySpec>& bodies) {
+  if (!v.is_object()) throw Err(path, "expected an object {\"name\", \"body\", \"point\", \"axis\"}");
+  onlyKeys(v, path, {"name", "body", "point", "axis"});
+  BenchmarkPoint b;
+  b.name = name(requireKey(v, path, "name"), at(path, "name"));
+  b.body = stringAt(requireKey(v, path, "body"), at(path, "body"));
+  if (std::none_of(bodies.begin(), bodies.end(), [&](const BodySpec& s) { return s.name == b.body; }))
+    throw Err(at(path, "body"), "no body named '" + printable(b.body, 40) + "' (the ground does not move)");
+  if (v.contains("point")) b.point = vec3(v["point"], at(path, "point"));
+  if (b.point.cwiseAbs().maxCoeff() > kMaxDisplacement)
+    throw Err(at(path, "point"), "a coordinate beyond +-" + gnum(kMaxDisplacement) + " m");
+  const std::string axis = stringAt(requireKey(v, path, "axis"), at(path, "axis"));
+  static const char* kAxes[] = {"x", "y", "z"};
+  const auto* hit = std::find(std::begin(kAxes), std::end(kAxes), axis);
+  if (hit == std::end(kAxes)) throw Err(at(path, "axis"), "'" + printable(axis, 20) + "' is not a world axis (x, y, z)");
+  b.axis = static_cast<int>(hit - std::begin(kAxes));
+  return b;
+}
+
+// "benchmark": the scene as a benchmark problem (docs/scene-format.md): its
+// error measure, horizon, output steps and precision levels.
+BenchmarkSpec benchmark(const json& v, const std::vector<BodySpec>& bodies) {
+  const std::string path = "benchmark";
+  if (!v.is_object()) throw Err(path, "expected an object");
+  std::vector<std::string> keys = {"problem", "measure", "t_end", "outputs", "levels"};
+  for (auto it = v.begin(); it != v.end(); ++it)
+    if (it.key().rfind("x-", 0) == 0) keys.push_back(it.key());
+  onlyKeys(v, path, keys);
+  BenchmarkSpec b;
+  b.problem = name(requireKey(v, path, "problem"), at(path, "problem"));
+  const json& measure = requireKey(v, path, "measure");
+  if (!measure.is_array() || measure.empty() || measure.size() > static_cast<size_t>(kBenchmarkMeasureMax))
+    throw Err(at(path, "measure"), "expected a list of 1 to " + std::to_string(kBenchmarkMeasureMax) + " coordinates");
+  for (size_t i = 0; i < measure.size(); ++i) {
+    b.measure.push_back(benchmarkPoint(measure[i], at(at(path, "measure"), i), bodies));
+    for (size_t k = 0; k < i; ++k)
+      if (b.measure[k].name == b.measure[i].name)
+        throw Err(at(at(at(path, "measure"), i), "name"), "duplicate name '" + b.measure[i].name + "'");
+  }
+  b.t_end = positiveAt(requireKey(v, path, "t_end"), at(path, "t_end"));
+  b.outputs = wholeNumberAt(requireKey(v, path, "outputs"), at(path, "outputs"), 1, kBenchmarkOutputsMax, "output steps");
+  try {
+    outputIntervals(b.t_end, b.outputStep());  // the grid rule every run checks
+  } catch (const SettingError& e) {
+    throw Err(at(path, "t_end"), std::string(e.what()).substr(e.field.size() + 1));
+  }
+  const json& levels = requireKey(v, path, "levels");
+  if (!levels.is_array() || levels.empty() || levels.size() > static_cast<size_t>(kBenchmarkLevelsMax))
+    throw Err(at(path, "levels"), "expected a list of 1 to " + std::to_string(kBenchmarkLevelsMax) + " precision levels (m)");
+  for (size_t i = 0; i < levels.size(); ++i) {
+    const std::string p = at(at(path, "levels"), i);
+    const double x = positiveAt(levels[i], p);
+    if (!(x <= kMaxDisplacement)) throw Err(p, gnum(x) + " m beyond " + gnum(kMaxDisplacement) + " m");
+    if (i > 0 && !(x < b.levels.back())) throw Err(p, "levels go from coarse to fine: " + gnum(x) + " is not below " + gnum(b.levels.back()));
+    b.levels.push_back(x);
+  }
+  b.extra = extras(v);
+  return b;
+}
+
 SceneSpec spec(const json& doc) {
   if (!doc.is_object()) throw Err("(document)", "expected a JSON object");
   if (doc.contains("format") && doc["format"] == "eigenmass-plan/1")  // before its keys are blamed one by one
     throw Err("format", "a plan, not a scene (eigenmass-plan/1, docs/sweep.md): `sweep PLAN` runs it; this command takes a scene or a URDF");
-  onlyKeys(doc, "", {"format", "name", "gravity", "bodies", "loops", "forces", "simulate"});
+  onlyKeys(doc, "", {"format", "name", "gravity", "bodies", "loops", "forces", "simulate", "benchmark"});
   const std::string fmt = stringAt(requireKey(doc, "", "format"), "format");
   if (fmt != "eigenmass-scene/1")
     throw Err("format", "unsupported format '" + printable(fmt, 40) + "' (expected eigenmass-scene/1)");
@@ -319,6 +380,7 @@ SceneSpec spec(const json& doc) {
   s.loops = namedList<LoopSpec>(doc, "loops", loop);
   s.forces = namedList<ForceSpec>(doc, "forces", force);
   if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
+  if (doc.contains("benchmark")) s.benchmark = benchmark(doc["benchmark"], s.bodies);
   s.extra = extras(doc);
   return s;
 }
@@ -427,6 +489,16 @@ std::string listText(const char* key, const std::vector<T>& items, ToJson toJson
   return text + "  ],\n";
 }
 
+json benchmarkJson(const BenchmarkSpec& b) {
+  static const char* kAxes[] = {"x", "y", "z"};
+  json measure = json::array();
+  for (const BenchmarkPoint& p : b.measure)
+    measure.push_back({{"name", p.name}, {"body", p.body}, {"point", vecJson(p.point)}, {"axis", kAxes[p.axis]}});
+  json o = {{"problem", b.problem}, {"measure", measure}, {"t_end", b.t_end}, {"outputs", b.outputs}, {"levels", b.levels}};
+  o.update(b.extra);
+  return o;
+}
+
 json bodyJson(const BodySpec& b) {
   const Mat3& J = b.inertia;
   json o = {{"name", b.name}, {"parent", b.parent}, {"mass", b.mass},
@@ -448,7 +520,9 @@ std::string sceneJson(const SceneSpec& s) {
   text += "  ],\n" + listText("loops", s.loops, loopJson) + listText("forces", s.forces, forceJson);
   json sim = {{"t_end", s.t_end}, {"output_dt", s.output_dt}};
   if (s.assemble) sim["assemble"] = true;
-  text += "  \"simulate\": " + sim.dump() + "\n}\n";
+  text += "  \"simulate\": " + sim.dump();
+  if (s.benchmark) text += ",\n  \"benchmark\": " + benchmarkJson(*s.benchmark).dump();
+  text += "\n}\n";
   return text;
 }
 

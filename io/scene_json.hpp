@@ -2,6 +2,7 @@
 /// The `eigenmass-scene/1` format (docs/scene-format.md): the scene as written
 /// (parents by name, file order), its validation with one-line errors naming
 /// the JSON path, and the model it describes.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,29 @@ struct ForceSpec {
   nlohmann::json extra = nlohmann::json::object();
 };
 
+/// One coordinate of a benchmark's error measure (docs/scene-format.md,
+/// "benchmark"): a point fixed in a body, one of its world coordinates.
+struct BenchmarkPoint {
+  std::string name;          ///< how tables and reports call it ("B0.x")
+  std::string body;          ///< a body of the scene (not "ground")
+  Vec3 point = Vec3::Zero(); ///< in the body's frame, from its CM (m)
+  int axis = 0;              ///< 0, 1, 2: world x, y, z
+};
+
+/// The scene as a problem of a benchmark (IFToMM's A01-A05, say): its error
+/// measure, the largest |x_run - x_ref| over `measure` at the `outputs` equal
+/// output steps up to t_end, and the precision levels a run must stay within.
+struct BenchmarkSpec {
+  std::string problem;                  ///< "A02": letters, digits, '_' or '-'
+  std::vector<BenchmarkPoint> measure;  ///< 1 to kBenchmarkMeasureMax coordinates
+  double t_end = 0;                     ///< the problem's horizon (s)
+  int outputs = 0;                      ///< output steps over it, t_end / outputs apart
+  std::vector<double> levels;           ///< precision levels (m), coarse to fine, strictly decreasing
+  nlohmann::json extra = nlohmann::json::object();  ///< its "x-" keys (where each number comes from)
+  double outputStep() const { return t_end / outputs; }
+};
+inline constexpr int kBenchmarkMeasureMax = 16, kBenchmarkLevelsMax = 4, kBenchmarkOutputsMax = 100000;
+
 /// Largest |g| and |G u| of an initial state that is accepted (m or rad, m/s
 /// or rad/s): beyond it the scene is refused naming the loop and the gap.
 inline constexpr double kLoopStartTol = 1e-9;
@@ -63,6 +87,7 @@ struct SceneSpec {
   double t_end = 10.0, output_dt = 0.01;  ///< simulate.t_end, simulate.output_dt
   bool assemble = false;  ///< simulate.assemble: project q0, then u0, onto the loops instead of refusing an open start
   nlohmann::json extra = nlohmann::json::object();  ///< top-level "x-" keys, kept as written
+  std::optional<BenchmarkSpec> benchmark;  ///< "benchmark": the scene as a benchmark problem
 };
 
 /// Parse and validate scene text. Throws InputError (JSON path: what) on any defect.

@@ -32,7 +32,8 @@ const TableRow kTables[] = {{PlanTable::WorkPrecision, "work-precision"},
                             {PlanTable::CostVsSize, "cost-vs-size"},
                             {PlanTable::Runs, "runs"},
                             {PlanTable::Trajectories, "trajectories"},
-                            {PlanTable::EngineStudy, "engine-study"}};
+                            {PlanTable::EngineStudy, "engine-study"},
+                            {PlanTable::Benchmark, "benchmark"}};
 
 Method methodAt(const json& v, const std::string& path) {
   Method m;
@@ -69,11 +70,31 @@ RunSpec runAt(const json& v, const std::string& path) {
 }
 
 PlanLine lineAt(const json& v, const std::string& path) {
-  onlyKeys(v, path, {"methods", "integrator", "dt", "tolerance"});
+  onlyKeys(v, path, {"methods", "formulations", "integrator", "dt", "tolerance"});
   PlanLine line;
   const std::string mpath = jsonPath(path, "methods");
   const json methods = nonEmptyArrayAt(v.contains("methods") ? v["methods"] : json(), mpath);
   for (size_t i = 0; i < methods.size(); ++i) line.methods.push_back(methodAt(methods[i], jsonPath(mpath, i)));
+  if (v.contains("formulations")) {
+    const std::string fpath = jsonPath(path, "formulations");
+    const json list = nonEmptyArrayAt(v["formulations"], fpath);
+    for (size_t i = 0; i < list.size(); ++i) {
+      Formulation f;
+      const std::string name = stringAt(list[i], jsonPath(fpath, i));
+      if (!findFormulation(name, f)) {
+        std::vector<std::string> known;
+        for (const FormulationInfo& row : formulationTable()) known.emplace_back(row.name);
+        throw InputError(jsonPath(fpath, i), "unknown formulation '" + printable(name, 40) + "' (" + joined(known) + ")");
+      }
+      if (std::find(line.formulations.begin(), line.formulations.end(), f) != line.formulations.end())
+        throw InputError(jsonPath(fpath, i), "'" + name + "' twice");
+      line.formulations.push_back(f);
+    }
+    for (size_t i = 0; i < line.methods.size(); ++i)
+      if (info(line.methods[i]).engine != Engine::InHouse)
+        throw InputError(jsonPath(mpath, i), std::string(methodName(line.methods[i])) + " closes loops its own way: a line with "
+                                             "\"formulations\" lists in-house methods only");
+  }
   if (!v.contains("integrator")) throw InputError(jsonPath(path, "integrator"), "missing");
   line.integrator = integratorAt(v["integrator"], jsonPath(path, "integrator"));
   for (size_t i = 0; i < line.methods.size(); ++i) {
@@ -139,13 +160,15 @@ std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
   const fs::path base = fs::path(plan_file).parent_path();
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string at = jsonPath("scenes", i);
-    const PlanScene s = sceneAt(list[i], at, base);
+    PlanScene s = sceneAt(list[i], at, base);
     // The stem names cases, result files, --list commands and CSV rows: the scene-name rule keeps it safe in all four.
     if (!isSceneName(s.stem()))
       throw InputError(at, "the file's stem must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
     if (!stems.insert(s.stem()).second) throw InputError(at, "a second scene named '" + s.stem() + "'");
     try {  // an invalid scene is refused here, once, not once per case at run time
-      loadScene(s.file, s.urdf);
+      const Scene scene = loadScene(s.file, s.urdf);
+      s.has_loops = !scene.model.loops.empty();
+      s.benchmark = scene.benchmark;
     } catch (const std::exception& e) {
       throw InputError(at, planSpelling(e.what()));
     }
@@ -198,8 +221,11 @@ std::vector<PlanTable> tablesAt(const json& v) {
   for (size_t i = 0; i < v.size(); ++i) {
     const std::string name = stringAt(v[i], jsonPath("tables", i));
     const auto* row = std::find_if(std::begin(kTables), std::end(kTables), [&](const TableRow& r) { return name == r.name; });
-    if (row == std::end(kTables))
-      throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (work-precision, cost-vs-size, runs, trajectories)");
+    if (row == std::end(kTables)) {
+      std::vector<std::string> known;
+      for (const TableRow& r : kTables) known.emplace_back(r.name);
+      throw InputError(jsonPath("tables", i), "unknown table '" + printable(name, 40) + "' (" + joined(known) + ")");
+    }
     out.push_back(row->id);
   }
   return out;
@@ -277,6 +303,19 @@ Ensemble ensembleAt(const json& v, double t_end) {
   return e;
 }
 
+// The benchmark table measures every scene's "benchmark" at its output steps:
+// each scene must have one, and the plan's output grid must hold its steps.
+void checkBenchmarkGrid(const Plan& p) {
+  for (const PlanScene& s : p.scenes) {
+    if (!s.benchmark)
+      throw InputError("tables", "benchmark: scene " + s.stem() + " has no \"benchmark\" key (its error measure and levels, docs/scene-format.md)");
+    const double ratio = s.benchmark->outputStep() / p.output_dt;
+    if (!(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio) || std::round(ratio) < 1)
+      throw InputError("output_dt", gnum(p.output_dt) + " s does not divide scene " + s.stem() + "'s benchmark output step " +
+                                        gnum(s.benchmark->outputStep()) + " s (t_end / outputs)");
+  }
+}
+
 void readPlanKeys(const json& doc, Plan& p) {
   std::vector<std::string> keys = {"format", "name", "description", "scenes", "t_end", "output_dt", "repeats",
                                    "reference", "reference_check", "lines", "tables", "max_steps", "max_samples", "ensemble", "plugins", "runs"};
@@ -316,8 +355,9 @@ void readPlanKeys(const json& doc, Plan& p) {
   for (size_t i = 0; i < lines.size(); ++i) p.lines.push_back(lineAt(lines[i], jsonPath("lines", i)));
   if (doc.contains("runs")) p.runs = runsAt(doc["runs"], p);  // after the lines: no line may name the recorded scheme
   if (doc.contains("tables")) p.tables = tablesAt(doc["tables"]);
-  for (PlanTable t : {PlanTable::WorkPrecision, PlanTable::EngineStudy})
+  for (PlanTable t : {PlanTable::WorkPrecision, PlanTable::EngineStudy, PlanTable::Benchmark})
     if (p.hasTable(t) && !p.reference) throw InputError("tables", std::string(planTableName(t)) + " needs a reference");
+  if (p.hasTable(PlanTable::Benchmark)) checkBenchmarkGrid(p);
   if (doc.contains("max_steps")) p.options.max_steps = positiveAt(doc["max_steps"], "max_steps");
   if (doc.contains("max_samples")) p.options.max_samples = positiveAt(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);
@@ -377,7 +417,8 @@ CheckedRunSpec checkedCase(const RunSpec& spec, CaseRole role, const std::string
   }
 }
 
-SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSpec spec) {
+SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSpec spec,
+                   std::optional<Formulation> formulation = std::nullopt) {
   const std::string scene_name = p.scenes[scene].stem();
   const std::string stem = p.ensemble ? scene_name + "." + memberTag(p, member) : scene_name;
   spec.t_end = p.t_end;
@@ -385,10 +426,12 @@ SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSp
   spec.diagnostics = false;  // errors and cost only
   spec.options = p.options;
   std::string name;
+  if (formulation) spec.options.loops.formulation = *formulation;
+  const std::string route = methodName(spec.method) + (formulation ? std::string(".") + formulationName(*formulation) : "");
   if (role == CaseRole::Reference) name = stem + ".reference";
   else if (role == CaseRole::Check) name = stem + ".check";
-  else name = stem + "." + methodName(spec.method) + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
-  return SweepCase{role, scene, scene_name, member, checkedCase(spec, role, name), name};
+  else name = stem + "." + route + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
+  return SweepCase{role, scene, scene_name, member, checkedCase(spec, role, name), name, formulation.has_value()};
 }
 
 }  // namespace
@@ -407,15 +450,20 @@ std::vector<SweepCase> planCases(const Plan& p) {
     }
   for (size_t s = 0; s < p.scenes.size(); ++s)
     for (int k = 0; k < members; ++k)
-      for (const PlanLine& line : p.lines)
+      for (const PlanLine& line : p.lines) {
+        // A line's formulations name its cases on a scene with loops; on a tree there is none to choose.
+        std::vector<std::optional<Formulation>> forms = {std::nullopt};
+        if (p.scenes[s].has_loops && !line.formulations.empty()) forms.assign(line.formulations.begin(), line.formulations.end());
         for (Method m : line.methods)
-          for (double setting : line.settings) {
-            RunSpec spec;
-            spec.method = m;
-            spec.integrator = line.integrator;
-            spec.setSetting(setting);
-            cases.push_back(makeCase(p, s, k, CaseRole::Run, spec));
-          }
+          for (const std::optional<Formulation>& f : forms)
+            for (double setting : line.settings) {
+              RunSpec spec;
+              spec.method = m;
+              spec.integrator = line.integrator;
+              spec.setSetting(setting);
+              cases.push_back(makeCase(p, s, k, CaseRole::Run, spec, f));
+            }
+      }
   for (Method m : p.runs) {  // a recorded run's case, named with the plan's output step (its samples are put on that grid)
     RunSpec spec;
     spec.method = m;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compare/engines.hpp"
+#include "io/scene_json.hpp"
 #include "io/urdf.hpp"
 #include "sweep/ensemble.hpp"
 
@@ -16,18 +17,23 @@ namespace em {
 /// One line of a plan: these methods under one integrator at each setting.
 struct PlanLine {
   std::vector<Method> methods;
+  /// "formulations": each method under each of these on a scene with loops
+  /// (a case each, named with it); on a tree, or when empty, the plan's one.
+  std::vector<Formulation> formulations;
   Integrator integrator = Integrator::RK4;
   std::vector<double> settings;  ///< dt (fixed-step integrators) or tolerances
 };
 
 /// The tables a plan's merged results carry (docs/sweep.md).
-enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories, EngineStudy };
+enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories, EngineStudy, Benchmark };
 const char* planTableName(PlanTable t);
 
 /// A scene of a plan: an entry of `scenes`, a path or {"file", and a URDF's import options}.
 struct PlanScene {
   std::string file;  ///< resolved against the plan's folder
   UrdfOptions urdf;  ///< balance_inertia, lock_joint, floating_base (URDF only)
+  bool has_loops = false;                 ///< read from the scene when the plan is loaded
+  std::optional<BenchmarkSpec> benchmark; ///< the scene's "benchmark" (the benchmark table reads it)
   std::string stem() const;  ///< the file's stem: it names the cases
 };
 
@@ -65,6 +71,7 @@ struct SweepCase {
   int member = 0;          ///< ensemble member (0: the scene itself)
   CheckedRunSpec spec;     ///< on the plan's grid, checked when the case is made (a plan that loaded runs)
   std::string name;        ///< "pendulum5.classical.rk4.1e-2" ("pendulum5.m007.classical..." in an ensemble): result file stem, --case argument
+  bool formulation_named = false;  ///< a line's "formulations" on a scene with loops: spec.options.loops.formulation names the case
 };
 
 /// Every case of a plan, references and checks first (in scene and member

@@ -11,6 +11,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "compare/benchmark.hpp"
 #include "compare/lyapunov.hpp"
 #include "compare/momenta.hpp"
 #include "compare/progress.hpp"
@@ -35,6 +36,13 @@ json specKey(const RunSpec& s) {
   return {{"method", methodName(s.method)}, {"integrator", integratorName(s.integrator)}, {"setting", s.setting()}};
 }
 
+// A run's key, with the formulation that names the case (absent otherwise: older results stay valid).
+json runKey(const SweepCase& c) {
+  json k = specKey(c.spec);
+  if (c.formulation_named) k["formulation"] = formulationName(c.spec->options.loops.formulation);
+  return k;
+}
+
 // What a result file must have been made from to count for this plan: the
 // scene's bytes, the grid, the run, the reference, the repeats.
 json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha256) {
@@ -44,7 +52,7 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
               {"output_dt", plan.output_dt},
               {"repeats", c.role == CaseRole::Run ? plan.repeats : 1},
               {"max_steps", plan.options.max_steps},
-              {"run", specKey(c.spec)},
+              {"run", runKey(c)},
               {"reference", plan.reference ? specKey(*plan.reference) : json()}};
   const UrdfOptions& urdf = plan.scenes[c.scene].urdf;
   if (urdf.any())  // a URDF's import options make another model from the same bytes
@@ -112,12 +120,14 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
   rec.setting = c.spec->setting();
   rec.nu = scene.model.nu;
   rec.member = c.member;
+  if (c.formulation_named) rec.formulation = formulationName(c.spec->options.loops.formulation);
   return rec;
 }
 
 // Status, errors (against `ref` when given) and cost of the first repeat;
 // the early error level up to t0.
-void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const Trajectory* ref, double t0) {
+void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const Trajectory* ref, double t0,
+             const std::optional<BenchmarkSpec>& benchmark) {
   rec.status = run.status();
   rec.failure = run.failure;
   rec.failure_kind = failureName(run.failure_kind);
@@ -134,7 +144,15 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
   rec.max_energy = m.energy.value;
   if (const std::optional<MomentumDrift> d = momentumDrift(model, run)) rec.momentum_p = d->p, rec.momentum_H = d->H;
   if (std::isfinite(run.max_joint_separation)) rec.joint_separation = run.max_joint_separation;
+  if (run.has_loops) {
+    rec.loop_position_m = run.loops.position_m, rec.loop_position_rad = run.loops.position_rad;
+    rec.loop_velocity_m = run.loops.velocity_m, rec.loop_velocity_rad = run.loops.velocity_rad;
+  }
   if (!ref) return;
+  if (benchmark) {
+    const BenchmarkError b = benchmarkError(*benchmark, run, *ref);
+    rec.benchmark_error = b.max_abs, rec.benchmark_error_t = b.at_t;
+  }
   for (size_t i = 0; i < kCaseThresholds.size(); ++i) rec.pose_beyond[i] = m.divergence_time_s[i];
   double early = 0;
   for (size_t i = 0; i < m.series.t.size() && m.series.t[i] <= t0 * (1 + 1e-12); ++i) early = std::max(early, m.series.pose_rad[i]);
@@ -199,8 +217,10 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
     rec.cpu_s.push_back(again.run_time_s);
     rec.repeats_identical = rec.repeats_identical && sameEnd(first, again);
   }
-  measure(rec, scene.model, first, ref ? &*ref : nullptr, plan.t_end / 10);
-  if (c.role == CaseRole::Reference) {  // the member's exponent, for the prediction of divergence times
+  measure(rec, scene.model, first, ref ? &*ref : nullptr, plan.t_end / 10,
+          plan.hasTable(PlanTable::Benchmark) ? scene.benchmark : std::nullopt);
+  // The member's exponent, for the prediction of divergence times (a benchmark predicts none: its levels are the subject).
+  if (c.role == CaseRole::Reference && !plan.hasTable(PlanTable::Benchmark)) {
     LyapunovOptions lo;
     lo.t_end = plan.t_end;
     const Lyapunov l = lyapunovExponent(model, lo);

@@ -23,6 +23,7 @@ using FirstTimes = std::array<std::optional<double>, kCaseThresholds.size()>;  /
 /// What one case's result file says (`eigenmass-sweep-case/1`).
 struct CaseRecord {
   std::string name, role, scene, method, integrator;
+  std::string formulation;   ///< a line's formulation that names the case (empty: the plan's, or a tree)
   int member = 0;            ///< ensemble member (0: the scene itself)
   SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;
@@ -41,6 +42,10 @@ struct CaseRecord {
   /// Free systems (compare/momenta.hpp): the largest relative drift of p - M g t and of H about the CM.
   std::optional<double> momentum_p, momentum_H;
   std::optional<double> joint_separation;    ///< m: a maximal-coordinate engine's constraint violation (ODE)
+  /// A mechanism's run: its loops' largest violation, position (m, rad) and velocity (m/s, rad/s).
+  std::optional<double> loop_position_m, loop_position_rad, loop_velocity_m, loop_velocity_rad;
+  /// A benchmark scene's error measure against the reference (compare/benchmark.hpp), m, and when.
+  std::optional<double> benchmark_error, benchmark_error_t;
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
@@ -153,6 +158,24 @@ std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::
                              bool judge = true);
 /// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest.
 std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
+
+/// The benchmark's tables of one scene (sweep/benchmark_tables.cpp): each
+/// route's (method, formulation, scheme) cheapest run within each of `spec`'s
+/// precision levels by its error measure, with that run's violation and
+/// energy error, or why it never got there; each owner's fastest route, and
+/// whether eigenmass's is the cheapest. `t_end`: the plan's horizon.
+std::string benchmarkScene(const std::vector<CaseRecord>& records, const std::string& scene, const BenchmarkSpec& spec,
+                           double t_end, bool judge = true);
+
+/// One benchmark problem's merged results, for the summary across problems.
+struct BenchmarkProblem {
+  std::string scene;  ///< the scene's stem, as its records name it
+  BenchmarkSpec spec;
+  std::vector<CaseRecord> records;
+  bool complete = true;  ///< every case has a result (else no goal is judged)
+};
+/// Per problem and level: each owner's fastest CPU, eigenmass's route, and whether it is the cheapest.
+std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems);
 
 /// CPU time at which a line (points in setting order, coarse to fine) first
 /// reaches `target` error, interpolated log-log between the two points that

@@ -79,6 +79,12 @@ json caseRecordJson(const CaseRecord& r) {
           {"momentum_drift_p", orNull(r.momentum_p)},
           {"momentum_drift_H", orNull(r.momentum_H)},
           {"max_joint_separation_m", orNull(r.joint_separation)},
+          {"loops_max_position_m", orNull(r.loop_position_m)},
+          {"loops_max_position_rad", orNull(r.loop_position_rad)},
+          {"loops_max_velocity_m_per_s", orNull(r.loop_velocity_m)},
+          {"loops_max_velocity_rad_per_s", orNull(r.loop_velocity_rad)},
+          {"benchmark_error_m", orNull(r.benchmark_error)},
+          {"benchmark_error_t_s", orNull(r.benchmark_error_t)},
           {"eigen", r.eigen ? eigenStatsJson(*r.eigen) : json()},
           {"t0_s", orNull(r.t0)},
           {"pose_error_by_t0_rad", orNull(r.pose_by_t0)},
@@ -88,6 +94,7 @@ json caseRecordJson(const CaseRecord& r) {
     j[beyondKey("pose", i)] = orNull(r.pose_beyond[i]);
     j[beyondKey("coord", i)] = orNull(r.coord_beyond[i]);
   }
+  if (!r.formulation.empty()) j["formulation"] = r.formulation;  // absent otherwise: older files read the same
   return j;
 }
 
@@ -127,6 +134,13 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.momentum_p = optionalFrom(j.value("momentum_drift_p", json()));  // absent in files written before the engine study
     r.momentum_H = optionalFrom(j.value("momentum_drift_H", json()));
     r.joint_separation = optionalFrom(j.value("max_joint_separation_m", json()));
+    r.formulation = j.value("formulation", std::string());  // the keys below are absent in files written before the benchmark
+    r.loop_position_m = optionalFrom(j.value("loops_max_position_m", json()));
+    r.loop_position_rad = optionalFrom(j.value("loops_max_position_rad", json()));
+    r.loop_velocity_m = optionalFrom(j.value("loops_max_velocity_m_per_s", json()));
+    r.loop_velocity_rad = optionalFrom(j.value("loops_max_velocity_rad_per_s", json()));
+    r.benchmark_error = optionalFrom(j.value("benchmark_error_m", json()));
+    r.benchmark_error_t = optionalFrom(j.value("benchmark_error_t_s", json()));
     r.t0 = optionalFrom(j.value("t0_s", json()));
     r.pose_by_t0 = optionalFrom(j.value("pose_error_by_t0_rad", json()));
     r.lyapunov_per_s = optionalFrom(j.value("lyapunov_per_s", json()));
@@ -160,7 +174,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   for (const char* what : {"pose", "coord"})
     for (size_t i = 0; i < kCaseThresholds.size(); ++i) o << beyondKey(what, i) << ',';
   o << "steps,rhs_evals,repeats_identical,"
-       "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
+       "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,formulation,loops_max_position_m,loops_max_position_rad,benchmark_error_m,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
   for (const CaseRecord& r : records) {
@@ -174,7 +188,8 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
       for (const std::optional<double>& t : *times) o << opt(t) << ',';
     o << r.steps << ',' << r.rhs_evals << ','
       << (r.repeats_identical ? "true" : "false") << ',' << opt(r.momentum_p) << ',' << opt(r.momentum_H) << ','
-      << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
+      << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << r.formulation << ',' << opt(r.loop_position_m) << ','
+      << opt(r.loop_position_rad) << ',' << opt(r.benchmark_error) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
       << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';
   }

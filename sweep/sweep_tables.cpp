@@ -235,7 +235,13 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
     }
     o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end);
   }
-  if (!plan.hasTable(PlanTable::WorkPrecision) && !plan.hasTable(PlanTable::EngineStudy))
+  if (plan.hasTable(PlanTable::Benchmark))
+    for (const PlanScene& ps : plan.scenes) {
+      double floor = 0;
+      o << "### " << ps.stem() << "\n\n" << referenceLine(records, ps.stem(), floor);
+      o << benchmarkScene(records, ps.stem(), *ps.benchmark, plan.t_end, missing.empty());
+    }
+  if (!plan.hasTable(PlanTable::WorkPrecision) && !plan.hasTable(PlanTable::EngineStudy) && !plan.hasTable(PlanTable::Benchmark))
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
       const std::string line = referenceLine(records, s, floor);

@@ -5,20 +5,7 @@
 set -euo pipefail
 results=$1 figures=$2
 
-# What ran the cases, from their own provenance: commits, libraries, machine, dates.
-provenance() {
-  /usr/bin/python3 - "$1" <<'PY'
-import glob, json, sys
-p = [json.load(open(f)).get("provenance", {}) for f in glob.glob(sys.argv[1] + "/*.json")]
-p = [x for x in p if x]
-commits = sorted({x["git_commit"] for x in p})
-libs = ", ".join("%s %s" % kv for kv in sorted(p[0]["libraries"].items()))
-dates = sorted(x["date_utc"] for x in p)
-print("eigenmass %s (commit %s; %s; g++ %s,%s) on %d cores of %s, %s to %s" % (
-    p[0]["eigenmass_version"], " and ".join(commits), libs, p[0]["compiler"], p[0]["flags"], p[0]["cores"], p[0]["cpu"],
-    dates[0], dates[-1]))
-PY
-}
+provenance() { /usr/bin/python3 "$(dirname "$0")/provenance.py" "$@"; }
 cat <<HEAD
 # Which engine for my robot
 

@@ -19,6 +19,10 @@ def rod(name, parent, in_parent, q0, u0):
                       "q0": [q0], "u0": [u0]}}
 
 
+LEVELS_UNKNOWN = ("its precision levels were not reachable here: eigenmass uses A02's, 1e-1 and 1e-3 m, which its "
+                  "specification states for links of the same 1 m")
+
+
 def a02(n, t_end=20.0, output_dt=0.05):
     """N four-bars in a row: N+1 cranks of 1 m, 1 kg from the ground points (i, 0),
     vertical at the start; N couplers of 1 m, 1 kg joining their tips; B0 (the
@@ -43,7 +47,13 @@ def a02(n, t_end=20.0, output_dt=0.05):
                     "g = 9.81, B0's initial x-velocity 1 m/s, 20 s; its error measure is B0's x over 400 output steps at "
                     "the precision levels 1e-1 and 1e-3 m. Written by tools/make_mechanisms.py.",
         "gravity": [0, -9.81, 0], "bodies": bodies, "loops": loops,
-        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+        "simulate": {"t_end": t_end, "output_dt": output_dt},
+        "benchmark": {"problem": "A02" if n == 40 else "A02-N%d" % n,
+                      "measure": [{"name": "B0_x", "body": "crank0", "point": [0.5, 0, 0], "axis": "x"}],
+                      "t_end": 20.0, "outputs": 400, "levels": [1e-1, 1e-3],
+                      "x-source": "A02's specification: B0 (the first crank's tip)'s x over 400 output steps of 20 s, "
+                                  "precision levels 1e-1 and 1e-3 m" + ("" if n == 40 else "; N = %d is eigenmass's small "
+                                  "variant of the problem (the specification's N is 40)" % n) + "."}}
 
 
 def a01():
@@ -60,7 +70,13 @@ def a01():
         "bodies": [{"name": "mass", "parent": "ground", "mass": 1.0, "inertia": [1e-9, 1e-9, 1e-9],
                     "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [-1.0, 0, 0],
                               "q0": [0.0], "u0": [0.0]}}],
-        "simulate": {"t_end": 2000, "output_dt": 0.01}}
+        "simulate": {"t_end": 2000, "output_dt": 0.01},
+        "benchmark": {"problem": "A01",
+                      "measure": [{"name": "P1_x", "body": "mass", "point": [0, 0, 0], "axis": "x"},
+                                  {"name": "P1_y", "body": "mass", "point": [0, 0, 0], "axis": "y"}],
+                      "t_end": 2000, "outputs": 2000, "levels": [1e-1, 1e-3],
+                      "x-source": "A01's specification: the mass's x and y over 2000 s; the number of output steps was "
+                                  "not reachable here (eigenmass measures every 1 s); " + LEVELS_UNKNOWN + "."}}
 
 
 def bar(name, parent, along, in_parent, in_body, axis):
@@ -101,7 +117,13 @@ def a04(t_end=10.0, output_dt=0.01):
                     "speed), its horizon 10 s as that port runs it (the specification's own horizon and error point P3 "
                     "were not reachable here). Written by tools/make_mechanisms.py.",
         "gravity": [0, -9.81, 0], "bodies": bodies, "loops": loops,
-        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+        "simulate": {"t_end": t_end, "output_dt": output_dt},
+        "benchmark": {"problem": "A04",
+                      "measure": [{"name": "P3_%s" % a, "body": "bar3", "point": [0, 0, 0.5], "axis": a} for a in "xyz"],
+                      "t_end": 10.0, "outputs": 1000, "levels": [1e-1, 1e-3],
+                      "x-source": "A04's error point P3 (the OpenSim port compares its displacements), at (1, -1, 1) at "
+                                  "the start: bar3's end; its x, y and z every 0.01 s of the port's 10 s (the "
+                                  "specification's horizon and output steps were not reachable here); " + LEVELS_UNKNOWN + "."}}
 
 
 def brick(mass, hx, hy, hz):
@@ -160,7 +182,13 @@ def a05(t_end=10.0, output_dt=0.01):
                     "10 s as that port reports it (its parameter file runs 350 s; the specification's own horizon was "
                     "not reachable here). Written by tools/make_mechanisms.py.",
         "gravity": [0, 0, -9.81], "bodies": bodies, "forces": forces,
-        "simulate": {"t_end": t_end, "output_dt": output_dt}}
+        "simulate": {"t_end": t_end, "output_dt": output_dt},
+        "benchmark": {"problem": "A05",
+                      "measure": [{"name": "s", "body": "slider", "point": [0, 0, 0], "axis": "z"}],
+                      "t_end": 10.0, "outputs": 1000, "levels": [1e-3, 1e-5],
+                      "x-source": "A05's error measure, the slider's s (its height: s less a constant), every 0.01 s of "
+                                  "the port's 10 s; the specification's levels were not reachable here: eigenmass uses "
+                                  "1e-3 and 1e-5 m, the slider moving by centimetres."}}
 
 
 def write(doc):

@@ -288,6 +288,8 @@ def sweep_figures(results, out):
         work_precision(rows, out)
     if "cost-vs-size" in tables:
         cost_vs_size(runs, t_end, out)
+    if "benchmark" in tables:
+        benchmark(rows, results, out)
     trajectories(rows, results, out)
     if os.path.exists(os.path.join(results, plan + "-ensemble.csv")):
         ensemble_cdf(plan, runs, t_end, cases[0].get("claim"), out)
@@ -343,6 +345,79 @@ def work_precision(rows, out):
         fig.suptitle("Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
                      "failure); dotted: the reference vs its check" % scene, fontsize=9)
         save(fig, out, "work-precision-" + scene)
+
+
+ENGINES = ("simbody", "mujoco", "dart", "bullet", "ode")
+
+
+def benchmark_owner(r):
+    """The benchmark's owners (sweep/benchmark_tables.cpp): an engine, IDA apart, else eigenmass."""
+    if r["integrator"] == "ida":
+        return "ida"
+    return r["method"] if r["method"] in ENGINES else "eigenmass"
+
+
+def benchmark_levels(results):
+    """The precision levels of the problem a benchmark folder holds: its plan's scene's `benchmark`."""
+    plans = glob.glob(os.path.join(results, "*.plan.json"))
+    if len(plans) != 1:
+        return []
+    scenes = read_json(plans[0]).get("scenes", [])
+    if len(scenes) != 1:
+        return []
+    entry = scenes[0]
+    path = entry["file"] if isinstance(entry, dict) else os.path.join(os.path.dirname(plans[0]), entry)
+    return read_json(path).get("benchmark", {}).get("levels", [])
+
+
+def benchmark(rows, results, out):
+    """Error by the problem's own measure against CPU time: a panel per owner, its routes in colour, the
+    others grey behind; dashed: the precision levels; x a failed run."""
+    levels = benchmark_levels(results)
+    for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
+        lines = {}
+        for r in rows:
+            if r["scene"] == scene and r["role"] == "run" and r["benchmark_error_m"]:
+                lines.setdefault((benchmark_owner(r), r["method"], r["formulation"], r["integrator"]), []).append(r)
+        for pts in lines.values():
+            pts.sort(key=lambda r: -num(r["setting"]))
+        owners = list(dict.fromkeys(k[0] for k in lines))
+        if not owners:
+            continue
+        cols = min(3, len(owners))
+        nrows = (len(owners) + cols - 1) // cols
+        fig, axes = plt.subplots(nrows, cols, figsize=(4.4 * cols, 3.6 * nrows), sharex=True, sharey=True,
+                                 squeeze=False)
+        for k, owner in enumerate(owners):
+            ax = axes[k // cols][k % cols]
+            for (w, m, f, integ), pts in lines.items():
+                xs = [num(p["cpu_median_s"]) for p in pts]
+                ys = [max(num(p["benchmark_error_m"]), FLOOR) for p in pts]
+                if w != owner:
+                    ax.loglog(xs, ys, "-", color="0.85", lw=0.8, zorder=1)
+                    continue
+                ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
+                label = " ".join(x for x in (m if owner == "eigenmass" else "", f, integ) if x)
+                ax.loglog([xs[i] for i in ok], [ys[i] for i in ok], marker=marker(integ), ms=4, lw=1.2, label=label,
+                          zorder=3)
+                for i, p in enumerate(pts):
+                    if p["status"] != "ok":
+                        mark_failure(ax, m, xs[i], ys[i])
+            for level in levels:
+                ax.axhline(level, color="k", ls="--", lw=0.7)
+            ax.xaxis.set_minor_formatter(NullFormatter())
+            ax.set_title(owner, fontsize=10)
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=6)
+            if k // cols == nrows - 1 or k + cols >= len(owners):
+                ax.set_xlabel("CPU s (median of the repeats)")
+            if k % cols == 0:
+                ax.set_ylabel("benchmark error, m")
+        for k in range(len(owners), nrows * cols):
+            axes[k // cols][k % cols].set_visible(False)
+        fig.suptitle("Benchmark %s: error by the problem's measure against CPU time, a panel per owner, grey the others; "
+                     "dashed: the precision levels; x a failed run" % scene, fontsize=9)
+        save(fig, out, "benchmark-" + scene)
 
 
 def cost_vs_size(runs, t_end, out):

@@ -1,0 +1,55 @@
+#include "app/study_plan.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "app/cli.hpp"
+#include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
+#include "sweep/plan.hpp"
+
+namespace em::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json templatePlan(const json& tmpl, const std::string& scene_path, const UrdfOptions& urdf, const std::string& name,
+                  const std::string& description) {
+  json p = tmpl;
+  json scene = {{"file", fs::absolute(scene_path).lexically_normal().string()}};
+  if (urdf.balance_inertia) scene["balance_inertia"] = true;
+  if (urdf.floating_base) scene["floating_base"] = true;
+  if (!urdf.lock_joints.empty()) scene["lock_joint"] = urdf.lock_joints;
+  p["scenes"] = json::array({scene});
+  p["name"] = name;
+  p["description"] = description;
+  return p;
+}
+
+std::string templatePlanPath(const json& plan, const std::string& dir) {
+  return (fs::path(dir) / (plan.at("name").get<std::string>() + ".plan.json")).string();
+}
+
+std::string writeTemplatePlan(const json& plan, const std::string& dir, const std::string& named, const std::string& results_option) {
+  const std::string path = templatePlanPath(plan, dir);
+  const std::string text = plan.dump(2) + "\n";
+  // Checked before any file or folder is written: its errors name the template, not a copy.
+  parsePlan(text, path, named);
+  prepareFolder(results_option, dir);
+  if (fs::exists(path)) {
+    const std::string there = readFile(path, "study plan");
+    if (there == text) return path;
+    try {
+      parsePlan(there, path, path);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(results_option + " " + dir + ": holds " + path + ", which is not a readable plan (" +
+                                  std::string(e.what()) + "); remove it or choose another folder");
+    }
+    throw std::invalid_argument(results_option + " " + dir + ": holds " + path + ", the plan of another study (other options, "
+                                "another template); choose another folder or remove it");
+  }
+  writeAtomic(path, "study plan", [&](std::ostream& o) { o << text; });
+  return path;
+}
+
+}  // namespace em::cli

@@ -1,0 +1,248 @@
+// The benchmark's tables (docs/benchmark.md, docs/sweep.md "benchmark"): on a
+// scene that is a benchmark problem, every route's (method x formulation x
+// scheme) cheapest run within each of the problem's precision levels, by its
+// own error measure against the reference (compare/benchmark.hpp), with the
+// constraint violation and energy error of that run; why a route never got
+// there; each owner's fastest route and whether eigenmass's is the cheapest.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "solver/text.hpp"
+#include "sweep/sweep.hpp"
+
+namespace em {
+
+namespace {
+
+std::string sci(double x) { return sciCell(x); }
+
+// The benchmark's owners: an engine, eigenmass's formulations and methods,
+// and IDA apart (SUNDIALS' DAE solver integrates our formation but is not
+// ours: the goal is to beat it).
+std::string ownerOf(const CaseRecord& r) { return r.integrator == "ida" ? "ida" : routeOwner(r.method); }
+
+bool reached(const CaseRecord& r, double level) {
+  return r.status == Outcome::Ok && r.benchmark_error && std::isfinite(*r.benchmark_error) && *r.benchmark_error <= level;
+}
+
+// A route: one method (and formulation) under one scheme, its runs coarse to fine.
+struct BRoute {
+  std::string owner, method, formulation, integrator;
+  std::vector<const CaseRecord*> runs;
+  std::string name() const { return method + (formulation.empty() ? "" : " " + formulation) + " " + integrator; }
+  const CaseRecord* cheapest(double level) const {
+    const CaseRecord* best = nullptr;
+    for (const CaseRecord* r : runs)
+      if (reached(*r, level) && (!best || r->cpuMedian() < best->cpuMedian())) best = r;
+    return best;
+  }
+};
+
+std::vector<BRoute> routesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
+  std::vector<BRoute> out;
+  for (const CaseRecord& r : rs) {
+    if (r.scene != scene || r.role != "run") continue;
+    auto it = std::find_if(out.begin(), out.end(), [&](const BRoute& x) {
+      return x.method == r.method && x.formulation == r.formulation && x.integrator == r.integrator;
+    });
+    if (it == out.end()) it = out.insert(out.end(), BRoute{ownerOf(r), r.method, r.formulation, r.integrator, {}});
+    it->runs.push_back(&r);
+  }
+  for (BRoute& x : out)
+    std::stable_sort(x.runs.begin(), x.runs.end(), [](const CaseRecord* a, const CaseRecord* b) { return a->setting > b->setting; });
+  return out;
+}
+
+std::string settingText(const CaseRecord& r) { return (r.setting_kind == SettingKind::Dt ? "dt " : "tol ") + gnum(r.setting); }
+
+// The run's constraint violation (m): its loops' largest |g| (points), or a maximal-coordinate engine's joint separation.
+std::optional<double> violation(const CaseRecord& r) {
+  if (r.loop_position_m && r.joint_separation) return std::max(*r.loop_position_m, *r.joint_separation);
+  return r.loop_position_m ? r.loop_position_m : r.joint_separation;
+}
+
+// Why a route reached no run within `level`: its best error, or how its runs ended.
+std::string whyNot(const BRoute& x, double level) {
+  const CaseRecord* best = nullptr;
+  for (const CaseRecord* r : x.runs)
+    if (r->status == Outcome::Ok && r->benchmark_error && (!best || *r->benchmark_error < *best->benchmark_error)) best = r;
+  if (best) return "not reached: best " + sci(*best->benchmark_error) + " m (" + settingText(*best) + ")";
+  const CaseRecord* f = x.runs.empty() ? nullptr : x.runs.back();  // the finest run's failure
+  (void)level;
+  return f ? "not reached: every run failed (finest: " + f->failure_kind + " at " + gnum(f->failure_time.value_or(0), 4) + " s)"
+           : "not reached: no run";
+}
+
+std::string cheapestCell(const CaseRecord& r, double t_end) {
+  const std::optional<double> g = violation(r);
+  return settingText(r) + " | " + sci(r.cpuMedian()) + " | " + sci(cpuPerSimulatedSecond(r, t_end)) + " | " +
+         (g ? sci(*g) : std::string("-")) + " | " + sci(r.max_energy);
+}
+
+std::string routeTable(const std::vector<BRoute>& routes, const BenchmarkSpec& spec, double t_end) {
+  std::ostringstream o;
+  o << "| owner | route | ok / runs |";
+  for (double level : spec.levels) o << " within " << gnum(level) << " m | CPU s | CPU s / s | violation (m) | dE / E_scale |";
+  o << "\n|---|---|---|";
+  for (size_t k = 0; k < spec.levels.size(); ++k) o << "---|---|---|---|---|";
+  o << "\n";
+  for (const BRoute& x : routes) {
+    int ok = 0;
+    for (const CaseRecord* r : x.runs) ok += r->status == Outcome::Ok;
+    o << "| " << x.owner << " | " << x.name() << " | " << ok << " / " << x.runs.size() << " |";
+    for (double level : spec.levels) {
+      const CaseRecord* r = x.cheapest(level);
+      o << " " << (r ? cheapestCell(*r, t_end) : whyNot(x, level) + " | - | - | - | -") << " |";
+    }
+    o << "\n";
+  }
+  return o.str() + "\n";
+}
+
+// One owner's fastest route to each level.
+struct OwnerBest {
+  std::string owner;
+  std::vector<const BRoute*> route;
+  std::vector<const CaseRecord*> run;
+};
+
+std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, size_t levels_n, const BenchmarkSpec& spec) {
+  std::vector<OwnerBest> out;
+  for (const BRoute& x : routes) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const OwnerBest& b) { return b.owner == x.owner; });
+    if (it == out.end())
+      it = out.insert(out.end(), OwnerBest{x.owner, std::vector<const BRoute*>(levels_n), std::vector<const CaseRecord*>(levels_n)});
+    for (size_t k = 0; k < levels_n; ++k)
+      if (const CaseRecord* r = x.cheapest(spec.levels[k]); r && (!it->run[k] || r->cpuMedian() < it->run[k]->cpuMedian()))
+        it->route[k] = &x, it->run[k] = r;
+  }
+  return out;
+}
+
+// Whether eigenmass's fastest route beats every other owner's, per level; by how much where it does not.
+std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec& spec) {
+  std::ostringstream o;
+  const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == "eigenmass"; });
+  if (self == owners.end()) return "";
+  for (size_t k = 0; k < spec.levels.size(); ++k) {
+    const CaseRecord* mine = self->run[k];
+    std::vector<std::string> cheaper, dearer;
+    for (const OwnerBest& b : owners) {
+      if (b.owner == "eigenmass" || !b.run[k]) continue;
+      if (!mine || b.run[k]->cpuMedian() < mine->cpuMedian())
+        cheaper.push_back(b.owner + (mine ? " (eigenmass " + gnum(mine->cpuMedian() / b.run[k]->cpuMedian(), 3) + "x its CPU)" : ""));
+      else
+        dearer.push_back(b.owner + " " + gnum(b.run[k]->cpuMedian() / mine->cpuMedian(), 3) + "x");
+    }
+    o << "- Within " << gnum(spec.levels[k]) << " m: eigenmass's fastest route is "
+      << (!mine ? "none (no route reached it)"
+                : self->route[k]->name() + " " + settingText(*mine) + ", " + sci(mine->cpuMedian()) + " CPU s; " +
+                      (cheaper.empty() ? "cheaper than every other owner's fastest (" + (dearer.empty() ? std::string("no other reached it") : joined(dearer)) + "): goal met"
+                                       : "beaten by " + joined(cheaper) + ": goal missed"))
+      << ".\n";
+  }
+  return o.str() + "\n";
+}
+
+std::string runTable(const std::vector<BRoute>& routes, double t_end) {
+  std::ostringstream o;
+  o << "| route | setting | status | benchmark error (m) | at (s) | violation (m) | dE / E_scale | CPU s | CPU s / s |\n"
+    << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const BRoute& x : routes)
+    for (const CaseRecord* r : x.runs) {
+      const std::optional<double> g = violation(*r);
+      o << "| " << x.name() << " | " << settingText(*r) << " | "
+        << (r->status == Outcome::Ok ? std::string("ok") : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << sci(r->benchmark_error.value_or(NAN)) << " | " << (r->benchmark_error_t ? gnum(*r->benchmark_error_t, 4) : "-") << " | "
+        << (g ? sci(*g) : "-") << " | " << sci(r->max_energy) << " | " << sci(r->cpuMedian()) << " | "
+        << sci(cpuPerSimulatedSecond(*r, t_end)) << " |\n";
+    }
+  return o.str() + "\n";
+}
+
+}  // namespace
+
+std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec, double t_end,
+                           bool judge) {
+  const std::vector<BRoute> routes = routesOf(rs, scene);
+  std::ostringstream o;
+  std::vector<std::string> measured;
+  for (const BenchmarkPoint& p : spec.measure) measured.push_back(p.name);
+  const double step = spec.outputStep();
+  const long steps = std::lround(std::min(t_end, spec.t_end) / step);
+  o << "Problem " << spec.problem << ": error measure " << joined(measured) << " (m) at " << steps << " output steps of "
+    << gnum(step) << " s" << (t_end < spec.t_end * (1 - 1e-12) ? " (the problem's " + std::to_string(spec.outputs) + " cut to this run's horizon " + gnum(t_end) + " s)" : "")
+    << ", against the reference; precision levels ";
+  std::vector<std::string> levels;
+  for (double l : spec.levels) levels.push_back(gnum(l) + " m");
+  o << joined(levels) << ".";
+  const auto check = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
+  if (check != rs.end() && check->benchmark_error) {
+    o << " The reference's check is " << sci(*check->benchmark_error) << " m from it by this measure";
+    for (double l : spec.levels)
+      if (*check->benchmark_error > l / 10) o << "; the level " << gnum(l) << " m is within ten times that: not resolved";
+    o << ".";
+  }
+  o << "\n\n";
+  o << "#### Each route's cheapest run within each level\n\n" << routeTable(routes, spec, t_end);
+  const std::vector<OwnerBest> owners = fastestByOwner(routes, spec.levels.size(), spec);
+  o << "#### Each owner's fastest route\n\n| owner |";
+  for (double l : spec.levels) o << " within " << gnum(l) << " m | CPU s |";
+  o << "\n|---|";
+  for (size_t k = 0; k < spec.levels.size(); ++k) o << "---|---|";
+  o << "\n";
+  for (const OwnerBest& b : owners) {
+    o << "| " << b.owner << " |";
+    for (size_t k = 0; k < spec.levels.size(); ++k)
+      o << " " << (b.run[k] ? b.route[k]->name() + " " + settingText(*b.run[k]) + " | " + sci(b.run[k]->cpuMedian()) : std::string("not reached | -")) << " |";
+    o << "\n";
+  }
+  o << "\n" << (judge ? goalLines(owners, spec) : "- Goals not judged: the results are incomplete (above).\n\n");
+  o << "#### Every run\n\n" << runTable(routes, t_end);
+  return o.str();
+}
+
+std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
+  std::vector<std::string> owners;  // in order of first appearance, eigenmass first
+  owners.push_back("eigenmass");
+  for (const BenchmarkProblem& p : problems)
+    for (const CaseRecord& r : p.records)
+      if (r.role == "run" && std::find(owners.begin(), owners.end(), ownerOf(r)) == owners.end()) owners.push_back(ownerOf(r));
+  std::ostringstream o;
+  o << "CPU s of each owner's fastest route within each precision level (its whole run, the horizon's; - : no route "
+       "reached it); eigenmass's route; whether it is the cheapest.\n\n| problem | level (m) |";
+  for (const std::string& w : owners) o << " " << w << " |";
+  o << " eigenmass's route | goal |\n|---|---|";
+  for (size_t k = 0; k < owners.size(); ++k) o << "---|";
+  o << "---|---|\n";
+  for (const BenchmarkProblem& p : problems) {
+    const std::vector<BRoute> routes = routesOf(p.records, p.scene);
+    const std::vector<OwnerBest> best = fastestByOwner(routes, p.spec.levels.size(), p.spec);
+    for (size_t k = 0; k < p.spec.levels.size(); ++k) {
+      o << "| " << p.spec.problem << " | " << gnum(p.spec.levels[k]) << " |";
+      const CaseRecord* mine = nullptr;
+      const BRoute* mine_route = nullptr;
+      double other = INFINITY;
+      std::string other_owner;
+      for (const std::string& w : owners) {
+        const auto it = std::find_if(best.begin(), best.end(), [&](const OwnerBest& b) { return b.owner == w; });
+        const CaseRecord* r = it == best.end() ? nullptr : it->run[k];
+        o << " " << (r ? sci(r->cpuMedian()) : std::string("-")) << " |";
+        if (!r) continue;
+        if (w == "eigenmass") mine = r, mine_route = it->route[k];
+        else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
+      }
+      o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";
+      if (!p.complete) o << "not judged (incomplete)";
+      else if (!mine) o << "missed: not reached";
+      else if (!std::isfinite(other)) o << "met (no other owner reached it)";
+      else if (mine->cpuMedian() < other) o << "met: next " << other_owner << " " << gnum(other / mine->cpuMedian(), 3) << "x dearer";
+      else o << "missed: " << other_owner << " " << gnum(mine->cpuMedian() / other, 3) << "x cheaper";
+      o << " |\n";
+    }
+  }
+  return o.str() + "\n";
+}
+
+}  // namespace em
