@@ -41,8 +41,7 @@ BenchmarkError benchmarkError(const BenchmarkSpec& spec, const Trajectory& run, 
     const double t = k * step;
     if (t > horizon * (1 + 1e-12)) break;  // a shorter horizon than the problem's
     const int i = sampleAt(run, t), j = sampleAt(ref, t);
-    if (i < 0 && run.failed() && t > run.failure_time) break;  // measured up to its failure
-    if (j < 0 && ref.failed() && t > ref.failure_time) break;  // and up to the reference's (its line says so)
+    if ((i < 0 && run.failed()) || (j < 0 && ref.failed())) break;  // measured up to the failure (of the run or the reference)
     if (i < 0 || j < 0)
       throw std::invalid_argument("benchmark: output step " + std::to_string(k) + " (t = " + gnum(t) + " s) is not a sample of the " +
                                   (i < 0 ? "run" : "reference") + ": its output grid must divide t_end / outputs = " + gnum(step) + " s");

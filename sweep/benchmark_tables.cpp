@@ -180,6 +180,9 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
   const auto check = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
   if (check != rs.end() && check->benchmark_error) {
     o << " The reference's check is " << sci(*check->benchmark_error) << " m from it by this measure";
+    if (check->status != Outcome::Ok)
+      o << " up to " << gnum(check->failure_time.value_or(0), 4) << " s, where the check failed (" << check->failure_kind
+        << "): beyond it the reference stands unchecked";
     for (double l : spec.levels)
       if (*check->benchmark_error > l / 10) o << "; the level " << gnum(l) << " m is within ten times that: not resolved";
     o << ".";

@@ -95,6 +95,9 @@ TEST_CASE("the benchmark error is the largest gap of the measured coordinate ove
   failed.t.resize(101), failed.poses.resize(101);  // up to t = 1
   markFailed(failed, 1.005, Failure::BlowUp, "test");
   CHECK(benchmarkError(spec(2.0, 20), failed, ref).steps == 10);
+  markFailed(failed, 1.0, Failure::BlowUp, "test");  // failed at an output step's time, its sample not written
+  failed.t.resize(100), failed.poses.resize(100);
+  CHECK(benchmarkError(spec(2.0, 20), failed, ref).steps == 9);
 }
 
 TEST_CASE("the benchmark key of a scene is checked and written back", "[benchmark][io]") {
@@ -243,6 +246,9 @@ TEST_CASE("eigenmass benchmark runs two shipped problems and one never seen, eve
     CHECK(result("iftomm_a02_n2", name).at("loops_max_position_m").is_number());
   CHECK(fs::exists(results + "/iftomm_a01/iftomm_a01.classical.rk4.0.001.json"));
   CHECK(result("crank_problem", "crank_problem.ode.ode-step.0.001").at("benchmark_error_m").is_number());
+  // Its figure: error against CPU time, a panel per owner.
+  CHECK(eigenmass("plot " + results + "/iftomm_a02_n2 --out " + dir + "/figures").status == 0);
+  CHECK(fs::exists(dir + "/figures/benchmark-iftomm_a02_n2.png"));
   // Resumes: the same command again runs nothing; --list prints one command per case of every problem.
   const std::string one = results + "/iftomm_a01/iftomm_a01.ode.ode-step.0.001.json";
   const auto written = fs::last_write_time(one);
