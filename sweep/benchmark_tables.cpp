@@ -74,6 +74,16 @@ std::string whyNot(const BRoute& x, double level) {
            : "not reached: no run";
 }
 
+// Why a level cannot be judged on this scene ("" when it can): the reference's check failed
+// before the horizon (beyond it the reference is unchecked), or it lies within ten times the level.
+std::string unresolved(const std::vector<CaseRecord>& rs, const std::string& scene, double level) {
+  const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
+  if (c == rs.end()) return "";
+  if (c->status != Outcome::Ok) return "the reference's check failed at " + gnum(c->failure_time.value_or(0), 4) + " s";
+  if (c->benchmark_error && *c->benchmark_error > level / 10) return "the reference's check is " + sci(*c->benchmark_error) + " m from it";
+  return "";
+}
+
 std::string cheapestCell(const CaseRecord& r, double t_end) {
   const std::optional<double> g = violation(r);
   return settingText(r) + " | " + sci(r.cpuMedian()) + " | " + sci(cpuPerSimulatedSecond(r, t_end)) + " | " +
@@ -121,11 +131,16 @@ std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, size_t 
 }
 
 // Whether eigenmass's fastest route beats every other owner's, per level; by how much where it does not.
-std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec& spec) {
+std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec& spec, const std::vector<CaseRecord>& rs,
+                      const std::string& scene) {
   std::ostringstream o;
   const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == "eigenmass"; });
   if (self == owners.end()) return "";
   for (size_t k = 0; k < spec.levels.size(); ++k) {
+    if (const std::string why = unresolved(rs, scene, spec.levels[k]); !why.empty()) {
+      o << "- Within " << gnum(spec.levels[k]) << " m: not judged: " << why << ".\n";
+      continue;
+    }
     const CaseRecord* mine = self->run[k];
     std::vector<std::string> cheaper, dearer;
     for (const OwnerBest& b : owners) {
@@ -201,7 +216,7 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
       o << " " << (b.run[k] ? b.route[k]->name() + " " + settingText(*b.run[k]) + " | " + sci(b.run[k]->cpuMedian()) : std::string("not reached | -")) << " |";
     o << "\n";
   }
-  o << "\n" << (judge ? goalLines(owners, spec) : "- Goals not judged: the results are incomplete (above).\n\n");
+  o << "\n" << (judge ? goalLines(owners, spec, rs, scene) : "- Goals not judged: the results are incomplete (above).\n\n");
   o << "#### Every run\n\n" << runTable(routes, t_end);
   return o.str();
 }
@@ -237,7 +252,9 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
         else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
       }
       o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";
+      const std::string why = unresolved(p.records, p.scene, p.spec.levels[k]);
       if (!p.complete) o << "not judged (incomplete)";
+      else if (!why.empty()) o << "not judged: " << why;
       else if (!mine) o << "missed: not reached";
       else if (!std::isfinite(other)) o << "met (no other owner reached it)";
       else if (mine->cpuMedian() < other) o << "met: next " << other_owner << " " << gnum(other / mine->cpuMedian(), 3) << "x dearer";

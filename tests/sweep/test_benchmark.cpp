@@ -152,6 +152,16 @@ TEST_CASE("the benchmark table: each route's cheapest run within a level, why ot
   beaten.push_back(run("ode", "", "ode-step", 1e-3, 1e-2, 0.004));
   CHECK(lineOf(benchmarkSummary({{"s", b, beaten, true}}), "| T | 0.1 |").find("missed: ode 2.5x cheaper") != std::string::npos);
   CHECK(lineOf(benchmarkSummary({{"s", b, beaten, false}}), "| T | 0.1 |").find("not judged (incomplete)") != std::string::npos);
+  // A check that failed before the horizon, or lies within ten times a level, leaves the level unjudged.
+  std::vector<CaseRecord> checked = rs;
+  CaseRecord chk = run("simbody", "", "rkmerson", 1e-12, 5e-4, 1.0, Outcome::Failed);
+  chk.role = "check";
+  checked.push_back(chk);
+  CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.1 |").find("not judged: the reference's check failed at 0.5 s") != std::string::npos);
+  CHECK(lineOf(benchmarkScene(checked, "s", b, 1.0), "- Within 0.1 m") == "- Within 0.1 m: not judged: the reference's check failed at 0.5 s.");
+  checked.back().status = Outcome::Ok;
+  CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.1 |").find("met") != std::string::npos);
+  CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.001 |").find("not judged: the reference's check is 5.00e-04 m from it") != std::string::npos);
 }
 
 TEST_CASE("a plan line's formulations name its cases on a mechanism and fold away on a tree", "[benchmark][sweep]") {
