@@ -63,13 +63,12 @@ std::optional<double> violation(const CaseRecord& r) {
 }
 
 // Why a route reached no run within `level`: its best error, or how its runs ended.
-std::string whyNot(const BRoute& x, double level) {
+std::string whyNot(const BRoute& x) {
   const CaseRecord* best = nullptr;
   for (const CaseRecord* r : x.runs)
     if (r->status == Outcome::Ok && r->benchmark_error && (!best || *r->benchmark_error < *best->benchmark_error)) best = r;
   if (best) return "not reached: best " + sci(*best->benchmark_error) + " m (" + settingText(*best) + ")";
   const CaseRecord* f = x.runs.empty() ? nullptr : x.runs.back();  // the finest run's failure
-  (void)level;
   return f ? "not reached: every run failed (finest: " + f->failure_kind + " at " + gnum(f->failure_time.value_or(0), 4) + " s)"
            : "not reached: no run";
 }
@@ -103,7 +102,7 @@ std::string routeTable(const std::vector<BRoute>& routes, const BenchmarkSpec& s
     o << "| " << x.owner << " | " << x.name() << " | " << ok << " / " << x.runs.size() << " |";
     for (double level : spec.levels) {
       const CaseRecord* r = x.cheapest(level);
-      o << " " << (r ? cheapestCell(*r, t_end) : whyNot(x, level) + " | - | - | - | -") << " |";
+      o << " " << (r ? cheapestCell(*r, t_end) : whyNot(x) + " | - | - | - | -") << " |";
     }
     o << "\n";
   }
@@ -117,7 +116,8 @@ struct OwnerBest {
   std::vector<const CaseRecord*> run;
 };
 
-std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, size_t levels_n, const BenchmarkSpec& spec) {
+std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, const BenchmarkSpec& spec) {
+  const size_t levels_n = spec.levels.size();
   std::vector<OwnerBest> out;
   for (const BRoute& x : routes) {
     auto it = std::find_if(out.begin(), out.end(), [&](const OwnerBest& b) { return b.owner == x.owner; });
@@ -204,7 +204,7 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
   }
   o << "\n\n";
   o << "#### Each route's cheapest run within each level\n\n" << routeTable(routes, spec, t_end);
-  const std::vector<OwnerBest> owners = fastestByOwner(routes, spec.levels.size(), spec);
+  const std::vector<OwnerBest> owners = fastestByOwner(routes, spec);
   o << "#### Each owner's fastest route\n\n| owner |";
   for (double l : spec.levels) o << " within " << gnum(l) << " m | CPU s |";
   o << "\n|---|";
@@ -236,7 +236,7 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
   o << "---|---|\n";
   for (const BenchmarkProblem& p : problems) {
     const std::vector<BRoute> routes = routesOf(p.records, p.scene);
-    const std::vector<OwnerBest> best = fastestByOwner(routes, p.spec.levels.size(), p.spec);
+    const std::vector<OwnerBest> best = fastestByOwner(routes, p.spec);
     for (size_t k = 0; k < p.spec.levels.size(); ++k) {
       o << "| " << p.spec.problem << " | " << gnum(p.spec.levels[k]) << " |";
       const CaseRecord* mine = nullptr;

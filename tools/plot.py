@@ -299,52 +299,64 @@ def sweep_figures(results, out):
                  "ensemble" % (results, ", ".join(tables) or "none"))
 
 
+def small_multiples(rows, scene, error, key, panel, label, ylabel, mark, title, out, stem):
+    """Error (column `error`) against CPU time on one scene: a panel per `panel` (the first item of each line's
+    `key`), its lines in colour, every other line grey behind it, x a failed run; `mark(ax)` adds the panel's
+    reference lines. A line is the runs of one key, coarse to fine; `label(key)` names it in its panel."""
+    lines = {}
+    for r in rows:
+        if r["scene"] == scene and r["role"] == "run" and r[error]:
+            lines.setdefault(key(r), []).append(r)
+    for pts in lines.values():
+        pts.sort(key=lambda r: -num(r["setting"]))
+    panels = list(dict.fromkeys(k[0] for k in lines))
+    if not panels:
+        return
+    cols = min(3, len(panels))
+    nrows = (len(panels) + cols - 1) // cols
+    fig, axes = plt.subplots(nrows, cols, figsize=(4.4 * cols, 3.6 * nrows), sharex=True, sharey=True, squeeze=False)
+    for k, name in enumerate(panels):
+        ax = axes[k // cols][k % cols]
+        for line, pts in lines.items():
+            xs = [num(p["cpu_median_s"]) for p in pts]
+            ys = [max(num(p[error]), FLOOR) for p in pts]
+            if line[0] != name:
+                ax.loglog(xs, ys, "-", color="0.85", lw=0.8, zorder=1)
+                continue
+            ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
+            style = {"color": color(name)} if panel == "method" else {}
+            ax.loglog([xs[i] for i in ok], [ys[i] for i in ok], marker=marker(pts[0]["integrator"]), ms=4, lw=1.2,
+                      label=label(line), zorder=3, **style)
+            for i, p in enumerate(pts):
+                if p["status"] != "ok":
+                    mark_failure(ax, p["method"], xs[i], ys[i])
+        mark(ax)
+        ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
+        ax.set_title(name, fontsize=10, **({"color": color(name)} if panel == "method" else {}))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7 if panel == "method" else 6, **({"title": "integrator", "title_fontsize": 7} if panel == "method" else {}))
+        if k // cols == nrows - 1 or k + cols >= len(panels):
+            ax.set_xlabel("CPU s (median of the repeats)")
+        if k % cols == 0:
+            ax.set_ylabel(ylabel)
+    for k in range(len(panels), nrows * cols):
+        axes[k // cols][k % cols].set_visible(False)
+    fig.suptitle(title, fontsize=9)
+    save(fig, out, stem)
+
+
 def work_precision(rows, out):
     """Small multiples: a panel per method in its colour, the other methods grey behind it."""
     for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
-        lines = {}
-        for r in rows:
-            if r["scene"] == scene and r["role"] == "run" and r["max_pose_error_rad"]:
-                lines.setdefault((r["method"], r["integrator"]), []).append(r)
-        for pts in lines.values():
-            pts.sort(key=lambda r: -num(r["setting"]))
-        methods = list(dict.fromkeys(m for m, _ in lines))
-        if not methods:
-            continue
-        cols = min(3, len(methods))
-        nrows = (len(methods) + cols - 1) // cols
-        fig, axes = plt.subplots(nrows, cols, figsize=(4.4 * cols, 3.6 * nrows), sharex=True, sharey=True,
-                                 squeeze=False)
         check = [r for r in rows if r["scene"] == scene and r["role"] == "check"]
-        for k, method in enumerate(methods):
-            ax = axes[k // cols][k % cols]
-            for (m, integ), pts in lines.items():
-                xs = [num(p["cpu_median_s"]) for p in pts]
-                ys = [max(num(p["max_pose_error_rad"]), FLOOR) for p in pts]
-                if m != method:
-                    ax.loglog(xs, ys, "-", color="0.85", lw=0.8, zorder=1)
-                    continue
-                ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
-                ax.loglog([xs[i] for i in ok], [ys[i] for i in ok], marker=marker(integ), color=color(m), ms=4,
-                          lw=1.2, label=integ, zorder=3)
-                for i, p in enumerate(pts):
-                    if p["status"] != "ok":
-                        mark_failure(ax, m, xs[i], ys[i])
+
+        def mark(ax):
             if check:
                 ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
-            ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
-            ax.set_title(method, color=color(method), fontsize=10)
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7, title="integrator", title_fontsize=7)
-            if k // cols == nrows - 1 or k + cols >= len(methods):
-                ax.set_xlabel("CPU s (median of the repeats)")
-            if k % cols == 0:
-                ax.set_ylabel("max pose error, rad")
-        for k in range(len(methods), nrows * cols):
-            axes[k // cols][k % cols].set_visible(False)
-        fig.suptitle("Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
-                     "failure); dotted: the reference vs its check" % scene, fontsize=9)
-        save(fig, out, "work-precision-" + scene)
+        small_multiples(rows, scene, "max_pose_error_rad", lambda r: (r["method"], r["integrator"]), "method",
+                        lambda line: line[1], "max pose error, rad", mark,
+                        "Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
+                        "failure); dotted: the reference vs its check" % scene, out, "work-precision-" + scene)
 
 
 ENGINES = ("simbody", "mujoco", "dart", "bullet", "ode")
@@ -374,50 +386,20 @@ def benchmark(rows, results, out):
     """Error by the problem's own measure against CPU time: a panel per owner, its routes in colour, the
     others grey behind; dashed: the precision levels; x a failed run."""
     levels = benchmark_levels(results)
+
+    def mark(ax):
+        for level in levels:
+            ax.axhline(level, color="k", ls="--", lw=0.7)
+
+    def label(line):
+        owner, method, formulation, integrator = line
+        return " ".join(x for x in (method if owner == "eigenmass" else "", formulation, integrator) if x)
     for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
-        lines = {}
-        for r in rows:
-            if r["scene"] == scene and r["role"] == "run" and r["benchmark_error_m"]:
-                lines.setdefault((benchmark_owner(r), r["method"], r["formulation"], r["integrator"]), []).append(r)
-        for pts in lines.values():
-            pts.sort(key=lambda r: -num(r["setting"]))
-        owners = list(dict.fromkeys(k[0] for k in lines))
-        if not owners:
-            continue
-        cols = min(3, len(owners))
-        nrows = (len(owners) + cols - 1) // cols
-        fig, axes = plt.subplots(nrows, cols, figsize=(4.4 * cols, 3.6 * nrows), sharex=True, sharey=True,
-                                 squeeze=False)
-        for k, owner in enumerate(owners):
-            ax = axes[k // cols][k % cols]
-            for (w, m, f, integ), pts in lines.items():
-                xs = [num(p["cpu_median_s"]) for p in pts]
-                ys = [max(num(p["benchmark_error_m"]), FLOOR) for p in pts]
-                if w != owner:
-                    ax.loglog(xs, ys, "-", color="0.85", lw=0.8, zorder=1)
-                    continue
-                ok = [i for i, p in enumerate(pts) if p["status"] == "ok"]
-                label = " ".join(x for x in (m if owner == "eigenmass" else "", f, integ) if x)
-                ax.loglog([xs[i] for i in ok], [ys[i] for i in ok], marker=marker(integ), ms=4, lw=1.2, label=label,
-                          zorder=3)
-                for i, p in enumerate(pts):
-                    if p["status"] != "ok":
-                        mark_failure(ax, m, xs[i], ys[i])
-            for level in levels:
-                ax.axhline(level, color="k", ls="--", lw=0.7)
-            ax.xaxis.set_minor_formatter(NullFormatter())
-            ax.set_title(owner, fontsize=10)
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=6)
-            if k // cols == nrows - 1 or k + cols >= len(owners):
-                ax.set_xlabel("CPU s (median of the repeats)")
-            if k % cols == 0:
-                ax.set_ylabel("benchmark error, m")
-        for k in range(len(owners), nrows * cols):
-            axes[k // cols][k % cols].set_visible(False)
-        fig.suptitle("Benchmark %s: error by the problem's measure against CPU time, a panel per owner, grey the others; "
-                     "dashed: the precision levels; x a failed run" % scene, fontsize=9)
-        save(fig, out, "benchmark-" + scene)
+        small_multiples(rows, scene, "benchmark_error_m",
+                        lambda r: (benchmark_owner(r), r["method"], r["formulation"], r["integrator"]), "owner", label,
+                        "benchmark error, m", mark,
+                        "Benchmark %s: error by the problem's measure against CPU time, a panel per owner, grey the "
+                        "others; dashed: the precision levels; x a failed run" % scene, out, "benchmark-" + scene)
 
 
 def cost_vs_size(runs, t_end, out):

@@ -2,6 +2,7 @@
 // The CLI tests' way of running the built tools as a user would.
 #include <array>
 #include <cstdio>
+#include <sstream>
 #include <string>
 
 #include <sys/wait.h>
@@ -32,3 +33,11 @@ inline Run eigenmass(const std::string& args, bool with_stderr = false, const st
 }
 
 inline std::string scene(const std::string& name) { return em::test::sourcePath("data/scenes/" + name); }
+
+// The line of `md` (a tables page) that starts with `prefix` ("" if none).
+inline std::string lineOf(const std::string& md, const std::string& prefix) {
+  std::istringstream in(md);
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind(prefix, 0) == 0) return l;
+  return "";
+}

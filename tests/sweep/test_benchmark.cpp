@@ -47,13 +47,6 @@ Trajectory turning(double rate, double dt, double t_end) {
   return tr;
 }
 
-// The line of `md` that starts with `prefix` ("" if none).
-std::string lineOf(const std::string& md, const std::string& prefix) {
-  std::istringstream in(md);
-  for (std::string l; std::getline(in, l);)
-    if (l.rfind(prefix, 0) == 0) return l;
-  return "";
-}
 
 CaseRecord run(const std::string& method, const std::string& formulation, const std::string& integrator, double dt,
                std::optional<double> err, double cpu, Outcome status = Outcome::Ok) {

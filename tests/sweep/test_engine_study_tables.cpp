@@ -27,13 +27,6 @@ CaseRecord run(const std::string& method, const std::string& integrator, double 
   return r;
 }
 
-// The line of `md` that starts with `prefix` ("" if none).
-std::string lineOf(const std::string& md, const std::string& prefix) {
-  std::istringstream in(md);
-  for (std::string l; std::getline(in, l);)
-    if (l.rfind(prefix, 0) == 0) return l;
-  return "";
-}
 
 }  // namespace
 
