@@ -28,6 +28,10 @@ struct BenchmarkError {
 /// grid) or a measured body is in neither.
 BenchmarkError benchmarkError(const BenchmarkSpec& spec, const Trajectory& run, const Trajectory& ref);
 
+/// The same measure against the problem's own solution (spec.solution, which
+/// must be present) instead of a reference run.
+BenchmarkError solutionError(const BenchmarkSpec& spec, const Trajectory& run);
+
 /// The index of `tr`'s sample at time t (within 1e-9 relative), or -1.
 int sampleAt(const Trajectory& tr, double t);
 

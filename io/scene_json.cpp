@@ -319,12 +319,32 @@ BenchmarkPoint benchmarkPoint(const json& v, const std::string& path, const std:
   return b;
 }
 
+// "benchmark.solution": a row per output step, each the measured coordinates in
+// "measure"'s order (m, within the displacement bound), flattened row-major.
+std::vector<double> benchmarkSolution(const json& v, const std::string& path, const BenchmarkSpec& b) {
+  if (!v.is_array() || v.size() != static_cast<size_t>(b.outputs))
+    throw Err(path, "expected a row per output step: " + std::to_string(b.outputs) + " rows, got " +
+                        (v.is_array() ? std::to_string(v.size()) : describeJson(v)));
+  const int width = static_cast<int>(b.measure.size());
+  std::vector<double> rows;
+  rows.reserve(v.size() * b.measure.size());
+  for (size_t k = 0; k < v.size(); ++k) {
+    const Eigen::VectorXd row = numbers(v[k], at(path, k), width);
+    for (int m = 0; m < width; ++m) {
+      if (!(std::abs(row[m]) <= kMaxDisplacement))
+        throw Err(at(at(path, k), m), gnum(row[m]) + " m beyond +-" + gnum(kMaxDisplacement) + " m");
+      rows.push_back(row[m]);
+    }
+  }
+  return rows;
+}
+
 // "benchmark": the scene as a benchmark problem (docs/scene-format.md): its
 // error measure, horizon, output steps and precision levels.
 BenchmarkSpec benchmark(const json& v, const std::vector<BodySpec>& bodies) {
   const std::string path = "benchmark";
   if (!v.is_object()) throw Err(path, "expected an object");
-  std::vector<std::string> keys = {"problem", "measure", "t_end", "outputs", "levels"};
+  std::vector<std::string> keys = {"problem", "measure", "t_end", "outputs", "levels", "solution"};
   for (auto it = v.begin(); it != v.end(); ++it)
     if (it.key().rfind("x-", 0) == 0) keys.push_back(it.key());
   onlyKeys(v, path, keys);
@@ -356,6 +376,7 @@ BenchmarkSpec benchmark(const json& v, const std::vector<BodySpec>& bodies) {
     if (i > 0 && !(x < b.levels.back())) throw Err(p, "levels go from coarse to fine: " + gnum(x) + " is not below " + gnum(b.levels.back()));
     b.levels.push_back(x);
   }
+  if (v.contains("solution")) b.solution = benchmarkSolution(v["solution"], at(path, "solution"), b);
   b.extra = extras(v);
   return b;
 }
@@ -495,6 +516,15 @@ json benchmarkJson(const BenchmarkSpec& b) {
   for (const BenchmarkPoint& p : b.measure)
     measure.push_back({{"name", p.name}, {"body", p.body}, {"point", vecJson(p.point)}, {"axis", kAxes[p.axis]}});
   json o = {{"problem", b.problem}, {"measure", measure}, {"t_end", b.t_end}, {"outputs", b.outputs}, {"levels", b.levels}};
+  if (b.hasSolution()) {
+    json rows = json::array();
+    for (int k = 1; k <= b.outputs; ++k) {
+      json row = json::array();
+      for (size_t m = 0; m < b.measure.size(); ++m) row.push_back(b.solutionAt(k, m));
+      rows.push_back(row);
+    }
+    o["solution"] = rows;
+  }
   o.update(b.extra);
   return o;
 }

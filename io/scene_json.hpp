@@ -68,8 +68,15 @@ struct BenchmarkSpec {
   double t_end = 0;                     ///< the problem's horizon (s)
   int outputs = 0;                      ///< output steps over it, t_end / outputs apart
   std::vector<double> levels;           ///< precision levels (m), coarse to fine, strictly decreasing
+  /// "solution": the problem's own reference values, where it has one (a closed form, a published
+  /// file): the measured coordinates at output steps 1..outputs, row-major (outputs x measure.size());
+  /// empty when the problem has none and runs are measured against the reference run.
+  std::vector<double> solution;
   nlohmann::json extra = nlohmann::json::object();  ///< its "x-" keys (where each number comes from)
   double outputStep() const { return t_end / outputs; }
+  bool hasSolution() const { return !solution.empty(); }
+  /// The solution's value of coordinate m at output step k (1..outputs).
+  double solutionAt(int k, size_t m) const { return solution[static_cast<size_t>(k - 1) * measure.size() + m]; }
 };
 inline constexpr int kBenchmarkMeasureMax = 16, kBenchmarkLevelsMax = 4, kBenchmarkOutputsMax = 100000;
 

@@ -73,9 +73,11 @@ std::string whyNot(const BRoute& x) {
            : "not reached: no run";
 }
 
-// Why a level cannot be judged on this scene ("" when it can): the reference's check failed
-// before the horizon (beyond it the reference is unchecked), or it lies within ten times the level.
-std::string unresolved(const std::vector<CaseRecord>& rs, const std::string& scene, double level) {
+// Why a level cannot be judged on this scene ("" when it can): measured against the reference
+// run (the problem states no solution), the reference's check failed before the horizon
+// (beyond it the reference is unchecked), or it lies within ten times the level.
+std::string unresolved(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec, double level) {
+  if (spec.hasSolution()) return "";  // judged against the problem's own solution, not our reference
   const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
   if (c == rs.end()) return "";
   if (c->status != Outcome::Ok) return "the reference's check failed at " + gnum(c->failure_time.value_or(0), 4) + " s";
@@ -137,7 +139,7 @@ std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec&
   const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == "eigenmass"; });
   if (self == owners.end()) return "";
   for (size_t k = 0; k < spec.levels.size(); ++k) {
-    if (const std::string why = unresolved(rs, scene, spec.levels[k]); !why.empty()) {
+    if (const std::string why = unresolved(rs, scene, spec, spec.levels[k]); !why.empty()) {
       o << "- Within " << gnum(spec.levels[k]) << " m: not judged: " << why << ".\n";
       continue;
     }
@@ -188,12 +190,21 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
   const long steps = std::lround(std::min(t_end, spec.t_end) / step);
   o << "Problem " << spec.problem << ": error measure " << joined(measured) << " (m) at " << steps << " output steps of "
     << gnum(step) << " s" << (t_end < spec.t_end * (1 - 1e-12) ? " (the problem's " + std::to_string(spec.outputs) + " cut to this run's horizon " + gnum(t_end) + " s)" : "")
-    << ", against the reference; precision levels ";
+    << (spec.hasSolution() ? ", against the problem's solution (the scene's benchmark.solution)" : ", against the reference")
+    << "; precision levels ";
   std::vector<std::string> levels;
   for (double l : spec.levels) levels.push_back(gnum(l) + " m");
   o << joined(levels) << ".";
   const auto check = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
-  if (check != rs.end() && check->benchmark_error) {
+  if (spec.hasSolution()) {  // the reference and its check measured like every run
+    for (const char* role : {"reference", "check"}) {
+      const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == role; });
+      if (c == rs.end() || !c->benchmark_error) continue;
+      o << " The " << (std::string(role) == "check" ? "reference's check" : "reference run") << " is " << sci(*c->benchmark_error)
+        << " m from the solution"
+        << (c->status != Outcome::Ok ? " up to " + gnum(c->failure_time.value_or(0), 4) + " s, where it failed (" + c->failure_kind + ")" : "") << ".";
+    }
+  } else if (check != rs.end() && check->benchmark_error) {
     o << " The reference's check is " << sci(*check->benchmark_error) << " m from it by this measure";
     if (check->status != Outcome::Ok)
       o << " up to " << gnum(check->failure_time.value_or(0), 4) << " s, where the check failed (" << check->failure_kind
@@ -252,7 +263,7 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
         else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
       }
       o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";
-      const std::string why = unresolved(p.records, p.scene, p.spec.levels[k]);
+      const std::string why = unresolved(p.records, p.scene, p.spec, p.spec.levels[k]);
       if (!p.complete) o << "not judged (incomplete)";
       else if (!why.empty()) o << "not judged: " << why;
       else if (!mine) o << "missed: not reached";

@@ -6,7 +6,12 @@ problems for multibody system dynamics, problems A01, A02, A04 and A05)."""
 import json
 import math
 import os
+import re
 import sys
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.special import ellipj, ellipk
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "scenes", "mechanisms")
 ROD = 1.0 / 12.0  # a uniform 1 kg, 1 m rod about its CM, kg m^2
@@ -53,7 +58,51 @@ def a02(n, t_end=20.0, output_dt=0.05):
                       "t_end": 20.0, "outputs": 400, "levels": [1e-1, 1e-3],
                       "x-source": "A02's specification: B0 (the first crank's tip)'s x over 400 output steps of 20 s, "
                                   "precision levels 1e-1 and 1e-3 m" + ("" if n == 40 else "; N = %d is eigenmass's small "
-                                  "variant of the problem (the specification's N is 40)" % n) + "."}}
+                                  "variant of the problem (the specification's N is 40)" % n) + ".",
+                      "solution": a02_solution(n),
+                      "x-solution": "B0's x on the parallel branch, where every crank turns by the same angle psi: "
+                                    "M psi'' = -b cos psi with M = (N+1)/3 + N and b = g ((N+1)/2 + N), integrated by "
+                                    "SciPy's DOP853 at 3e-14 (within 1e-9 m of its run at 1e-13; docs/theory.md §15, "
+                                    "A02's parallel branch); eigenmass's stand-in for the specification's reference file, "
+                                    "not reachable here. Written by tools/make_mechanisms.py."}}
+
+
+def a02_solution(n, t_end=20.0, outputs=400):
+    """B0's x on A02's parallel branch (docs/theory.md §15, "A02's parallel branch"): every crank
+    turns by the same psi and every coupler translates with the cranks' tips, so with
+    M = (N+1)/3 + N (kg m^2: N+1 cranks about their pivots, N couplers moving at psi' L) and
+    b = g ((N+1)/2 + N) (the potential b sin psi), M psi'' = -b cos psi; B0's x = cos psi.
+    Integrated by SciPy's DOP853 at rtol = atol = 3e-14 (its floor): within 1e-9 m of its run at
+    1e-13, which is itself 1e-9 m from the run at 1e-12 (so the error is ~1e-10 m), and the
+    energy conserved to 1e-12 relative."""
+    g, m_eq = 9.81, (n + 1) / 3.0 + n
+    b = g * ((n + 1) / 2.0 + n)
+    t = np.arange(1, outputs + 1) * (t_end / outputs)
+    def solve(tol):
+        s = solve_ivp(lambda _, y: [y[1], -(b / m_eq) * math.cos(y[0])], (0.0, t_end), [math.pi / 2, -1.0],
+                      method="DOP853", rtol=tol, atol=tol, t_eval=t)
+        assert s.success
+        return s.y
+    y, coarse = solve(3e-14), solve(1e-13)
+    energy = 0.5 * m_eq * y[1] ** 2 + b * np.sin(y[0])
+    assert np.max(np.abs(np.cos(y[0]) - np.cos(coarse[0]))) < 1e-9
+    assert np.max(np.abs(energy - (0.5 * m_eq + b))) < 1e-12 * (0.5 * m_eq + b)
+    return [[float(x)] for x in np.cos(y[0])]
+
+
+def a01_solution(t_end=2000.0, outputs=2000):
+    """The mass's x and y in closed form: the pendulum released at rest from theta0 = pi/2
+    (theta from the downward vertical) swings as sin(theta/2) = k sn(K(k) - w t, k),
+    cos(theta/2) = dn(K(k) - w t, k), k = sin(theta0 / 2), w^2 = m g L / (m L^2 + I), with
+    the scene's own I = 1e-9 kg m^2 about the mass's CM (it slows the ideal pendulum by 5e-10
+    relative: 3e-6 m over 2000 s); x = sin theta, y = -cos theta (SciPy's ellipj, ellipk)."""
+    g, m, L, inertia = 9.81, 1.0, 1.0, 1e-9
+    w = math.sqrt(m * g * L / (m * L * L + inertia))
+    k2 = 0.5  # k^2 = sin(pi/4)^2
+    t = np.arange(1, outputs + 1) * (t_end / outputs)
+    sn, _, dn, _ = ellipj(ellipk(k2) - w * t, k2)
+    k = math.sqrt(k2)
+    return [[float(2 * k * a * d), float(-(1 - 2 * k2 * a * a))] for a, d in zip(sn, dn)]
 
 
 def a01():
@@ -76,7 +125,12 @@ def a01():
                                   {"name": "P1_y", "body": "mass", "point": [0, 0, 0], "axis": "y"}],
                       "t_end": 2000, "outputs": 2000, "levels": [1e-1, 1e-3],
                       "x-source": "A01's specification: the mass's x and y over 2000 s; the number of output steps was "
-                                  "not reachable here (eigenmass measures every 1 s); " + LEVELS_UNKNOWN + "."}}
+                                  "not reachable here (eigenmass measures every 1 s); " + LEVELS_UNKNOWN + ".",
+                      "solution": a01_solution(),
+                      "x-solution": "The mass's x and y in closed form (Jacobi's elliptic functions, SciPy's ellipj): "
+                                    "sin(theta/2) = k sn(K - w t, k), k = sin(pi/4), w^2 = m g L / (m L^2 + I) with the "
+                                    "scene's I = 1e-9 kg m^2 (the ideal point mass's pendulum lies 3e-6 m from it at "
+                                    "2000 s). Written by tools/make_mechanisms.py."}}
 
 
 def bar(name, parent, along, in_parent, in_body, axis):
@@ -193,9 +247,11 @@ def a05(t_end=10.0, output_dt=0.01):
 
 def write(doc):
     path = os.path.join(OUT, doc["name"] + ".json")
+    text = json.dumps(doc, indent=1)
+    # A row of a solution (a list of numbers) on one line.
+    text = re.sub(r"\[\s*(-?[0-9][^\[\]{}]*?)\s*\]", lambda m: "[" + re.sub(r"\s+", "", m.group(1)).replace(",", ", ") + "]", text)
     with open(path, "w") as f:
-        json.dump(doc, f, indent=1)
-        f.write("\n")
+        f.write(text + "\n")
     print(path)
 
 

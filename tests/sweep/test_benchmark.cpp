@@ -11,6 +11,7 @@
 
 #include "app/cli_support.hpp"
 #include "compare/benchmark.hpp"
+#include "compare/engines.hpp"
 #include "engines/engine.hpp"
 #include "io/json_input.hpp"
 #include "io/scene.hpp"
@@ -111,10 +112,50 @@ TEST_CASE("the benchmark key of a scene is checked and written back", "[benchmar
   };
   refused("\"body\": \"crank0\"", "\"body\": \"crank9\"", "benchmark.measure[0].body: no body named 'crank9'");
   refused("\"axis\": \"x\"", "\"axis\": \"w\"", "benchmark.measure[0].axis: 'w' is not a world axis");
-  refused("\"levels\": [\n   0.1,\n   0.001\n  ]", "\"levels\": [0.001, 0.1]", "benchmark.levels[1]: levels go from coarse to fine");
+  refused("\"levels\": [0.1, 0.001]", "\"levels\": [0.001, 0.1]", "benchmark.levels[1]: levels go from coarse to fine");
   refused("\"outputs\": 400", "\"outputs\": 400.5", "benchmark.outputs");
   refused("\"outputs\": 400", "\"outputs\": 0", "benchmark.outputs");
   refused("\"outputs\": 400", "\"outputs\": 400, \"extra\": 1", "benchmark.extra: unknown key");
+  // The problem's solution: a row per output step, each the measured coordinates; written back as read.
+  REQUIRE(s.benchmark->solution.size() == 400);
+  CHECK(parseSceneSpec(sceneJson(s)).benchmark->solution == s.benchmark->solution);
+  refused("\"solution\": [\n   [0.05021761829020563],", "\"solution\": [\n", "benchmark.solution: expected a row per output step: 400 rows, got 399");
+  refused("[0.05021761829020563]", "[0.05, 0.1]", "benchmark.solution[0]: expected 1 number, got 2");
+  refused("[0.05021761829020563]", "[\"0.05\"]", "benchmark.solution[0][0]: expected a number");
+  refused("[0.05021761829020563]", "[1e5]", "benchmark.solution[0][0]: 100000 m beyond +-10000 m");
+  refused("\"solution\": [", "\"solution\": 3, \"x-rows\": [", "benchmark.solution: expected a row per output step: 400 rows, got number");
+}
+
+namespace {
+
+// `scene` (data/scenes/mechanisms/) run by classical rk8pd at `tol` (the projection on a mechanism) to t_end,
+// sampled every `output_dt`, measured against its benchmark's solution.
+BenchmarkError againstSolution(const std::string& scene, double tol, double t_end, double output_dt) {
+  const Scene sc = loadScene(test::sourcePath("data/scenes/mechanisms/" + scene));
+  RunSpec rs;
+  rs.method = Method::Classical, rs.integrator = Integrator::RK8PD, rs.tol = tol, rs.t_end = t_end, rs.output_dt = output_dt;
+  const Trajectory tr = runTrajectory(sc.model, checked(rs));
+  REQUIRE_FALSE(tr.failed());
+  return solutionError(*sc.benchmark, tr);
+}
+
+}  // namespace
+
+TEST_CASE("A01's and A02's shipped solutions are the scenes' own motion", "[benchmark][mechanism]") {
+  // The solutions come from outside the solver (tools/make_mechanisms.py: Jacobi's elliptic functions for A01,
+  // SciPy's DOP853 on A02's one-degree-of-freedom equation of the parallel branch), good to ~1e-10 m. rk8pd
+  // at 1e-12 on the scenes' own equations agrees to its tolerance over the steps below: a wrong inertia, sign or
+  // measured point in either would show at 1e-3 or more.
+  const BenchmarkError a01 = againstSolution("iftomm_a01.json", 1e-12, 20, 1);  // 20 steps of the 2000
+  CHECK(a01.steps == 20);
+  CHECK(a01.max_abs < 1e-9);
+  // A02 (N = 2) up to 0.7 s, before its first singular position (0.714 s), where the scene's runs lose accuracy.
+  const BenchmarkError a02 = againstSolution("iftomm_a02_n2.json", 1e-12, 0.7, 0.05);
+  CHECK(a02.steps == 14);
+  CHECK(a02.max_abs < 1e-9);
+  const BenchmarkError a02_40 = againstSolution("iftomm_a02_n40.json", 1e-12, 0.5, 0.05);
+  CHECK(a02_40.steps == 10);
+  CHECK(a02_40.max_abs < 1e-9);
 }
 
 TEST_CASE("the benchmark table: each route's cheapest run within a level, why others never got there, and the goal", "[benchmark][sweep]") {
@@ -155,6 +196,14 @@ TEST_CASE("the benchmark table: each route's cheapest run within a level, why ot
   checked.back().status = Outcome::Ok;
   CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.1 |").find("met") != std::string::npos);
   CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.001 |").find("not judged: the reference's check is 5.00e-04 m from it") != std::string::npos);
+  // A problem with its own solution is judged against it: the reference's check no longer decides.
+  checked.back().status = Outcome::Failed;
+  BenchmarkSpec solved = b;
+  solved.solution.assign(10, 0.0);
+  CHECK(lineOf(benchmarkSummary({{"s", solved, checked, true}}), "| T | 0.1 |").find("met: next mujoco 2x dearer") != std::string::npos);
+  const std::string md_solved = benchmarkScene(checked, "s", solved, 1.0);
+  CHECK(md_solved.find("against the problem's solution (the scene's benchmark.solution)") != std::string::npos);
+  CHECK(md_solved.find("The reference's check is 5.00e-04 m from the solution up to 0.5 s, where it failed (loops-open).") != std::string::npos);
 }
 
 TEST_CASE("a plan line's formulations name its cases on a mechanism and fold away on a tree", "[benchmark][sweep]") {
