@@ -241,6 +241,15 @@ void addCompare(CLI::App& app) {
                   "Also measure the reference motion's long-run Lyapunov exponent over this many seconds (e.g. 300), "
                   "apart from the run's finite-time one; costs two classical rk4 runs of that length")
       ->check(positiveFinite());
+  cmd->add_option("--lyapunov-starts", a->opt.lyapunov_starts,
+                  "With --lyapunov-long: measure it from this many starts, the scene's and neighbours displaced by "
+                  "--lyapunov-sigma, and report their mean and spread (1 to 64; each costs what --lyapunov-long does)")
+      ->check(CLI::Range(1, kLyapunovStartsMax))
+      ->capture_default_str();
+  cmd->add_option("--lyapunov-sigma", a->opt.lyapunov_sigma,
+                  "With --lyapunov-starts: the neighbours' displacement of every q0 and u0 coordinate (standard deviation)")
+      ->check(CLI::Range(1e-300, 0.1))
+      ->capture_default_str();
   addOutsideOptions(cmd, a->outside, true);
   cmd->add_option("--out", a->out, "Report file; default out/<scene>.report.json");
   cmd->add_option("--csv-dir", a->csv_dir, "Also write every trajectory (and the reference) as CSV into this folder");

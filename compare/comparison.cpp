@@ -134,6 +134,17 @@ std::string settingOption(const SettingError& e, size_t i, const RunSpec& s, boo
 // the specs come back checked, the only form a run takes.
 std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
+  if (opt.lyapunov_starts < 1 || opt.lyapunov_starts > kLyapunovStartsMax)
+    throw std::invalid_argument((opt.keywords ? "lyapunov_starts" : "--lyapunov-starts") + std::string(": from 1 to ") +
+                                std::to_string(kLyapunovStartsMax) + ", got " + std::to_string(opt.lyapunov_starts));
+  if (opt.lyapunov_starts > 1 && !(opt.lyapunov_long_s > 0))
+    throw std::invalid_argument(opt.keywords ? "lyapunov_starts: needs lyapunov_long" : "--lyapunov-starts: needs --lyapunov-long");
+  if (opt.lyapunov_starts > 1 && !m.loops.empty())
+    throw std::invalid_argument((opt.keywords ? "lyapunov_starts" : "--lyapunov-starts") +
+                                std::string(": scene '") + m.name + "' has loops, which displaced starts would open");
+  if (!(opt.lyapunov_sigma > 0 && opt.lyapunov_sigma <= 0.1))
+    throw std::invalid_argument((opt.keywords ? "lyapunov_sigma" : "--lyapunov-sigma") + std::string(": must be in (0, 0.1], got ") +
+                                gnum(opt.lyapunov_sigma));
   for (const RunSpec& s : specs) requireMethodTakes(s.method, m);  // a joint kind it lacks: named, before any run
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
@@ -206,13 +217,19 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
 ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
                           void (*progress)(const std::string&)) {
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0]->method), progress),
-                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}};
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}, {}};
   LyapunovOptions lo;
   lo.t_end = specs[0]->t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
   if (opt.lyapunov_long_s > 0) {
     if (progress) progress("long-run Lyapunov exponent over " + gnum(opt.lyapunov_long_s) + " s");
-    out.lyapunov_long = lyapunovExponent(scene.model, longRunOptions(opt.lyapunov_long_s));
+    if (opt.lyapunov_starts > 1) {
+      out.lyapunov_long_starts = lyapunovOverStarts(scene.model, longRunOptions(opt.lyapunov_long_s), opt.lyapunov_starts,
+                                                    opt.lyapunov_sigma);
+      out.lyapunov_long = out.lyapunov_long_starts->starts.front();
+    } else {
+      out.lyapunov_long = lyapunovExponent(scene.model, longRunOptions(opt.lyapunov_long_s));
+    }
   }
   if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
   return out;
@@ -232,6 +249,7 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   r.bodies = m.n();
   r.lyapunov = reference.lyapunov;
   r.lyapunov_long = reference.lyapunov_long;
+  r.lyapunov_long_starts = reference.lyapunov_long_starts;
   r.second_engine = reference.second_engine;
   r.second_engine_skipped = reference.second_engine_skipped;
   if (r.second_engine)
@@ -355,6 +373,12 @@ std::string summaryTable(const ComparisonResult& r) {
     o << "reference motion: long-run Lyapunov exponent " << gnum(r.lyapunov_long->per_s, 3) << " +- "
       << gnum(r.lyapunov_long->uncertainty_per_s, 2) << " /s over " << gnum(r.lyapunov_long->t_stop)
       << " s (standard error of 10-s block means" << (r.lyapunov_long->ok ? "" : "; the twin stopped early") << ")\n";
+  if (const auto& st = r.lyapunov_long_starts)
+    o << "reference motion: long-run exponent over " << st->starts.size() << " starts (the scene's and "
+      << st->starts.size() - 1 << " displaced by " << gnum(st->sigma) << " in q0 and u0): mean " << gnum(st->mean_per_s, 3)
+      << " /s, spread (standard deviation) " << gnum(st->spread_per_s, 2) << " /s"
+      << (st->completed < static_cast<int>(st->starts.size()) ? ", " + std::to_string(st->completed) + " of them completed" : "")
+      << "\n";
   else if (r.lyapunov)
     o << "reference motion: long-run exponent not measured (--lyapunov-long T: over T s, e.g. 300)\n";
   for (const MethodMetrics& m : r.metrics) {

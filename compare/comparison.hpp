@@ -52,6 +52,10 @@ struct CompareOptions {
   /// Horizon (s) of the reference motion's long-run Lyapunov exponent, measured
   /// apart from the grid's finite-time one (compare --lyapunov-long); 0: not measured.
   double lyapunov_long_s = 0;
+  /// The long-run exponent from this many starts (compare --lyapunov-starts): the scene's own and
+  /// neighbours displaced by lyapunov_sigma (lyapunovOverStarts); 1: the scene's start alone.
+  int lyapunov_starts = 1;
+  double lyapunov_sigma = 1e-3;
 
   /// How a refused setting is named: the CLI's options ("--dt", "--t-end",
   /// "--reference-tol"), or, with `keywords`, the Python module's keyword
@@ -101,6 +105,8 @@ struct ComparisonResult {
   std::optional<Lyapunov> lyapunov;
   /// Its long-run value over options.lyapunov_long_s, when asked (longRunOptions).
   std::optional<Lyapunov> lyapunov_long;
+  /// Over several starts (options.lyapunov_starts > 1); its starts[0] is lyapunov_long.
+  std::optional<LyapunovStarts> lyapunov_long_starts;
   /// The second engine (MuJoCo rk4 at a small step) against the reference,
   /// when asked and MuJoCo takes the scene; else why not.
   std::optional<Trajectory> second_engine;
@@ -123,6 +129,7 @@ struct ReferenceRuns {
   Trajectory reference, tight;
   Lyapunov lyapunov;
   std::optional<Lyapunov> lyapunov_long;    ///< over CompareOptions::lyapunov_long_s, when asked
+  std::optional<LyapunovStarts> lyapunov_long_starts;  ///< over lyapunov_starts starts, when more than one
   std::optional<Trajectory> second_engine;  ///< the second engine's run (CompareOptions::second_engine; its row's roles)
   std::string second_engine_skipped;        ///< why it did not run, when asked
 };

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "solver/dynamics.hpp"
+#include "solver/perturb.hpp"
 #include "solver/steppers.hpp"
 
 namespace em {
@@ -71,6 +72,24 @@ Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o) {
   } else {
     out.windows_std_per_s = out.uncertainty_per_s = NAN;
   }
+  return out;
+}
+
+LyapunovStarts lyapunovOverStarts(const Model& m, const LyapunovOptions& o, int starts, double sigma, std::uint64_t seed) {
+  LyapunovStarts out;
+  out.sigma = sigma, out.seed = seed;
+  std::vector<double> done;
+  for (int k = 0; k < starts; ++k) {
+    out.starts.push_back(lyapunovExponent(k == 0 ? m : perturbedStart(m, sigma, sigma, seed + static_cast<std::uint64_t>(k)), o));
+    if (out.starts.back().ok) done.push_back(out.starts.back().per_s);
+  }
+  out.completed = static_cast<int>(done.size());
+  const double n = static_cast<double>(done.size());
+  double mean = 0, var = 0;
+  for (double x : done) mean += x / n;
+  for (double x : done) var += (x - mean) * (x - mean) / (n - 1);
+  out.mean_per_s = done.empty() ? NAN : mean;
+  out.spread_per_s = done.size() < 2 ? NAN : std::sqrt(var);
   return out;
 }
 

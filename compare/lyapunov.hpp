@@ -3,6 +3,7 @@
 /// §11): Benettin's renormalized twin. Why a chaotic scene's divergence times
 /// are what they are: an error e(t0) grows to theta at about
 /// t0 + ln(theta / e(t0)) / lambda.
+#include <cstdint>
 #include <vector>
 
 #include "solver/model.hpp"
@@ -32,6 +33,25 @@ struct Lyapunov {
 /// the speeds; every renorm_s the twin's separation d is measured over (q, u)
 /// and scaled back to d0 (quaternions re-normalized). Deterministic.
 Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o = {});
+
+/// The exponent over several starts (docs/theory.md §11): one trajectory's
+/// exponent, and its standard error along that trajectory, do not say how
+/// much the exponent moves between neighbouring starts. The scene's own start
+/// and starts - 1 neighbours, each q0 and u0 displaced by sigma
+/// (perturbedStart, seeds seed + 1, seed + 2, ...), each measured as `o` says.
+struct LyapunovStarts {
+  double sigma = 0;
+  std::uint64_t seed = 0;
+  std::vector<Lyapunov> starts;  ///< [0]: the scene's own start
+  int completed = 0;             ///< starts whose twin ran the whole horizon
+  double mean_per_s = 0;         ///< mean over the completed starts (NaN for none)
+  double spread_per_s = 0;       ///< their sample standard deviation (NaN for fewer than two)
+};
+inline constexpr int kLyapunovStartsMax = 64;
+inline constexpr std::uint64_t kLyapunovStartsSeed = 1;
+
+LyapunovStarts lyapunovOverStarts(const Model& m, const LyapunovOptions& o, int starts, double sigma,
+                                  std::uint64_t seed = kLyapunovStartsSeed);
 
 /// The long-run exponent (docs/theory.md §11): the same twin over `horizon_s`
 /// (well beyond a run's grid), its uncertainty the standard error of 10-s

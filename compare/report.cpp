@@ -39,8 +39,18 @@ json lyapunovJson(const std::optional<Lyapunov>& l, const LyapunovOptions& o, co
 // The long-run exponent, or how to ask for it.
 json lyapunovLongJson(const ComparisonResult& r) {
   if (!r.lyapunov_long) return {{"not_measured", "compare --lyapunov-long T measures it over T s"}};
-  return lyapunovJson(r.lyapunov_long, longRunOptions(r.options.lyapunov_long_s),
-                      "long-run: over a horizon well beyond the run; uncertainty the standard error of its block means");
+  json j = lyapunovJson(r.lyapunov_long, longRunOptions(r.options.lyapunov_long_s),
+                        "long-run: over a horizon well beyond the run; uncertainty the standard error of its block means");
+  if (const auto& st = r.lyapunov_long_starts) {
+    json each = json::array();
+    for (const Lyapunov& l : st->starts) each.push_back({{"per_s", finiteOrNull(l.per_s)}, {"completed", l.ok}, {"t_s", l.t_stop}});
+    j["starts"] = {{"how", "the scene's start and starts - 1 neighbours, q0 and u0 displaced by sigma N(0, 1) per coordinate "
+                           "(SplitMix64 seeds seed + 1, seed + 2, ...; solver/perturb.hpp), each measured as above"},
+                   {"n", st->starts.size()}, {"sigma", st->sigma}, {"seed", st->seed}, {"completed", st->completed},
+                   {"mean_per_s", finiteOrNull(st->mean_per_s)}, {"spread_per_s", finiteOrNull(st->spread_per_s)},
+                   {"each", each}};
+  }
+  return j;
 }
 
 json perThreshold(const std::vector<double>& th, const std::vector<std::optional<double>>& v) {

@@ -154,6 +154,28 @@ TEST_CASE("compare --lyapunov-long measures the long-run exponent apart from the
   CHECK(l["windows_per_s"].size() == 3);
   CHECK(l["per_s"].get<double>() == Approx(1.64).epsilon(0.01));  // deterministic, as the finite-time one
   CHECK(eigenmass("compare " + scene("pendulum5.json") + " --lyapunov-long 0 --out " + dir + "/x.json", true).status == 2);
+  // Over several starts (issue 54 item 6): the mean and spread of the scene's and its neighbours' exponents.
+  const Run starts = eigenmass("compare " + scene("pendulum5.json") + " --methods classical --t-end 1 --lyapunov-long 20 " +
+                               "--lyapunov-starts 3 --out " + dir + "/s.json");
+  REQUIRE(starts.status == 0);
+  CHECK(starts.out.find("long-run exponent over 3 starts (the scene's and 2 displaced by 0.001 in q0 and u0): mean ") != std::string::npos);
+  std::ifstream in_s(dir + "/s.json");
+  const auto ls = nlohmann::json::parse(in_s)["reference"]["lyapunov_long"];
+  CHECK(ls["starts"]["n"] == 3);
+  CHECK(ls["starts"]["each"].size() == 3);
+  CHECK(ls["starts"]["each"][0]["per_s"] == ls["per_s"]);  // the first start is the scene's own
+  double mean = 0;
+  for (const auto& e : ls["starts"]["each"]) mean += e["per_s"].get<double>() / 3;
+  CHECK(ls["starts"]["mean_per_s"].get<double>() == Approx(mean).epsilon(1e-12));
+  // Refused in one line before any run: without --lyapunov-long, beyond 64, on a scene with loops.
+  const Run alone = eigenmass("compare " + scene("pendulum5.json") + " --lyapunov-starts 3 --out " + dir + "/y.json", true);
+  CHECK(alone.status == 2);
+  CHECK(alone.out.find("--lyapunov-starts: needs --lyapunov-long") != std::string::npos);
+  CHECK(eigenmass("compare " + scene("pendulum5.json") + " --lyapunov-long 10 --lyapunov-starts 65 --out " + dir + "/y.json", true).status == 2);
+  const Run loops = eigenmass("compare " + scene("mechanisms/iftomm_a02_n2.json") + " --lyapunov-long 10 --lyapunov-starts 2 --out " + dir + "/y.json", true);
+  CHECK(loops.status == 2);
+  CHECK(loops.out.find("has loops, which displaced starts would open") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir + "/y.json"));
 }
 
 TEST_CASE("compare --refine records the corrections per eigenfactor method and says so under the table", "[cli][comparison][refine]") {
