@@ -134,17 +134,21 @@ std::string settingOption(const SettingError& e, size_t i, const RunSpec& s, boo
 // the specs come back checked, the only form a run takes.
 std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions& opt, const std::vector<RunSpec>& specs) {
   if (opt.thresholds.empty()) throw std::invalid_argument("at least one threshold is needed");
+  // An option as the caller typed it: the CLI's --name or the module's keyword.
+  const auto named = [&](std::string kw) {
+    if (opt.keywords) return kw;
+    for (char& c : kw) c = c == '_' ? '-' : c;
+    return "--" + kw;
+  };
   if (opt.lyapunov_starts < 1 || opt.lyapunov_starts > kLyapunovStartsMax)
-    throw std::invalid_argument((opt.keywords ? "lyapunov_starts" : "--lyapunov-starts") + std::string(": from 1 to ") +
-                                std::to_string(kLyapunovStartsMax) + ", got " + std::to_string(opt.lyapunov_starts));
+    throw std::invalid_argument(named("lyapunov_starts") + ": from 1 to " + std::to_string(kLyapunovStartsMax) + ", got " +
+                                std::to_string(opt.lyapunov_starts));
   if (opt.lyapunov_starts > 1 && !(opt.lyapunov_long_s > 0))
-    throw std::invalid_argument(opt.keywords ? "lyapunov_starts: needs lyapunov_long" : "--lyapunov-starts: needs --lyapunov-long");
+    throw std::invalid_argument(named("lyapunov_starts") + ": needs " + named("lyapunov_long"));
   if (opt.lyapunov_starts > 1 && !m.loops.empty())
-    throw std::invalid_argument((opt.keywords ? "lyapunov_starts" : "--lyapunov-starts") +
-                                std::string(": scene '") + m.name + "' has loops, which displaced starts would open");
+    throw std::invalid_argument(named("lyapunov_starts") + ": scene '" + m.name + "' has loops, which displaced starts would open");
   if (!(opt.lyapunov_sigma > 0 && opt.lyapunov_sigma <= 0.1))
-    throw std::invalid_argument((opt.keywords ? "lyapunov_sigma" : "--lyapunov-sigma") + std::string(": must be in (0, 0.1], got ") +
-                                gnum(opt.lyapunov_sigma));
+    throw std::invalid_argument(named("lyapunov_sigma") + ": must be in (0, 0.1], got " + gnum(opt.lyapunov_sigma));
   for (const RunSpec& s : specs) requireMethodTakes(s.method, m);  // a joint kind it lacks: named, before any run
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
@@ -223,13 +227,9 @@ ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const s
   out.lyapunov = lyapunovExponent(scene.model, lo);
   if (opt.lyapunov_long_s > 0) {
     if (progress) progress("long-run Lyapunov exponent over " + gnum(opt.lyapunov_long_s) + " s");
-    if (opt.lyapunov_starts > 1) {
-      out.lyapunov_long_starts = lyapunovOverStarts(scene.model, longRunOptions(opt.lyapunov_long_s), opt.lyapunov_starts,
-                                                    opt.lyapunov_sigma);
-      out.lyapunov_long = out.lyapunov_long_starts->starts.front();
-    } else {
-      out.lyapunov_long = lyapunovExponent(scene.model, longRunOptions(opt.lyapunov_long_s));
-    }
+    LyapunovStarts st = lyapunovOverStarts(scene.model, longRunOptions(opt.lyapunov_long_s), opt.lyapunov_starts, opt.lyapunov_sigma);
+    out.lyapunov_long = st.starts.front();  // the scene's own start
+    if (opt.lyapunov_starts > 1) out.lyapunov_long_starts = std::move(st);
   }
   if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
   return out;

@@ -1,6 +1,8 @@
 #include "compare/lyapunov.hpp"
 
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "solver/dynamics.hpp"
 #include "solver/perturb.hpp"
@@ -23,6 +25,15 @@ Eigen::VectorXd speedDirection(const Model& m, int size) {
   Eigen::VectorXd v = Eigen::VectorXd::Zero(size);
   for (int i = 0; i < m.nu; ++i) v[m.nq + i] = 1.0 + double(i) / m.nu;
   return v / v.norm();
+}
+
+// Mean and sample standard deviation (n - 1) of x: NaN where there are too few.
+std::pair<double, double> meanAndSpread(const std::vector<double>& x) {
+  const double n = static_cast<double>(x.size());
+  double mean = 0, var = 0;
+  for (double v : x) mean += v / n;
+  for (double v : x) var += (v - mean) * (v - mean) / (n - 1);
+  return {x.empty() ? NAN : mean, x.size() < 2 ? NAN : std::sqrt(var)};
 }
 
 }  // namespace
@@ -62,16 +73,8 @@ Lyapunov lyapunovExponent(const Model& m, const LyapunovOptions& o) {
   }
   out.t_stop = k * steps_per_renorm * o.dt;
   out.per_s = out.t_stop > 0 ? sum / out.t_stop : NAN;
-  const double w = static_cast<double>(out.windows.size());
-  if (w >= 2) {
-    double mean = 0, var = 0;
-    for (double x : out.windows) mean += x / w;
-    for (double x : out.windows) var += (x - mean) * (x - mean) / (w - 1);
-    out.windows_std_per_s = std::sqrt(var);
-    out.uncertainty_per_s = std::sqrt(var / w);
-  } else {
-    out.windows_std_per_s = out.uncertainty_per_s = NAN;
-  }
+  out.windows_std_per_s = meanAndSpread(out.windows).second;
+  out.uncertainty_per_s = out.windows_std_per_s / std::sqrt(static_cast<double>(out.windows.size()));  // NaN for one window
   return out;
 }
 
@@ -84,12 +87,7 @@ LyapunovStarts lyapunovOverStarts(const Model& m, const LyapunovOptions& o, int 
     if (out.starts.back().ok) done.push_back(out.starts.back().per_s);
   }
   out.completed = static_cast<int>(done.size());
-  const double n = static_cast<double>(done.size());
-  double mean = 0, var = 0;
-  for (double x : done) mean += x / n;
-  for (double x : done) var += (x - mean) * (x - mean) / (n - 1);
-  out.mean_per_s = done.empty() ? NAN : mean;
-  out.spread_per_s = done.size() < 2 ? NAN : std::sqrt(var);
+  std::tie(out.mean_per_s, out.spread_per_s) = meanAndSpread(done);
   return out;
 }
 
