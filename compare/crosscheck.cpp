@@ -134,6 +134,10 @@ std::vector<Checked> checkedEngines(const Scene& scene, const UrdfOptions& urdf,
       Checked k{engineName(e), engineModel(e, scene, urdf, c.notes), std::nullopt};
       const std::vector<CompiledMass> mass = k.model->compiledMass();
       if (!mass.empty() && !scene.model.isMechanism()) k.with_mass = withMass(scene.model, mass);  // withMass builds the tree alone
+      if (const auto dependence = engineCode(e).dependence; dependence && dependence(scene.model).any()) {
+        c.dependent[k.name] = dependence(scene.model);
+        if (k.with_mass) c.dependent[massRowName(k.name)] = c.dependent[k.name];
+      }
       out.push_back(std::move(k));
     } catch (const std::exception& ex) {
       c.skipped.push_back(std::string(engineName(e)) + ": " + ex.what());
@@ -158,6 +162,9 @@ void comparePlugin(const Model& m, Method plugin, std::vector<Checked>& engines,
                    const std::vector<Eigen::VectorXd>& us, CrossCheck& c) {
   const std::vector<Eigen::VectorXd> udot = pluginUdots(plugin, m, qs, us);
   const std::string name = methodName(plugin);
+  for (const Checked& e : engines)  // against an engine's u', the engine's dependence
+    if (const auto d = c.dependent.find(e.name); d != c.dependent.end() && !d->second.udot.empty())
+      c.dependent[name + "/" + e.name] = {"", "", d->second.udot};
   for (size_t k = 0; k < qs.size(); ++k) {
     c.rows.push_back({static_cast<int>(k), name, 0, 0, differenceIn(udot[k], inhouseAt(m, qs[k], us[k])), true});
     for (Checked& e : engines)

@@ -3,9 +3,11 @@
 /// and u' at the initial state and at random ones, against every engine whose
 /// row gives equations at a state (engines/engine.hpp): for a URDF, the
 /// engine's own reading of the file where it has one (MuJoCo), else the Model.
+#include <map>
 #include <string>
 #include <vector>
 
+#include "engines/engine.hpp"
 #include "io/scene.hpp"
 #include "solver/registry.hpp"
 
@@ -36,6 +38,10 @@ struct CrossCheck {
   std::vector<std::string> skipped;  ///< engines that cannot take this scene, and why
   /// Engines whose own URDF reading could not be used, why, and that their rows are the Model built in them.
   std::vector<std::string> notes;
+  /// Rows, by name, with entries that are eigenmass's own code on this scene
+  /// rather than the engine's (EngineCode::dependence): what, per entry. Such
+  /// an entry's agreement is not independent evidence; its disagreement still counts.
+  std::map<std::string, EquationsDependence> dependent;
 };
 
 /// `states` random states after the initial one (randomState, seeded `seed`).

@@ -609,6 +609,18 @@ class BulletModel : public EngineModel {
   BulletChain chain_;
 };
 
+// What of Bullet's crosscheck entries is eigenmass's: B is always A u' (A
+// from its u'), and a ball, gimbal or free joint's speeds reach ours through
+// sphericalMap and the floating base's lever, i.e. eigenmass's own joint
+// kinematics (relativeRotation, worldAxes, axisRates): a bug there is Bullet's too.
+EquationsDependence bulletDependence(const Model& m) {
+  EquationsDependence d;
+  d.B = "B is A u' (Bullet exposes no right-hand side)";
+  if (const std::string j = jointsOfKinds(m, {JointType::Ball, JointType::Gimbal, JointType::Free}); !j.empty())
+    d.A = d.udot = "the speeds of its joints of kind " + j + " map to ours through eigenmass's joint kinematics (solver/joints/)";
+  return d;
+}
+
 // btMultiBodyDynamicsWorld with its multibody constraints solved as one
 // group. Bullet 3.24 reaches them only through colliders' simulation islands:
 // with none (eigenmass adds no colliders) no island is processed, and its
@@ -755,6 +767,7 @@ EngineRow bulletEngine() {
   r.code.mechanism_state = "Bullet's forward dynamics at a state is its multibody's, a mechanism's tree: its constraints act "
                            "only inside its solver's step, and point springs and drives are applied there; its A is judged, "
                            "its B and u' of a mechanism are not exposed";
+  r.code.dependence = bulletDependence;
   r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
                           "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
   return r;

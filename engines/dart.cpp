@@ -570,6 +570,21 @@ std::unique_ptr<MethodImpl> makeDartUdot(const Model& m, const MethodInfo&, cons
   return std::make_unique<DartUdot>(m);
 }
 
+// What of DART's crosscheck entries is eigenmass's: the joint springs' and
+// dampers' part of B (DART applies them only implicitly inside its step; at a
+// state eigenmass evaluates -k (q - q_rest) - c u on DART's stored
+// parameters), and a free joint's change of speeds between DART's child frame
+// and ours (DartSkeleton::speedMap's bias, accelerations()'s w x v).
+EquationsDependence dartDependence(const Model& m) {
+  EquationsDependence d;
+  const std::string free = jointsOfKinds(m, {JointType::Free});
+  const std::string free_line = "the speeds of its joints of kind " + free + " map to ours through eigenmass's change of frame "
+                                "(engines/dart.cpp: the bias -R^T (w x v), v' - w x v)";
+  if (m.has_springs) d.B = "its joint springs' and dampers' part is eigenmass's -k (q - q_rest) - c u on DART's parameters";
+  if (!free.empty()) d.B += (d.B.empty() ? "" : "; ") + free_line, d.udot = free_line;
+  return d;
+}
+
 }  // namespace
 
 EngineRow dartEngine() {
@@ -599,6 +614,7 @@ EngineRow dartEngine() {
   r.code.mechanism_state = "DART's equations at a state are its skeleton's, a mechanism's tree: its joint constraints act "
                            "only as impulses inside World::step, and point springs and drives are applied there; its A is "
                            "judged, its B and u' of a mechanism are not exposed";
+  r.code.dependence = dartDependence;
   r.code.udot_method = {"dart-udot", "DART's u' (its articulated-body forward dynamics) under the in-house integrators: DART's "
                                      "formulation apart from its integrator", "#ad4a8c", makeDartUdot};
   return r;

@@ -21,6 +21,15 @@ struct EngineEquations {
   double kinetic = 0, potential = 0;
 };
 
+/// What of an engine's equations at a state on one scene is not its own but
+/// eigenmass's: a line each for A, B and u' saying what ("" where that entry
+/// is the engine's alone). Crosscheck prints such entries as not independent
+/// and does not count their agreement: a bug in the code they share is shared.
+struct EquationsDependence {
+  std::string A, B, udot;
+  bool any() const { return !A.empty() || !B.empty() || !udot.empty(); }
+};
+
 /// A body's mass properties as an engine compiled them, in the world at the
 /// zero configuration: mass, CM, inertia about the CM (world axes).
 struct CompiledMass {
@@ -90,6 +99,10 @@ struct EngineCode {
   /// (Bullet: from its forward dynamics), else nullptr. Such A and B err by
   /// ~eps cond(A), as every u' does.
   const char* equations_note = nullptr;
+  /// What of its A, B and u' at a state of `m` is eigenmass's own code
+  /// (Bullet's ball, gimbal and free joints' speed maps; its B = A u'), or
+  /// nullptr: every entry is the engine's own on every scene.
+  EquationsDependence (*dependence)(const Model& m) = nullptr;
   /// One line on what the engine does to this scene that bounds how closely it
   /// can agree with the exact equations (MuJoCo: full inertia tensors rounded),
   /// or "" (also when nullptr): compare reports print and record it.
@@ -126,5 +139,8 @@ const std::vector<EngineRow>& engineRows();
 void useEngines();
 /// The code of engine `e` (not the in-house one), found by its id.
 const EngineCode& engineCode(Engine e);
+/// The kinds among `kinds` that `m`'s joints have, each with its first body
+/// ("gimbal (body 'link1'), free (body 'base')"), or "": for dependence lines.
+std::string jointsOfKinds(const Model& m, const std::vector<JointType>& kinds);
 
 }  // namespace em

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <mutex>
 #include <stdexcept>
 
@@ -58,5 +59,14 @@ namespace {
 const bool registered = (useEngines(), true);
 
 }  // namespace
+
+std::string jointsOfKinds(const Model& m, const std::vector<JointType>& kinds) {
+  std::string out;
+  for (JointType k : kinds) {
+    const auto b = std::find_if(m.bodies.begin(), m.bodies.end(), [k](const Body& b) { return b.joint.type == k; });
+    if (b != m.bodies.end()) out += (out.empty() ? "" : ", ") + std::string(jointTypeName(k)) + " (body '" + b->name + "')";
+  }
+  return out;
+}
 
 }  // namespace em

@@ -411,6 +411,20 @@ TEST_CASE("crosscheck passes on a published arm and names its engines", "[cli][u
   CHECK_THAT(r.out, Catch::Contains("simbody") && Catch::Contains("mujoco") && Catch::Contains("within 1e-07"));
 }
 
+TEST_CASE("crosscheck marks entries that are not independent and counts agreement only where they are", "[cli][crosscheck]") {
+  // pendulum5's gimbal root: Bullet's A and u' go through our kinematics, its B is A u'; MuJoCo's raw u' is not judged on a tree.
+  const Run r = eigenmass("crosscheck " + scene("pendulum5.json") + " --states 2");
+  CHECK(r.status == 0);
+  CHECK_THAT(lineOf(r.out, "bullet "), Catch::Matches("bullet +[0-9.e+-]+\\* +[0-9.e+-]+\\* +[0-9.e+-]+\\*"));
+  CHECK_THAT(lineOf(r.out, "simbody "), !Catch::Contains("*"));
+  CHECK(lineOf(r.out, "(* bullet A, u', not independent: ") ==
+        "(* bullet A, u', not independent: the speeds of its joints of kind gimbal (body 'link1') map to ours through "
+        "eigenmass's joint kinematics (solver/joints/))");
+  CHECK(lineOf(r.out, "(* bullet B, not independent: ") == "(* bullet B, not independent: B is A u' (Bullet exposes no right-hand side))");
+  CHECK(lineOf(r.out, "independent agreement") ==
+        "independent agreement within 1e-07: A by simbody, mujoco, dart; B by simbody, mujoco, dart; u' by simbody, dart");
+}
+
 TEST_CASE("output lost on a full standard output is an error, not exit 0", "[cli][hostile]") {
   // /dev/full accepts the open and fails every write with ENOSPC (Debian has it).
   REQUIRE(std::filesystem::exists("/dev/full"));
