@@ -58,7 +58,8 @@ std::optional<double> quantile(std::vector<double> x, double p);
 /// The distribution-free interval of the median from the order statistics:
 /// the widest symmetric pair (x_(l), x_(n+1-l)) whose exact Binomial(n, 1/2)
 /// coverage is at least `level` (GSL's gsl_cdf_binomial_P); +inf entries are
-/// censored members, as in quantile. nullopt for no values.
+/// censored members, as in quantile. nullopt for no values. With n <= 5 no
+/// pair reaches 95 %: the pair is (min, max), covering 1 - 2^(1-n) (93.8 % at n = 5).
 std::optional<std::pair<double, double>> medianInterval(std::vector<double> x, double level = 0.95);
 
 }  // namespace em

@@ -16,18 +16,27 @@ One convention with eigenmass (sweep/ensemble.hpp): a member that never
 crosses is censored everywhere, +inf ("later than t_end") in the order
 statistics; quantiles are type 7 and the median's interval is from the order
 statistics, as `--merge` writes them in <plan>-ensemble.csv (--check-ensemble
-proves the two agree). Libraries (Debian's): Wilson's interval is statsmodels'
-proportion_confint, the binomial law scipy's, the Kaplan-Meier curve
-statsmodels' SurvfuncRight (its quantile is read here as the textbook
-inf{t: S(t) <= 1 - p}; statsmodels' own quantile takes S(t) < 1 - p, which
-differs where the curve rests exactly on 1 - p).
+proves the two agree). With n <= 5 members the median's interval is the
+pair (min, max), whose coverage 1 - 2^(1-n) is below 95 % (93.8 % at n = 5);
+Wilson's interval also covers less than its nominal 95 % at such n. A member
+crossing exactly at t_end is an event, not censored.
+
+The prediction's ratio measured / predicted is fitted by a censored
+regression (Tobit; a log-normal accelerated-failure-time model): log T =
+a + b log P + s e, e ~ N(0, 1), with T right-censored at t_end, maximized by
+statsmodels' GenericLikelihoodModel (Wald intervals from its Hessian). The
+censoring point t_end is the same for every member, so given P it is not
+informative; a Kaplan-Meier curve of the ratio T / P, censored at t_end / P,
+was not: that point falls with the prediction. Libraries (Debian's):
+Wilson's interval is statsmodels' proportion_confint, the binomial law
+scipy's, the normal law scipy's.
 """
-import argparse, csv, json, math, os, sys
+import argparse, csv, json, math, os, sys, warnings
 from collections import defaultdict
 
 import numpy as np
-from scipy.stats import binom
-from statsmodels.duration.survfunc import SurvfuncRight
+from scipy.stats import binom, norm
+from statsmodels.base.model import GenericLikelihoodModel
 from statsmodels.stats.proportion import proportion_confint
 
 
@@ -88,15 +97,48 @@ def per_member(runs, column):
     return out
 
 
-def km_quantile(obs, p):
-    """Kaplan-Meier estimate of the p-quantile of a right-censored sample: `obs` is
-    (value, observed) pairs, observed False where only a lower bound is known.
-    None when the survival curve never falls to 1 - p (too much is censored)."""
-    if not any(seen for _, seen in obs):
+class CensoredNormal(GenericLikelihoodModel):
+    """y = X beta + s e, e ~ N(0, 1); where `censored`, only y >= the value given is known
+    (Tobit; with y = log T, the log-normal accelerated-failure-time model). Params: beta, log s."""
+
+    def __init__(self, endog, exog, censored):
+        self.censored = np.asarray(censored, bool)
+        super().__init__(endog, exog, extra_params_names=["log_sigma"])
+
+    def loglikeobs(self, params):
+        beta, log_s = params[:-1], params[-1]
+        z = (self.endog - self.exog @ beta) / np.exp(log_s)
+        return np.where(self.censored, norm.logsf(z), norm.logpdf(z) - log_s)
+
+
+def censored_fit(y, X, censored):
+    """(estimates, standard errors) of CensoredNormal's beta and log s, or None where the fit does
+    not converge or nothing is observed. Starts at least squares over all values (deterministic BFGS)."""
+    if all(censored):
         return None
-    curve = SurvfuncRight([x for x, _ in obs], [int(seen) for _, seen in obs])
-    below = np.nonzero(curve.surv_prob <= 1 - p + 1e-12)[0]  # the textbook inf{t: S(t) <= 1 - p}
-    return float(curve.surv_times[below[0]]) if len(below) else None
+    start = np.append(np.linalg.lstsq(X, y, rcond=None)[0], math.log(max(float(np.std(y)), 1e-3)))
+    with warnings.catch_warnings():  # its degrees-of-freedom bookkeeping does not count log s; the fit does not use it
+        warnings.filterwarnings("ignore", message="df_(model|resid)")
+        r = CensoredNormal(y, X, censored).fit(start_params=start, method="bfgs", maxiter=5000, disp=0)
+    if not r.mle_retvals["converged"] or not np.all(np.isfinite(r.bse)):
+        return None
+    return r.params, r.bse
+
+
+def ratio_fits(pairs, t_end):
+    """From (predicted, measured or None) pairs: the median ratio measured / predicted with the
+    slope fixed at 1 (log T - log P = a + s e: exp(a) [95 %]) and the slope b of log T on log P
+    [95 %] (b = 1: the ratio does not move with the prediction); each "-" where the fit fails."""
+    P = np.array([p for p, _ in pairs])
+    censored = np.array([t is None for _, t in pairs])
+    y = np.log(np.array([t_end if t is None else t for _, t in pairs]))
+    x = np.log(P)
+    z = 1.959963984540054  # the normal's 97.5 % point
+    ratio = censored_fit(y - x, np.ones((len(y), 1)), censored)
+    slope = censored_fit(y, np.column_stack([np.ones_like(x), x]), censored)
+    r = "-" if ratio is None else "%.2f [%.2f, %.2f]" % tuple(math.exp(ratio[0][0] + k * z * ratio[1][0]) for k in (0, -1, 1))
+    b = "-" if slope is None else "%.2f [%.2f, %.2f]" % tuple(slope[0][1] + k * z * slope[1][1] for k in (0, -1, 1))
+    return r, b
 
 
 def fmt(t, t_end):
@@ -296,33 +338,35 @@ def main():
         lam = defaultdict(list)
         for p in pred:
             lam[p["scene"]].append(float(p["lyapunov_per_s"]))
-        ratio = defaultdict(list)
-        survival = defaultdict(list)  # (ratio, observed): a member still within 0.1 rad at t_end gives t_end / predicted, a lower bound
+        ratio = defaultdict(list)  # the uncensored members' measured / predicted
+        pairs = defaultdict(list)  # (predicted, measured or None: still within 0.1 rad at t_end)
         count = defaultdict(int)
         for p in pred:
             k = (p["scene"], p["method"], float(p["setting"]))
             count[k] += 1
             if not p["predicted_s"]:
                 continue
-            if p["measured_s"]:
-                ratio[k].append(float(p["measured_s"]) / float(p["predicted_s"]))
-                survival[k].append((ratio[k][-1], True))
-            else:
-                survival[k].append((t_end / float(p["predicted_s"]), False))
-        print("Members that never leave within %g s are censored: their ratio is only known to exceed "
-              "%g s / predicted. The naive columns drop them, which biases the ratio low wherever many are "
-              "censored (small steps); the Kaplan-Meier columns keep them as lower bounds (survival analysis). "
-              "`-`: the survival curve never falls that far (more than that share censored).\n" % (t_end, t_end))
+            measured = float(p["measured_s"]) if p["measured_s"] else None
+            pairs[k].append((float(p["predicted_s"]), measured))
+            if measured is not None:
+                ratio[k].append(measured / float(p["predicted_s"]))
+        print("Members that never leave within %g s are censored: their time is only known to exceed %g s. The naive "
+              "columns drop them, which biases the ratio low wherever many are censored (small steps). The censored "
+              "regression keeps them (Tobit, i.e. a log-normal accelerated-failure-time fit: log T = a + b log P + s e, "
+              "T right-censored at %g s, the same point for every member, so not informative given P): `ratio` is "
+              "exp(a) with b held at 1, the median of measured / predicted; `slope` is b fitted, 1 where the ratio does "
+              "not move with the prediction. Brackets: 95 %% Wald intervals. `-`: the fit does not converge.\n" % (
+                  t_end, t_end, t_end))
         print("| scene | chi (1/s) | method | dt | predicted | censored | naive: median [q1, q3] of the uncensored | "
-              "Kaplan-Meier: median [q1, q3] |")
-        print("|---|---:|---|---:|---:|---:|---|---|")
+              "censored regression: ratio [95 %] | slope [95 %] |")
+        print("|---|---:|---|---:|---:|---:|---|---|---|")
         for k in sorted(count, key=lambda k: (k[0], k[1], -k[2])):
-            x, sv = ratio[k], survival[k]
+            x = ratio[k]
             q = (lambda p: "%.2f" % quantile(x, p)) if x else (lambda p: "-")
-            km = lambda p: (lambda v: "-" if v is None else "%.2f" % v)(km_quantile(sv, p))
-            print("| %s | %.2f | %s | %g | %d / %d | %d | %s [%s, %s] | %s [%s, %s] |" % (
-                k[0], quantile(lam[k[0]], .5), k[1], k[2], len(sv), count[k], len(sv) - len(x), q(.5), q(.25), q(.75),
-                km(.5), km(.25), km(.75)))
+            r, b = ratio_fits(pairs[k], t_end)
+            print("| %s | %.2f | %s | %g | %d / %d | %d | %s [%s, %s] | %s | %s |" % (
+                k[0], quantile(lam[k[0]], .5), k[1], k[2], len(pairs[k]), count[k], len(pairs[k]) - len(x), q(.5), q(.25),
+                q(.75), r, b))
         print()
 
 
