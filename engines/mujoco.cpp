@@ -9,6 +9,7 @@
 #include "engines/engine.hpp"
 #include "engines/fixed_step.hpp"
 #include "engines/mujoco_system.hpp"
+#include "solver/method.hpp"
 
 namespace em {
 
@@ -129,6 +130,38 @@ std::string mechanismRefusal(const Model& m) {
 
 }  // namespace
 
+namespace {
+
+// mujoco-udot: MuJoCo's u' (mj_forward) under the in-house integrators:
+// MuJoCo's dynamics, its compiled inertias included, apart from its integrator.
+class MujocoUdot final : public MethodImpl {
+ public:
+  explicit MujocoUdot(const Model& m) : peer_(m), q_(m.nq), u_(m.nu) {
+    peer_.configure(mjINT_RK4, 1e-3, false);  // the drives set; no energies: u' alone is asked
+  }
+  bool needsEquations() const override { return false; }
+  bool needsKinematics() const override { return false; }
+  Status rates(double, const double* q, const double* u, const Workspace&, const double*, double* udot, double*,
+               EvalInfo&) override {
+    q_ = Eigen::Map<const Eigen::VectorXd>(q, q_.size());
+    u_ = Eigen::Map<const Eigen::VectorXd>(u, u_.size());
+    peer_.setState(q_, u_);
+    peer_.forward();
+    peer_.acceleration(udot);
+    return {};
+  }
+
+ private:
+  MujocoSystem peer_;
+  Eigen::VectorXd q_, u_;  // (nq), (nu): the state handed to setState
+};
+
+std::unique_ptr<MethodImpl> makeMujocoUdot(const Model& m, const MethodInfo&, const MethodOptions&) {
+  return std::make_unique<MujocoUdot>(m);
+}
+
+}  // namespace
+
 EngineRow mujocoEngine() {
   EngineRow r;
   r.info.name = "mujoco";
@@ -163,6 +196,9 @@ EngineRow mujocoEngine() {
       "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
       " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md";
   r.code.scene_note = fullInertiaNote;
+  r.code.udot_method = {"mujoco-udot", "MuJoCo's u' (mj_forward: its compiled masses, CRB mass matrix and bias forces) under "
+                                       "the in-house integrators: MuJoCo's dynamics apart from its integrator", "#8c1c13",
+                        makeMujocoUdot};
   r.code.mechanism_refusal = mechanismRefusal;
   r.code.soft_closures =
       "MuJoCo closes loops by soft equality constraints (connects; its default solref 0.02 1, solimp 0.9 0.95 0.001): "

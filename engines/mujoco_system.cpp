@@ -293,6 +293,7 @@ struct MujocoSystem::Impl {
   std::vector<Turned> turned;
   std::vector<int> body;       // MuJoCo body of each in-house body (internal order)
   std::vector<std::pair<int, double>> drives;  // (MuJoCo dof, constant force) of the scene's joint.torque
+  Eigen::VectorXd v;           // setState's scratch: the speeds turned into MuJoCo's frames (sized once)
   ~Impl() {
     if (d) mj_deleteData(d);
     if (mm) mj_deleteModel(mm);
@@ -403,7 +404,8 @@ MujocoSystem::~MujocoSystem() = default;
 void MujocoSystem::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Impl& I = *impl_;
   for (size_t i = 0; i < I.qadr.size(); ++i) I.d->qpos[I.qadr[i]] = q[i] + I.qoff[i];
-  Eigen::VectorXd v = u;
+  Eigen::VectorXd& v = I.v;
+  v = u;
   for (Impl::Turned& t : I.turned) {  // MuJoCo's orientation q (x) rest, its w in that frame
     const Vec4 quat = quatMul(q.segment<4>(t.q_at), t.rest);
     for (int k = 0; k < 4; ++k) I.d->qpos[I.qadr[t.q_at + k]] = quat[k];
@@ -451,6 +453,12 @@ Eigen::VectorXd MujocoSystem::acceleration() const {
   return a;
 }
 
+void MujocoSystem::acceleration(double* udot) const {
+  Eigen::Map<Eigen::VectorXd> a(udot, static_cast<Eigen::Index>(impl_->dof.size()));
+  for (Eigen::Index i = 0; i < a.size(); ++i) a[i] = impl_->d->qacc[impl_->dof[i]];
+  impl_->toInhouse(a);  // u' = G u_mj' (G' u_mj = w x w = 0)
+}
+
 Eigen::VectorXd MujocoSystem::rhs() const {
   Eigen::VectorXd B(impl_->mm->nv);
   // MuJoCo's passive forces are the scene's springs and dampers (none from a URDF: disabled).
@@ -465,11 +473,12 @@ Eigen::VectorXd MujocoSystem::rhs() const {
 
 namespace em {
 
-void MujocoSystem::configure(int scheme, double dt) {
+void MujocoSystem::configure(int scheme, double dt, bool energies) {
   mjModel* mm = impl_->mm;
   mm->opt.integrator = scheme;
   mm->opt.timestep = dt;
-  mm->opt.enableflags |= mjENBL_ENERGY;
+  if (energies) mm->opt.enableflags |= mjENBL_ENERGY;
+  else mm->opt.enableflags &= ~mjENBL_ENERGY;
   mj_resetData(mm, impl_->d);
   impl_->applyDrives();
 }

@@ -55,14 +55,16 @@ class MujocoSystem {
   Eigen::MatrixXd massMatrix() const;
   Eigen::VectorXd rhs() const;
   Eigen::VectorXd acceleration() const;
+  /// The same u' written into `udot` (nu), allocating nothing.
+  void acceleration(double* udot) const;
   /// MuJoCo's compiled mass properties of each in-house body (internal order),
   /// at the zero configuration (leaves the state at zero).
   std::vector<CompiledMass> compiledMass();
 
   // Stepping (engines/mujoco.cpp): the peer as a trajectory engine.
   /// Fixed step dt with MuJoCo's integrator `scheme` (mjINT_EULER, mjINT_RK4,
-  /// mjINT_IMPLICIT); energies computed by every forward.
-  void configure(int scheme, double dt);
+  /// mjINT_IMPLICIT); with `energies`, every forward computes them (mjENBL_ENERGY).
+  void configure(int scheme, double dt, bool energies = true);
   /// One mj_step (after setState and forward).
   void step();
   /// Every closure's softness (its connect equalities): solref (time constant

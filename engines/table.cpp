@@ -21,8 +21,9 @@ const std::vector<EngineRow>& engineRows() {
 namespace {
 
 // An engine's u' under the in-house integrators, as a method of the in-house engine.
-void addUdotMethod(const EngineUdotMethod& u) {
+void addUdotMethod(const EngineUdotMethod& u, const char* engine) {
   MethodInfo m;
+  m.dynamics_of = engine;
   m.name = u.name;
   m.make = u.make;
   m.summary = u.summary;
@@ -40,7 +41,7 @@ void useEngines() {
       EngineInfo info = r.info;
       info.code = &r.code;  // the row's own code, found by the id addEngine gives
       addEngine(info);
-      if (r.code.udot_method.name) addUdotMethod(r.code.udot_method);
+      if (r.code.udot_method.name) addUdotMethod(r.code.udot_method, r.info.name);
     }
   });
 }

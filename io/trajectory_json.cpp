@@ -51,7 +51,8 @@ json trajectoryJson(const Trajectory& tr) {
           {"dissipated", tr.dissipated}, {"poses", poses},          {"status", outcomeName(tr.status())},
           {"failure", tr.failure},       {"failure_kind", failureName(tr.failure_kind)},
           {"failure_time", tr.failure_time}, {"run_time_s", tr.run_time_s},
-          {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries}};
+          {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries},
+          {"grid_cut_steps", tr.grid_cut_steps}};
 }
 
 Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::string& source) {
@@ -79,6 +80,7 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     tr.steps = j.at("steps").get<long>();
     tr.rhs_evals = j.at("rhs_evals").get<long>();
     tr.step_retries = j.at("step_retries").get<long>();
+    tr.grid_cut_steps = j.value("grid_cut_steps", 0L);  // absent in trajectories written before it was counted
     const std::string kind = j.at("failure_kind").get<std::string>();
     for (const FailureInfo& f : failureTable())
       if (kind == f.name) tr.failure_kind = f.id;

@@ -55,6 +55,7 @@ class Integration {
     return s;
   }
   long& retries() { return tr_.step_retries; }
+  long& gridCutSteps() { return tr_.grid_cut_steps; }
 
   // After an accepted step ending at t.
   bool accept(double t, double* y) {
@@ -216,6 +217,7 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
   for (long k = 1; k <= n_out; ++k) {
     const double t_out = k * spec.output_dt;
     while (t < t_out) {
+      const bool cut = h > t_out - t;  // GSL ends such a step at t_out (when it is accepted at that length)
       const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
       const Status trial = run.takeTrialFailure();
       if (!trial.ok) {  // GSL restored t and y: retry smaller, or give up
@@ -229,6 +231,7 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
         return;
       }
       if (!run.accept(t, y.data())) return;
+      if (cut && t == t_out) ++run.gridCutSteps();
       // A corrected state is not the continuation of the step: the stepper and
       // the evolve object (which reuses the last derivative as the next step's
       // first stage) must both start afresh.

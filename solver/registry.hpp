@@ -137,6 +137,11 @@ struct MethodInfo {
   /// integrators, a plugin's, a Python function's, a recorded run): a tree's,
   /// so a mechanism is refused for it (compare/engines.hpp's methodRefusal).
   bool tree_only = false;
+  /// An engine's u' under the in-house integrators: that engine's name. Its
+  /// runs at tight tolerances measure how far the engine's own dynamics (its
+  /// model, e.g. MuJoCo's rounded inertias) lie from the exact motion: the
+  /// engine study's floor for that engine's routes. nullptr otherwise.
+  const char* dynamics_of = nullptr;
   /// Retired (retireMethod): its name is no longer found, listed or taken;
   /// its id still reads its row.
   bool retired = false;

@@ -80,6 +80,11 @@ struct RunEnd {
   double run_time_s = 0;                   ///< CPU time of the integration (sampling excluded)
   long steps = 0, rhs_evals = 0;
   long step_retries = 0;  ///< adaptive steps retried smaller after a failed trial stage
+  /// Adaptive steps the output grid cut short: the step the controller asked
+  /// for reached past the next output time, so it ended there. When every step
+  /// is so cut, the grid, not the tolerance, set the steps (looser tolerances
+  /// give the same run; GSL's steppers have no dense output to sample by).
+  long grid_cut_steps = 0;
   bool has_loops = false;  ///< a mechanism's run: `loops` says how closed it stayed
   LoopStats loops;
 

@@ -48,6 +48,8 @@ struct CaseRecord {
   std::optional<double> benchmark_error, benchmark_error_t;
   std::vector<double> cpu_s;                 ///< integration CPU time of every repeat
   long steps = 0, rhs_evals = 0;
+  /// In-house adaptive runs: steps the output grid cut short (Trajectory::grid_cut_steps); absent for other schemes.
+  std::optional<long> grid_cut_steps;
   bool repeats_identical = true;             ///< every repeat ended in the same state, bit for bit
   /// Eigenfactor methods: smallest eigenvalue gap (eigen-block: between blocks), largest |Omega|,
   /// Jacobi sweeps, eigen-block's merges and splits (absent for other methods).
@@ -154,8 +156,9 @@ std::string routeOwner(const std::string& method);
 /// and whether eigenmass's is the cheapest, every run's errors, drifts and cost.
 /// `floor`: the reference's check's largest pose difference (an accuracy below ten times it is said unresolved).
 /// `judge`: false where cases are missing (a goal is then not judged, said so).
-std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double floor,
-                             bool judge = true);
+/// `output_dt`: the plan's, named where the output grid set an adaptive route's steps.
+std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double output_dt,
+                             double floor, bool judge = true);
 /// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest.
 std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
 

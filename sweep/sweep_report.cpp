@@ -75,6 +75,7 @@ json caseRecordJson(const CaseRecord& r) {
           {"energy_error_max", finiteOrNull(r.max_energy)},
           {"cpu_s", r.cpu_s},       {"cpu_median_s", r.cpuMedian()},
           {"steps", r.steps},       {"rhs_evals", r.rhs_evals},
+          {"grid_cut_steps", r.grid_cut_steps ? json(*r.grid_cut_steps) : json()},
           {"repeats_identical", r.repeats_identical},
           {"momentum_drift_p", orNull(r.momentum_p)},
           {"momentum_drift_H", orNull(r.momentum_H)},
@@ -130,6 +131,7 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.cpu_s = j.at("cpu_s").get<std::vector<double>>();
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
+    if (const json g = j.value("grid_cut_steps", json()); !g.is_null()) r.grid_cut_steps = g.get<long>();  // absent: older files, other schemes
     r.repeats_identical = j.at("repeats_identical").get<bool>();
     r.momentum_p = optionalFrom(j.value("momentum_drift_p", json()));  // absent in files written before the engine study
     r.momentum_H = optionalFrom(j.value("momentum_drift_H", json()));

@@ -231,7 +231,7 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
       o << "### " << s << "\n\n" << referenceLine(records, s, floor);
-      o << engineStudyScene(records, s, plan.t_end, floor, missing.empty());
+      o << engineStudyScene(records, s, plan.t_end, plan.output_dt, floor, missing.empty());
     }
     o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end);
   }
