@@ -221,7 +221,7 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
 ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
                           void (*progress)(const std::string&)) {
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0]->method), progress),
-                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}, {}};
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}, {}, {}};
   LyapunovOptions lo;
   lo.t_end = specs[0]->t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
@@ -230,6 +230,10 @@ ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const s
     LyapunovStarts st = lyapunovOverStarts(scene.model, longRunOptions(opt.lyapunov_long_s), opt.lyapunov_starts, opt.lyapunov_sigma);
     out.lyapunov_long = st.starts.front();  // the scene's own start
     if (opt.lyapunov_starts > 1) out.lyapunov_long_starts = std::move(st);
+  }
+  if (opt.sensitivity_twin) {
+    if (progress) progress("sensitivity twin (the reference from a start " + gnum(kSensitivitySigma) + " away)");
+    out.sensitivity = sensitivityTwin(scene.model, specs[0], out.reference);
   }
   if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
   return out;
@@ -250,6 +254,7 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   r.lyapunov = reference.lyapunov;
   r.lyapunov_long = reference.lyapunov_long;
   r.lyapunov_long_starts = reference.lyapunov_long_starts;
+  r.sensitivity = reference.sensitivity;
   r.second_engine = reference.second_engine;
   r.second_engine_skipped = reference.second_engine_skipped;
   if (r.second_engine)
@@ -345,6 +350,17 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
       << ", the two independent engines' distance: errors below it are not resolved\n";
   } else if (!r.second_engine_skipped.empty()) {
     o << "second engine: not run (" << r.second_engine_skipped << ")\n";
+  }
+  if (const std::optional<Sensitivity>& s = r.sensitivity) {
+    std::vector<std::string> ill;
+    for (double th : r.options.thresholds)
+      if (illConditioned(*s, th)) ill.push_back(gnum(th) + " rad");
+    o << "sensitivity twin (the reference from a start " << gnum(s->sigma) << " away): "
+      << (s->failed_at ? "stopped at t = " + gnum(*s->failed_at) + " s where the reference did not"
+                       : "max pose difference " + gnum(s->max_pose_rad, 3) + " rad")
+      << (ill.empty() ? ": every threshold is well-conditioned\n"
+                      : "; ILL-CONDITIONED at " + joined(ill) + ": errors of that size are the scene's amplification of "
+                        "round-off, not a method's, and rank none\n");
   }
   for (const auto& [engine, note] : r.engine_notes) o << "note (" << engine << "): " << note << "\n";
 }

@@ -10,6 +10,7 @@
 #include "compare/metrics.hpp"
 #include "compare/engines.hpp"
 #include "compare/lyapunov.hpp"
+#include "compare/sensitivity.hpp"
 
 namespace em {
 
@@ -56,6 +57,10 @@ struct CompareOptions {
   /// neighbours displaced by lyapunov_sigma (lyapunovOverStarts); 1: the scene's start alone.
   int lyapunov_starts = 1;
   double lyapunov_sigma = 1e-3;
+  /// The reference's sensitivity twin (compare/sensitivity.hpp): the reference
+  /// again from a start 1e-10 away; where it parts by more than a threshold,
+  /// that threshold is ill-conditioned on this scene (the report says so).
+  bool sensitivity_twin = true;
 
   /// How a refused setting is named: the CLI's options ("--dt", "--t-end",
   /// "--reference-tol"), or, with `keywords`, the Python module's keyword
@@ -109,6 +114,7 @@ struct ComparisonResult {
   std::optional<LyapunovStarts> lyapunov_long_starts;
   /// The second engine (MuJoCo rk4 at a small step) against the reference,
   /// when asked and MuJoCo takes the scene; else why not.
+  std::optional<Sensitivity> sensitivity;  ///< the reference's sensitivity twin, when run (options.sensitivity_twin)
   std::optional<Trajectory> second_engine;
   std::optional<MethodMetrics> second_engine_metrics;
   std::string second_engine_skipped;
@@ -130,6 +136,7 @@ struct ReferenceRuns {
   Lyapunov lyapunov;
   std::optional<Lyapunov> lyapunov_long;    ///< over CompareOptions::lyapunov_long_s, when asked
   std::optional<LyapunovStarts> lyapunov_long_starts;  ///< over lyapunov_starts starts, when more than one
+  std::optional<Sensitivity> sensitivity;   ///< the reference's sensitivity twin (CompareOptions::sensitivity_twin; none with loops)
   std::optional<Trajectory> second_engine;  ///< the second engine's run (CompareOptions::second_engine; its row's roles)
   std::string second_engine_skipped;        ///< why it did not run, when asked
 };

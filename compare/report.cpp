@@ -204,6 +204,22 @@ json engineNotesJson(const ComparisonResult& r) {
   return j;
 }
 
+// The reference's sensitivity twin and the thresholds it makes ill-conditioned.
+json sensitivityJson(const ComparisonResult& r) {
+  if (!r.sensitivity)
+    return r.options.sensitivity_twin ? json({{"not_measured", "a scene with loops: a displaced start would leave them open"}}) : json(nullptr);
+  const Sensitivity& s = *r.sensitivity;
+  json ill = json::array();
+  for (double th : r.options.thresholds)
+    if (illConditioned(s, th)) ill.push_back(th);
+  return {{"how", "the reference again from a start displaced by sigma N(0, 1) on every coordinate and speed (seed " +
+                      std::to_string(kSensitivitySeed) + "); a threshold it exceeds is ill-conditioned"},
+          {"sigma", s.sigma},
+          {"max_pose_rad", finiteOrNull(s.max_pose_rad)},
+          {"failed_at_s", s.failed_at ? json(*s.failed_at) : json(nullptr)},
+          {"ill_conditioned_at_rad", ill}};
+}
+
 // MuJoCo at a small step against the reference: the two independent engines' distance.
 json secondEngineJson(const ComparisonResult& r) {
   if (!r.second_engine_metrics) return r.second_engine_skipped.empty() ? json(nullptr) : json({{"skipped", r.second_engine_skipped}});
@@ -265,6 +281,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
                                       "finite-time: over the run's grid; uncertainty the standard error of its 1-s windows, "
                                       "windows_std_per_s their spread")},
             {"lyapunov_long", lyapunovLongJson(r)},
+            {"sensitivity_twin", sensitivityJson(r)},
             {"second_engine", secondEngineJson(r)}}},
           {"engine_notes", engineNotesJson(r)},
           {"methods", methods},

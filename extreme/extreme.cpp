@@ -159,6 +159,7 @@ CompareOptions optionsFor(const ExtremeCase& c, const ExtremeSetting& s, const E
   CompareOptions o;
   o.methods = opt.methods;
   o.second_engine = false;  // the gallery compares MuJoCo as a method; its floor would double the cost
+  o.sensitivity_twin = false;  // the gallery asks what breaks and when, not how sensitive the reference is (docs/extreme.md)
   o.inhouse.integrator = s.integrator;
   (info(s.integrator).fixed_step ? o.inhouse.dt : o.inhouse.tol) = s.value;
   // A mechanism case: the methods whose engine cannot take it are left out,

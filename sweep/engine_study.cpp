@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "compare/sensitivity.hpp"
 #include "solver/registry.hpp"
 #include "solver/text.hpp"
 #include "sweep/sweep.hpp"
@@ -108,6 +109,25 @@ std::string notReached(const std::vector<Route>& routes, const Route& x, double 
 
 std::string settingText(const CaseRecord& r) { return (r.setting_kind == SettingKind::Dt ? "dt " : "tol ") + gnum(r.setting); }
 
+// Whether each accuracy is ill-conditioned on a scene: the reference's
+// sensitivity twin (compare/sensitivity.hpp) parts from it by more.
+struct Conditioning {
+  bool ill[2] = {false, false};
+  std::optional<double> twin_rad, twin_failed_at;
+};
+
+Conditioning conditioningOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
+  Conditioning c;
+  const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "reference"; });
+  if (ref == rs.end() || !ref->sensitivity_rad) return c;
+  c.twin_rad = ref->sensitivity_rad, c.twin_failed_at = ref->sensitivity_failed_at;
+  const Sensitivity twin{kSensitivitySigma, *ref->sensitivity_rad, ref->sensitivity_failed_at};
+  for (int a = 0; a < 2; ++a) c.ill[a] = illConditioned(twin, kAccuracies[a]);
+  return c;
+}
+
+constexpr const char* kIll = "ill-conditioned | -";
+
 // One owner's fastest route to each accuracy.
 struct Fastest {
   const Route* route[2] = {nullptr, nullptr};
@@ -127,7 +147,8 @@ std::vector<std::pair<std::string, Fastest>> fastestByOwner(const std::vector<Ro
   return out;
 }
 
-std::string routeCell(const Fastest& f, int a, double t_end) {
+std::string routeCell(const Fastest& f, int a, double t_end, const Conditioning& c) {
+  if (c.ill[a]) return kIll;
   if (!f.run[a]) return "not reached | -";
   return f.route[a]->method + " " + f.route[a]->integrator + " " + settingText(*f.run[a]) + " | " +
          sci(perSimulatedSecond(*f.run[a], t_end));
@@ -171,7 +192,7 @@ std::string floorLines(const std::vector<Route>& routes) {
   return lines.empty() ? "" : "Floors (an engine's model, not its integrator, bounds its accuracy):\n\n" + lines + "\n";
 }
 
-std::string routeTable(const std::vector<Route>& routes, double t_end) {
+std::string routeTable(const std::vector<Route>& routes, double t_end, const Conditioning& c) {
   std::ostringstream o;
   o << "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s | cheapest within 1e-6 rad | CPU s / s |\n"
     << "|---|---|---|---|---|---|---|---|\n";
@@ -179,9 +200,10 @@ std::string routeTable(const std::vector<Route>& routes, double t_end) {
     int ok = 0;
     for (const CaseRecord* r : x.runs) ok += r->status == Outcome::Ok;
     o << "| " << x.owner << " | " << x.method << " | " << x.integrator << " | " << ok << " / " << x.runs.size() << " |";
-    for (double a : kAccuracies) {
+    for (int k = 0; k < 2; ++k) {
+      const double a = kAccuracies[k];
       const CaseRecord* r = x.cheapest(a, t_end);
-      o << " " << (r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : notReached(routes, x, a) + " | -") << " |";
+      o << " " << (c.ill[k] ? kIll : r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : notReached(routes, x, a) + " | -") << " |";
     }
     o << "\n";
   }
@@ -189,11 +211,15 @@ std::string routeTable(const std::vector<Route>& routes, double t_end) {
 }
 
 // Whether eigenmass's fastest route is cheaper than every other owner's, per accuracy, said in one line each.
-std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end) {
+std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end, const Conditioning& c) {
   std::ostringstream o;
   const auto self = std::find_if(by_owner.begin(), by_owner.end(), [](const auto& p) { return p.first == "eigenmass"; });
   if (self == by_owner.end()) return "";
   for (int a = 0; a < 2; ++a) {
+    if (c.ill[a]) {
+      o << "- To " << sci(kAccuracies[a]) << " rad: not judged: ill-conditioned (the reference's sensitivity twin).\n";
+      continue;
+    }
     const CaseRecord* mine = self->second.run[a];
     std::vector<std::string> cheaper;
     for (const auto& [owner, f] : by_owner)
@@ -243,6 +269,10 @@ std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<s
     o << "Within " << sci(kAccuracies[a]) << " rad over the horizon, the cheapest route:\n\n";
     std::vector<std::string> owners, reached;
     for (const std::string& s : scenes) {
+      if (conditioningOf(rs, s).ill[a]) {
+        o << "- " << s << ": ill-conditioned (the reference's sensitivity twin parts by more): no route ranked\n";
+        continue;
+      }
       const std::vector<Route> routes = routesOf(rs, s);
       auto by_owner = fastestByOwner(routes, t_end);
       for (const auto& [owner, f] : by_owner) {
@@ -285,18 +315,28 @@ std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::strin
                              double floor, bool judge) {
   const std::vector<Route> routes = routesOf(rs, scene);
   const auto by_owner = fastestByOwner(routes, t_end);
+  const Conditioning cond = conditioningOf(rs, scene);
   std::ostringstream o;
+  for (int a = 0; a < 2; ++a)
+    if (cond.ill[a])
+      o << "**Ill-conditioned at " << sci(kAccuracies[a]) << " rad: the reference's sensitivity twin, started "
+        << sci(kSensitivitySigma) << " away in every coordinate and speed, "
+        << (cond.twin_failed_at ? "stopped at " + gnum(*cond.twin_failed_at, 4) + " s where the reference did not"
+                                : "parts from it by " + sci(*cond.twin_rad) + " rad")
+        << ". An error of that size here is the scene's amplification of round-off, not a method's: no route is ranked "
+        << "at " << sci(kAccuracies[a]) << " rad.**\n\n";
   for (double a : kAccuracies)
     if (floor > a / 10)
       o << "**The reference and its check differ by " << sci(floor) << " rad, more than a tenth of " << sci(a)
         << " rad: on this scene the " << sci(a) << " columns are not resolved (an error below the floor is the "
         << "reference's as much as the run's).**\n\n";
-  o << "#### Each route's cheapest run within 1e-3 and 1e-6 rad over the horizon\n\n" << routeTable(routes, t_end)
+  o << "#### Each route's cheapest run within 1e-3 and 1e-6 rad over the horizon\n\n" << routeTable(routes, t_end, cond)
     << gridBoundLines(routes, output_dt) << floorLines(routes);
   o << "#### Each owner's fastest route\n\n| owner | fastest within 1e-3 rad | CPU s / s | fastest within 1e-6 rad | CPU s / s |\n"
     << "|---|---|---|---|---|\n";
-  for (const auto& [owner, f] : by_owner) o << "| " << owner << " | " << routeCell(f, 0, t_end) << " | " << routeCell(f, 1, t_end) << " |\n";
-  o << "\n" << (judge ? goalLines(by_owner, t_end) : "- Goals not judged: the study's results are incomplete (above).\n\n");
+  for (const auto& [owner, f] : by_owner)
+    o << "| " << owner << " | " << routeCell(f, 0, t_end, cond) << " | " << routeCell(f, 1, t_end, cond) << " |\n";
+  o << "\n" << (judge ? goalLines(by_owner, t_end, cond) : "- Goals not judged: the study's results are incomplete (above).\n\n");
   o << "#### Every run\n\n" << runTable(routes, t_end);
   return o.str();
 }
@@ -308,14 +348,19 @@ std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vec
   };
   std::map<std::string, Tally> tally;
   std::vector<std::string> owners;
+  size_t judged[2] = {0, 0};  // scenes where each accuracy is not ill-conditioned
   for (const std::string& s : scenes) {
     const std::vector<Route> routes = routesOf(rs, s);
     const auto by_owner = fastestByOwner(routes, t_end);
+    const Conditioning cond = conditioningOf(rs, s);
     for (int a = 0; a < 2; ++a) {
+      for (const auto& [owner, f] : by_owner)
+        if (std::find(owners.begin(), owners.end(), owner) == owners.end()) owners.push_back(owner);
+      if (cond.ill[a]) continue;  // no route ranked there
+      ++judged[a];
       const std::string* best = nullptr;
       double best_cost = INFINITY;
       for (const auto& [owner, f] : by_owner) {
-        if (std::find(owners.begin(), owners.end(), owner) == owners.end()) owners.push_back(owner);
         if (!f.run[a]) continue;
         const double c = perSimulatedSecond(*f.run[a], t_end);
         ++tally[owner].reached[a];
@@ -327,9 +372,11 @@ std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vec
   }
   std::ostringstream o;
   o << cheapestLines(rs, scenes, t_end);
+  if (judged[0] < scenes.size() || judged[1] < scenes.size())
+    o << "\"of N\" counts the scenes where that accuracy is not ill-conditioned: " << judged[0] << " of " << scenes.size()
+      << " at 1e-3 rad, " << judged[1] << " of " << scenes.size() << " at 1e-6 rad.\n\n";
   o << "| owner | scenes reached within 1e-3 rad | fastest there | median CPU s / s of its fastest route | scenes reached within "
        "1e-6 rad | fastest there | median CPU s / s |\n|---|---|---|---|---|---|---|\n";
-  const size_t n = scenes.size();
   for (const std::string& w : owners) {
     Tally& t = tally[w];
     o << "| " << w;
@@ -337,7 +384,7 @@ std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vec
       std::sort(t.cost[a].begin(), t.cost[a].end());
       const size_t k = t.cost[a].size();
       const double med = k == 0 ? NAN : k % 2 ? t.cost[a][k / 2] : 0.5 * (t.cost[a][k / 2 - 1] + t.cost[a][k / 2]);
-      o << " | " << t.reached[a] << " of " << n << " | " << t.fastest[a] << " | " << sci(med);
+      o << " | " << t.reached[a] << " of " << judged[a] << " | " << t.fastest[a] << " | " << sci(med);
     }
     o << " |\n";
   }

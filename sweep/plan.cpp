@@ -134,14 +134,47 @@ std::string planSpelling(std::string msg) {
   return msg;
 }
 
-// An entry of `scenes`: "path" or {"file": path, "balance_inertia", "lock_joint", "floating_base"}.
+// Largest displacement sigma of a start (ensemble.perturb.q, start_offset.q):
+// one radian (metre). A draw lies within 8.6 sigma (53-bit Box-Muller), so
+// every start stays within 8.6 rad (m) of the scene's, inside the bounds its
+// own q0 is held to (io/scene_json.cpp). Speeds: kMaxSigmaU rad/s (m/s).
+constexpr double kMaxSigmaQ = 1;
+constexpr double kMaxSigmaU = 100;
+
+// A displacement's sigma at `at`: 0 when absent, else a finite number from 0 to `max`.
+double sigmaAt(const json& v, const char* key, const std::string& at, double max, const char* unit) {
+  if (!v.contains(key)) return 0.0;
+  const std::string path = jsonPath(at, key);
+  const json& x = v[key];
+  if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0) throw InputError(path, "must be a finite number >= 0");
+  if (x.get<double>() > max) {
+    const auto [sigma, bound] = gnumApart(x.get<double>(), max);
+    throw InputError(path, sigma + " beyond " + bound + " " + unit + ": a displaced start is a nearby state");
+  }
+  return x.get<double>();
+}
+
+// "start_offset": {"q": sigma_q, "u": sigma_u, "seed": S}: the seed is asked for, never chosen.
+StartOffset startOffsetAt(const json& v, const std::string& at) {
+  onlyKeys(v, at, {"q", "u", "seed"});
+  StartOffset o;
+  o.q = sigmaAt(v, "q", at, kMaxSigmaQ, "rad (m)");
+  o.u = sigmaAt(v, "u", at, kMaxSigmaU, "rad/s (m/s)");
+  if (o.q == 0 && o.u == 0) throw InputError(at, "q or u must be > 0: the start would be the scene's own");
+  if (!v.contains("seed")) throw InputError(jsonPath(at, "seed"), "missing (the draw's seed: results must say how they were made)");
+  o.seed = static_cast<std::uint64_t>(wholeNumberAt(v["seed"], jsonPath(at, "seed"), 0, 2147483647, "the draw's seed"));
+  return o;
+}
+
+// An entry of `scenes`: "path" or {"file": path, "balance_inertia", "lock_joint", "floating_base", "start_offset"}.
 PlanScene sceneAt(const json& v, const std::string& at, const fs::path& base) {
   PlanScene s;
   std::string file;
   if (v.is_object()) {
-    onlyKeys(v, at, {"file", "balance_inertia", "lock_joint", "floating_base"});
+    onlyKeys(v, at, {"file", "balance_inertia", "lock_joint", "floating_base", "start_offset"});
     file = stringAt(v.value("file", json()), jsonPath(at, "file"));
     s.urdf = urdfOptionsAt(v, at);
+    if (v.contains("start_offset")) s.start_offset = startOffsetAt(v["start_offset"], jsonPath(at, "start_offset"));
   } else {
     file = stringAt(v, at);
   }
@@ -172,6 +205,8 @@ std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
     } catch (const std::exception& e) {
       throw InputError(at, planSpelling(e.what()));
     }
+    if (s.start_offset && s.has_loops)
+      throw InputError(jsonPath(at, "start_offset"), "the scene has loops: a displaced start would leave them open");
     out.push_back(s);
   }
   return out;
@@ -253,9 +288,6 @@ void readMethodParams(const json& doc, MethodOptions& options) {
     }
 }
 
-// Largest ensemble.perturb.q: one radian (metre) of standard deviation.
-constexpr double kMaxSigmaQ = 1;
-
 // "ensemble.claim": {"t_s": T, "label": L}, T within the plan's t_end.
 EnsembleClaim claimAt(const json& v, double t_end) {
   onlyKeys(v, "ensemble.claim", {"t_s", "label"});
@@ -279,24 +311,8 @@ Ensemble ensembleAt(const json& v, double t_end) {
   if (!v.contains("perturb")) throw InputError("ensemble.perturb", "missing");
   const json& p = v["perturb"];
   onlyKeys(p, "ensemble.perturb", {"q", "u"});
-  const auto sigma = [&](const char* key) {
-    if (!p.contains(key)) return 0.0;
-    const json& x = p[key];
-    const std::string at = std::string("ensemble.perturb.") + key;
-    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0)
-      throw InputError(at, "must be a finite number >= 0");
-    return x.get<double>();
-  };
-  e.sigma_q = sigma("q");
-  e.sigma_u = sigma("u");
-  // Members are nearby states: a draw lies within 8.6 sigma (53-bit Box-Muller),
-  // so sigma_q <= 1 keeps every member within 8.6 rad (m) of the scene's state,
-  // inside the bounds the scene's own q0 is held to (io/scene_json.cpp).
-  if (e.sigma_q > kMaxSigmaQ) {
-    const auto [sigma, bound] = gnumApart(e.sigma_q, kMaxSigmaQ);
-    throw InputError("ensemble.perturb.q", sigma + " beyond " + bound +
-                                               " rad (m): an ensemble perturbs a state to nearby states");
-  }
+  e.sigma_q = sigmaAt(p, "q", "ensemble.perturb", kMaxSigmaQ, "rad (m)");
+  e.sigma_u = sigmaAt(p, "u", "ensemble.perturb", HUGE_VAL, "rad/s (m/s)");  // bounded per scene below (its speeds' range)
   if (e.count > 1 && e.sigma_q == 0 && e.sigma_u == 0)
     throw InputError("ensemble.perturb", "q or u must be > 0: every member would be the scene itself");
   if (v.contains("claim")) e.claim = claimAt(v["claim"], t_end);

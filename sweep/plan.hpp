@@ -3,6 +3,7 @@
 /// integrators x steps or tolerances, the horizon, the reference and the
 /// number of repeats; and the cases it expands to, each with a stable name
 /// that is also its result file's.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,12 +29,22 @@ struct PlanLine {
 enum class PlanTable { WorkPrecision, CostVsSize, Runs, Trajectories, EngineStudy, Benchmark };
 const char* planTableName(PlanTable t);
 
+/// A scene's start displaced before any case runs: sigma N(0, 1) on every
+/// coordinate and speed (solver/perturb.hpp's draw, from `seed`). For a scene
+/// at rest on an unstable equilibrium (a URDF starts at q = 0: the Allegro
+/// hand), whose runs would otherwise measure round-off amplified by it.
+struct StartOffset {
+  double q = 0, u = 0;     ///< sigma: rad (m), rad/s (m/s)
+  std::uint64_t seed = 0;
+};
+
 /// A scene of a plan: an entry of `scenes`, a path or {"file", and a URDF's import options}.
 struct PlanScene {
   std::string file;  ///< resolved against the plan's folder
   UrdfOptions urdf;  ///< balance_inertia, lock_joint, floating_base (URDF only)
   bool has_loops = false;                 ///< read from the scene when the plan is loaded
   std::optional<BenchmarkSpec> benchmark; ///< the scene's "benchmark" (the benchmark table reads it)
+  std::optional<StartOffset> start_offset; ///< "start_offset": every case starts there (refused on a scene with loops)
   std::string stem() const;  ///< the file's stem: it names the cases
 };
 

@@ -17,6 +17,8 @@
 #include "compare/progress.hpp"
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
+#include "compare/sensitivity.hpp"
+#include "solver/perturb.hpp"
 #include "io/csv.hpp"
 #include "io/digest.hpp"
 #include "io/json_input.hpp"
@@ -58,6 +60,8 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
   if (urdf.any())  // a URDF's import options make another model from the same bytes
     key["scene_import"] = {{"balance_inertia", urdf.balance_inertia}, {"lock_joint", urdf.lock_joints},
                            {"floating_base", urdf.floating_base}};
+  if (const std::optional<StartOffset>& o = plan.scenes[c.scene].start_offset)  // absent without one
+    key["start_offset"] = {{"q", o->q}, {"u", o->u}, {"seed", o->seed}};
   if (plan.ensemble) {  // absent without one: older results stay valid
     const Ensemble& e = *plan.ensemble;
     key["ensemble"] = {{"count", e.count}, {"seed", e.seed}, {"q", e.sigma_q}, {"u", e.sigma_u}};
@@ -176,6 +180,14 @@ json memberJson(const Model& m, int member) {
   return j;
 }
 
+// The model a case runs: the scene's, its start displaced by the plan's
+// start_offset, then the ensemble member's perturbation on top.
+Model caseModel(const Plan& plan, const SweepCase& c, const Scene& scene) {
+  Model m = scene.model;
+  if (const std::optional<StartOffset>& o = plan.scenes[c.scene].start_offset) m = perturbedStart(m, o->q, o->u, o->seed);
+  return plan.ensemble ? ensembleMember(m, *plan.ensemble, c.member) : m;
+}
+
 bool sameEnd(const Trajectory& a, const Trajectory& b) {
   return a.size() == b.size() && a.failure_kind == b.failure_kind && (a.size() == 0 || (a.q.back() == b.q.back() && a.u.back() == b.u.back()));
 }
@@ -208,8 +220,12 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   doc["tables"] = json::array();  // the plan's tables: what plot draws from the merged results (outside the key)
   for (PlanTable t : plan.tables) doc["tables"].push_back(planTableName(t));
   if (plan.ensemble && plan.ensemble->claim) doc["claim"] = {{"t_s", plan.ensemble->claim->t_s}, {"label", plan.ensemble->claim->label}};
-  const Model model = plan.ensemble ? ensembleMember(scene.model, *plan.ensemble, c.member) : scene.model;
+  const Model model = caseModel(plan, c, scene);
   if (plan.ensemble) doc["member"] = memberJson(model, c.member);
+  if (plan.scenes[c.scene].start_offset) {  // the displaced start, by name
+    doc["start"] = memberJson(model, 0);
+    doc["start"].erase("index");
+  }
   const int repeats = c.role == CaseRole::Run ? plan.repeats : 1;
   std::optional<Trajectory> ref;
   if (plan.reference && c.role != CaseRole::Reference) ref = loadReference(plan, c, scene, dir);
@@ -229,6 +245,11 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
     const Lyapunov l = lyapunovExponent(model, lo);
     rec.lyapunov_per_s = l.per_s, rec.lyapunov_uncertainty_per_s = l.uncertainty_per_s;
   }
+  if (c.role == CaseRole::Reference)
+    if (const std::optional<Sensitivity> twin = sensitivityTwin(model, c.spec, first)) {
+      rec.sensitivity_rad = twin->max_pose_rad;
+      rec.sensitivity_failed_at = twin->failed_at;
+    }
   if (c.role == CaseRole::Reference) doc["trajectory"] = trajectoryJson(first);
   if (c.role == CaseRole::Run && plan.hasTable(PlanTable::Trajectories)) writeCsv(first, caseCsv(dir, c));
   doc["result"] = caseRecordJson(rec);

@@ -39,6 +39,9 @@ struct CaseRecord {
   /// Lyapunov prediction starts from). References: their motion's exponent.
   std::optional<double> t0, pose_by_t0;
   std::optional<double> lyapunov_per_s, lyapunov_uncertainty_per_s;
+  /// References: the sensitivity twin's largest pose difference (rad) from a
+  /// start 1e-10 away (compare/sensitivity.hpp), and where the twin stopped if it did.
+  std::optional<double> sensitivity_rad, sensitivity_failed_at;
   /// Free systems (compare/momenta.hpp): the largest relative drift of p - M g t and of H about the CM.
   std::optional<double> momentum_p, momentum_H;
   std::optional<double> joint_separation;    ///< m: a maximal-coordinate engine's constraint violation (ODE)

@@ -90,7 +90,9 @@ json caseRecordJson(const CaseRecord& r) {
           {"t0_s", orNull(r.t0)},
           {"pose_error_by_t0_rad", orNull(r.pose_by_t0)},
           {"lyapunov_per_s", orNull(r.lyapunov_per_s)},
-          {"lyapunov_uncertainty_per_s", orNull(r.lyapunov_uncertainty_per_s)}};
+          {"lyapunov_uncertainty_per_s", orNull(r.lyapunov_uncertainty_per_s)},
+          {"sensitivity_twin_max_pose_rad", orNull(r.sensitivity_rad)},
+          {"sensitivity_twin_failed_at_s", orNull(r.sensitivity_failed_at)}};
   for (size_t i = 0; i < kCaseThresholds.size(); ++i) {
     j[beyondKey("pose", i)] = orNull(r.pose_beyond[i]);
     j[beyondKey("coord", i)] = orNull(r.coord_beyond[i]);
@@ -131,6 +133,8 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.cpu_s = j.at("cpu_s").get<std::vector<double>>();
     r.steps = j.at("steps").get<long>();
     r.rhs_evals = j.at("rhs_evals").get<long>();
+    r.sensitivity_rad = optionalFrom(j.value("sensitivity_twin_max_pose_rad", json()));  // absent: files before the twin
+    r.sensitivity_failed_at = optionalFrom(j.value("sensitivity_twin_failed_at_s", json()));
     if (const json g = j.value("grid_cut_steps", json()); !g.is_null()) r.grid_cut_steps = g.get<long>();  // absent: older files, other schemes
     r.repeats_identical = j.at("repeats_identical").get<bool>();
     r.momentum_p = optionalFrom(j.value("momentum_drift_p", json()));  // absent in files written before the engine study

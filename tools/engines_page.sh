@@ -37,6 +37,23 @@ dampers' power where a scene has dampers); Simbody's its integrator's \`stepTo\`
 read: two per 0.01-s interval, negligible. (Until 2026-12-05 the fixed-step engines were timed per step,
 charging each step ~1.5 us of clock: against them, not, as this page said, in their favour.)
 
+Three things the page says where they hold, so that no route is ranked on a number that is not its own:
+
+- *Ill-conditioned.* Every reference has a sensitivity twin: the same run from a start 1e-10 away in every
+  coordinate and speed (compare/sensitivity.hpp). Where the twin parts from the reference by more than an
+  accuracy, errors of that size are the scene's amplification of round-off, not a method's, and no route is
+  ranked there. (The Allegro hand at rest on q = 0, an unstable equilibrium, amplified a 1e-10 start to π:
+  its start is now displaced, \`start_offset\` q 0.3 rad, seed 2 of the two tried; seed 1 started in a region
+  whose twin parts by 3.7e-2 rad.)
+- *Floor.* \`mujoco-udot\`, \`dart-udot\` and \`bullet-udot\` are the engines' own u′ under the in-house
+  rk4 and rk8pd, the steps and tolerances eigenmass's methods get: they separate better dynamics from a
+  better integrator. An engine whose own u′ under rk8pd never comes within an accuracy cannot reach it with
+  any scheme: its route says *floor* and the smallest error of its u′ (MuJoCo's compiled inertias), not
+  *not reached*.
+- *Tolerances that name one run.* GSL's adaptive steppers end a step at every output time (0.01 s) and have no
+  dense output to sample by; where the steps the controller asks for are longer than that, every tolerance loose
+  enough gives the same run step for step. The page names such tolerances once, by the loosest.
+
 Chaotic numbers carry their conditions: pendulum5 is the paper's five-link pendulum (q0, u0 of
 data/scenes/pendulum5.json), chaotic; over 2 s its reference and check agree to the floor stated below, so
 every error here is the run's, not chaos's. Timings are of one machine, shared: compare ratios within the

@@ -138,6 +138,34 @@ TEST_CASE("compare reports the reference motion's Lyapunov exponent and says it 
   CHECK(j["reference"]["lyapunov_long"].contains("not_measured"));
 }
 
+// Issue 54 item 2: a reference balanced on a knife-edge. The Allegro hand at
+// rest on q = 0 (an unstable equilibrium) keeps its exact zeros in every
+// exact-arithmetic engine, so a check against Simbody cannot see that a
+// 1e-10 nudge parts by O(1) within the horizon. The sensitivity twin does.
+TEST_CASE("compare's reference has a sensitivity twin that calls a knife-edge scene ill-conditioned", "[cli][comparison]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_sensitivity";
+  std::filesystem::remove_all(dir);
+  // pendulum5 over 1 s: chaotic (1.6 /s) but a 1e-10 start stays within ~1e-9 (measured 7.4e-9 rad over 2 s).
+  const Run calm = eigenmass("compare " + scene("pendulum5.json") + " --methods classical --t-end 1 --out " + dir + "/p.json");
+  REQUIRE(calm.status == 0);
+  CHECK_THAT(lineOf(calm.out, "sensitivity twin"), Catch::EndsWith("rad: every threshold is well-conditioned"));
+  std::ifstream pin(dir + "/p.json");
+  const auto p = nlohmann::json::parse(pin)["reference"]["sensitivity_twin"];
+  CHECK(p["sigma"] == 1e-10);
+  CHECK(p["max_pose_rad"].get<double>() < 1e-8);
+  CHECK(p["max_pose_rad"].get<double>() > 1e-11);  // it did move: the twin is not the reference itself
+  CHECK(p["ill_conditioned_at_rad"].empty());
+  // The Allegro hand at q = 0 over 2 s: the twin parts by ~pi (measured 3.14 rad), beyond both thresholds.
+  const Run knife = eigenmass("compare " + em::test::sourcePath("data/robots/allegro_right_hand.urdf") +
+                              " --balance-inertia --methods classical --t-end 2 --out " + dir + "/a.json");
+  REQUIRE(knife.status == 0);
+  CHECK_THAT(lineOf(knife.out, "sensitivity twin"), Catch::Contains("ILL-CONDITIONED at 0.001 rad, 0.1 rad"));
+  std::ifstream ain(dir + "/a.json");
+  const auto a = nlohmann::json::parse(ain)["reference"]["sensitivity_twin"];
+  CHECK(a["max_pose_rad"].get<double>() > 1);
+  CHECK(a["ill_conditioned_at_rad"] == nlohmann::json({1e-3, 1e-1}));
+}
+
 TEST_CASE("compare --lyapunov-long measures the long-run exponent apart from the run's finite-time one", "[cli][comparison][lyapunov]") {
   // Issue 41: pendulum5's 1.43 /s is the 10-s run's. Measured with this option: 1.64 +- 0.19 /s over
   // 30 s, 1.64 +- 0.06 over 300 s (10-s blocks); the ensemble's members' 10-s median is 1.72 (docs/results.md).

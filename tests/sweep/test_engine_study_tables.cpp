@@ -109,6 +109,35 @@ TEST_CASE("an engine whose own dynamics stay beyond an accuracy is said to be at
   CHECK(bare.find("floor") == std::string::npos);
 }
 
+// Issue 54 item 2: the Allegro hand at rest on q = 0 (an unstable
+// equilibrium) amplified a 1e-12 rad nudge to O(1) in 1.3 s, so the engines'
+// pi-sized "errors" there measured round-off. The reference's twin from a
+// start 1e-10 away says where an accuracy is the problem's, not a method's.
+TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-conditioned and no route is ranked there", "[sweep][engine-study]") {
+  useEngines();
+  CaseRecord ref;
+  ref.role = "reference", ref.scene = "s", ref.method = "classical", ref.integrator = "rk8pd";
+  ref.setting_kind = SettingKind::Tolerance, ref.setting = 1e-12, ref.sensitivity_rad = 1e-5;
+  std::vector<CaseRecord> rs = {ref, run("classical", "rk4", 1e-3, 1e-4, 0.1), run("classical", "rk4", 1e-4, 1e-7, 1.0),
+                                run("mujoco", "rk4", 1e-4, 1e-7, 0.5)};
+  std::string md = engineStudyScene(rs, "s", 2, 0.01, 1e-12);
+  CHECK(lineOf(md, "| eigenmass | classical | rk4 |") == "| eigenmass | classical | rk4 | 2 / 2 | dt 0.001 | 5.00e-02 | ill-conditioned | - |");
+  CHECK_THAT(lineOf(md, "**Ill-conditioned at 1.00e-06 rad"), Catch::Contains("parts from it by 1.00e-05 rad") && Catch::Contains("no route is ranked"));
+  CHECK(md.find("**Ill-conditioned at 1.00e-03") == std::string::npos);  // 1e-5 < 1e-3: that column stands
+  CHECK(lineOf(md, "- To 1.00e-06 rad") == "- To 1.00e-06 rad: not judged: ill-conditioned (the reference's sensitivity twin).");
+  CHECK(lineOf(md, "- To 1.00e-03 rad") == "- To 1.00e-03 rad: eigenmass's fastest route is the cheapest of all: goal met.");
+  std::string across = engineStudySummary(rs, {"s"}, 2);
+  CHECK_THAT(across, Catch::Contains("- s: ill-conditioned (the reference's sensitivity twin parts by more): no route ranked"));
+  CHECK(lineOf(across, "\"of N\"") == "\"of N\" counts the scenes where that accuracy is not ill-conditioned: 1 of 1 at 1e-3 rad, 0 of 1 at 1e-6 rad.");
+  // A twin that stopped where the reference did not: ill-conditioned at every accuracy.
+  rs[0].sensitivity_rad = 1e-9, rs[0].sensitivity_failed_at = 1.25;
+  md = engineStudyScene(rs, "s", 2, 0.01, 1e-12);
+  CHECK_THAT(lineOf(md, "**Ill-conditioned at 1.00e-03 rad"), Catch::Contains("stopped at 1.25 s where the reference did not"));
+  // Below both accuracies: nothing said.
+  rs[0].sensitivity_failed_at.reset();
+  CHECK(engineStudyScene(rs, "s", 2, 0.01, 1e-12).find("ll-conditioned") == std::string::npos);
+}
+
 TEST_CASE("a route's owner: an engine, eigenmass for the in-house methods, else the method itself", "[sweep][engine-study]") {
   useEngines();
   CHECK(routeOwner("eigen-block") == "eigenmass");

@@ -317,6 +317,37 @@ TEST_CASE("a plan sweeps robots with their import options: the Allegro hand with
   CHECK_THAT(planError(p), Catch::Contains("scenes[0].balance_inertia: expected true or false"));
   p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"lock_joint", {"nope"}}}};
   CHECK_THAT(planError(p), Catch::Contains("scenes[0]") && Catch::Contains("no joint named 'nope'"));
+  // start_offset (issue 54 item 2): its seed is asked for, its sigmas bounded, loops refused; one line each.
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"q", 0.3}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset.seed: missing"));
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"q", 2}, {"seed", 1}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset.q: 2 beyond 1 rad (m)"));
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"u", 1e3}, {"seed", 1}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset.u: 1000 beyond 100 rad/s (m/s)"));
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"q", 0}, {"seed", 1}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset: q or u must be > 0"));
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"q", 0.1}, {"seed", 1}, {"sed", 1}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset.sed: unknown key"));
+  p["scenes"] = {{{"file", test::sourcePath("data/scenes/mechanisms/andrews.json")}, {"start_offset", {{"q", 0.1}, {"seed", 1}}}}};
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[0].start_offset: the scene has loops"));
+  // Run: every case starts where the file says (the displaced start, by name), and the offset is in the key.
+  p["scenes"] = {{{"file", hand}, {"balance_inertia", true}, {"start_offset", {{"q", 0.3}, {"seed", 2}}}}};
+  const Plan off = loadPlan(writePlan(p, "hand_off.json"));
+  REQUIRE(off.scenes[0].start_offset);
+  CHECK(off.scenes[0].start_offset->seed == 2);
+  const std::string odir = kDir + "/hand_off";
+  fs::remove_all(odir);
+  REQUIRE(shell(eigenmass() + " sweep " + kDir + "/hand_off.json --results " + odir + " -j 1 >/dev/null 2>&1") == 0);
+  std::ifstream oin(odir + "/allegro_right_hand.articulated.rk4.0.001.json");
+  const json o = json::parse(oin);
+  CHECK(o["key"]["start_offset"] == json({{"q", 0.3}, {"u", 0.0}, {"seed", 2}}));
+  double displaced = 0;  // q = 0 in the file; sigma 0.3 rad over 16 joints
+  for (const auto& [name, q] : o["start"]["q0"].items()) displaced = std::max(displaced, std::abs(q.get<double>()));
+  CHECK(displaced > 0.05);
+  std::ifstream rin(odir + "/allegro_right_hand.reference.json");
+  const json ref = json::parse(rin);
+  CHECK(ref["start"] == o["start"]);  // the reference starts there too
+  CHECK(ref["result"]["sensitivity_twin_max_pose_rad"].is_number());
 }
 
 TEST_CASE("a plan names a plugin and a recorded run: their cases equal classical's", "[sweep][cli][outside]") {
