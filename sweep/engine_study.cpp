@@ -84,19 +84,38 @@ std::string dynamicsOwner(const Route& x) {
   return findMethod(x.method, m) && info(m).dynamics_of ? info(m).dynamics_of : x.owner;
 }
 
+// The smallest error of a route's runs (ok, measured), or none.
+std::optional<double> smallestError(const Route& x) {
+  std::optional<double> e;
+  for (const CaseRecord* r : x.runs)
+    if (r->status == Outcome::Ok && r->has_error && std::isfinite(r->max_pose)) e = std::min(e.value_or(INFINITY), r->max_pose);
+  return e;
+}
+
+// Above this many times what the in-house methods reach under the same
+// integrators, an engine's own u' is held back by its model, not by them.
+constexpr double kFloorFactor = 10;
+
 // An engine's floor on this scene: the smallest error of its own u' under the
-// in-house integrators (MethodInfo::dynamics_of) over every run of it: how
-// far its dynamics, integrated as well as the study integrates, lie from the
-// exact motion (MuJoCo's inertias rounded at compile time). None where its u'
-// was not run (or for eigenmass, whose dynamics the reference integrates).
+// in-house integrators (MethodInfo::dynamics_of) over every run of it: how far
+// its dynamics, integrated as well as the study integrates, lie from the exact
+// motion (MuJoCo's inertias rounded at compile time). Only where that exceeds
+// kFloorFactor times the in-house methods' best under the same schemes: else
+// it is those schemes' limit on this scene (a sensitive motion), not the
+// engine's. None where its u' was not run (or for eigenmass itself).
 std::optional<double> dynamicsFloor(const std::vector<Route>& routes, const std::string& engine) {
-  std::optional<double> floor;
+  std::optional<double> floor, inhouse;
+  std::vector<std::string> schemes;
   for (const Route& x : routes) {
     Method m;
     if (!findMethod(x.method, m) || !info(m).dynamics_of || engine != info(m).dynamics_of) continue;
-    for (const CaseRecord* r : x.runs)
-      if (r->status == Outcome::Ok && r->has_error && std::isfinite(r->max_pose)) floor = std::min(floor.value_or(INFINITY), r->max_pose);
+    if (const std::optional<double> e = smallestError(x)) floor = std::min(floor.value_or(INFINITY), *e);
+    schemes.push_back(x.integrator);
   }
+  for (const Route& x : routes)
+    if (x.owner == "eigenmass" && std::find(schemes.begin(), schemes.end(), x.integrator) != schemes.end())
+      if (const std::optional<double> e = smallestError(x)) inhouse = std::min(inhouse.value_or(INFINITY), *e);
+  if (!floor || (inhouse && *floor <= kFloorFactor * *inhouse)) return std::nullopt;
   return floor;
 }
 
