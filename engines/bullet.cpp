@@ -178,8 +178,9 @@ class BulletChain {
   const double* solve();
   // Bullet's mass matrix in its speeds from firstSpeed(), at the state last set (then set again).  // (speeds^2)
   Eigen::MatrixXd massMatrix(const double* q, const double* u);
-  // G and g = G' u: Bullet's speeds from firstSpeed() by rows, ours by columns.
-  void speedMap(const double* q, const double* u, Eigen::MatrixXd& G, Eigen::VectorXd& g) const;
+  // G (u_B = G u at q): Bullet's speeds from firstSpeed() by rows, ours by columns. Its rate G' u
+  // is not needed here: u' comes through ours(), A = G^T M G needs G alone.
+  void speedMap(const double* q, const double* u, Eigen::MatrixXd& G) const;
   // Our u' from Bullet's accelerations `a` (solve()'s layout) at (q, u).  // udot: (nu)
   void ours(const double* q, const double* u, const double* a, double* udot) const;
   void poses(std::vector<Pose>& out) const;
@@ -510,30 +511,27 @@ Eigen::MatrixXd BulletChain::massMatrix(const double* q, const double* u) {
   return Minv.inverse();
 }
 
-void BulletChain::speedMap(const double* q, const double* u, Eigen::MatrixXd& G, Eigen::VectorXd& g) const {
+void BulletChain::speedMap(const double* q, const double* u, Eigen::MatrixXd& G) const {
   const int first = firstSpeed();
   G.setZero(speeds(), m_.nu);
-  g.setZero(speeds());
   for (int i = 0; i < m_.n(); ++i) {
     const Body& b = m_.bodies[i];
     const BulletLink& l = links_[i];
     const int r = l.dof - first;
     const double *qi = q + b.iq, *ui = u + b.iu;
     if (l.link < 0) {  // [w, v_CM] = [w, v + (R c) x w]
-      const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body, w(ui + 3);
+      const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body;
       G.block<3, 3>(r, b.iu + 3) = Mat3::Identity();
       G.block<3, 3>(r + 3, b.iu) = Mat3::Identity();
       G.block<3, 3>(r + 3, b.iu + 3) = skew(Rc);
-      g.segment<3>(r + 3) = w.cross(Rc).cross(w);
       continue;
     }
     for (int k = 0; k < l.scalars; ++k) G(r + k, b.iu + k) = 1;
     if (!l.spherical) continue;
     Mat3 Gi;
-    Vec3 gi;
+    Vec3 gi;  // its rate term: unused here
     sphericalMap(b.joint, l.joint.angle_rates, l.frame.P, qi, ui + l.scalars, Gi, gi);
     G.block<3, 3>(r + l.scalars, b.iu + l.scalars) = Gi;
-    g.segment<3>(r + l.scalars) = gi;
   }
 }
 
@@ -597,8 +595,7 @@ class BulletModel : public EngineModel {
     e.potential = chain_.potential(q.data());
     const Eigen::MatrixXd M = chain_.massMatrix(q.data(), u.data());
     Eigen::MatrixXd G;
-    Eigen::VectorXd g;
-    chain_.speedMap(q.data(), u.data(), G, g);
+    chain_.speedMap(q.data(), u.data(), G);
     e.A = G.transpose() * M * G;
     e.B = e.A * e.udot;
     return e;
