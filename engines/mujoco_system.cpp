@@ -448,8 +448,7 @@ std::vector<CompiledMass> MujocoSystem::compiledMass() {
 
 Eigen::VectorXd MujocoSystem::acceleration() const {
   Eigen::VectorXd a(impl_->mm->nv);
-  for (int i = 0; i < a.size(); ++i) a[i] = impl_->d->qacc[impl_->dof[i]];
-  impl_->toInhouse(a);  // u' = G u_mj' (G' u_mj = w x w = 0)
+  acceleration(a.data());
   return a;
 }
 

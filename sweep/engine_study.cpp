@@ -119,11 +119,25 @@ std::optional<double> dynamicsFloor(const std::vector<Route>& routes, const std:
   return floor;
 }
 
+// Each engine's floor on a scene (dynamicsFloor), measured once, in the routes' order.
+using Floors = std::vector<std::pair<std::string, double>>;
+
+Floors floorsOf(const std::vector<Route>& routes) {
+  Floors out;
+  for (const Route& x : routes) {
+    const std::string engine = dynamicsOwner(x);
+    if (std::any_of(out.begin(), out.end(), [&](const auto& f) { return f.first == engine; })) continue;
+    if (const std::optional<double> floor = dynamicsFloor(routes, engine)) out.emplace_back(engine, *floor);
+  }
+  return out;
+}
+
 // A route that never got within `accuracy`: "floor 6.56e-04 rad" where its
 // engine's own dynamics do not get there under any integrator, else "not reached".
-std::string notReached(const std::vector<Route>& routes, const Route& x, double accuracy) {
-  const std::optional<double> floor = dynamicsFloor(routes, dynamicsOwner(x));
-  return floor && *floor > accuracy ? "floor " + sci(*floor) + " rad" : "not reached";
+std::string notReached(const Floors& floors, const Route& x, double accuracy) {
+  const std::string engine = dynamicsOwner(x);
+  const auto f = std::find_if(floors.begin(), floors.end(), [&](const auto& e) { return e.first == engine; });
+  return f != floors.end() && f->second > accuracy ? "floor " + sci(f->second) + " rad" : "not reached";
 }
 
 std::string settingText(const CaseRecord& r) { return (r.setting_kind == SettingKind::Dt ? "dt " : "tol ") + gnum(r.setting); }
@@ -195,15 +209,11 @@ std::string gridBoundLines(const std::vector<Route>& routes, double output_dt) {
 }
 
 // Under the route table, where a floor was said: what it is.
-std::string floorLines(const std::vector<Route>& routes) {
+std::string floorLines(const Floors& floors) {
   std::ostringstream o;
-  std::vector<std::string> said;
-  for (const Route& x : routes) {
-    const std::string engine = dynamicsOwner(x);
-    const std::optional<double> floor = dynamicsFloor(routes, engine);
-    if (!floor || *floor <= kAccuracies[1] || std::find(said.begin(), said.end(), engine) != said.end()) continue;
-    said.push_back(engine);
-    o << "- " << engine << ": floor " << sci(*floor) << " rad, the smallest error of its own u' under the in-house "
+  for (const auto& [engine, floor] : floors) {
+    if (floor <= kAccuracies[1]) continue;
+    o << "- " << engine << ": floor " << sci(floor) << " rad, the smallest error of its own u' under the in-house "
       << "integrators here. No scheme of it gets below that: the difference is its dynamics' (its model of the scene), "
       << "not its integrator's.\n";
   }
@@ -211,7 +221,7 @@ std::string floorLines(const std::vector<Route>& routes) {
   return lines.empty() ? "" : "Floors (an engine's model, not its integrator, bounds its accuracy):\n\n" + lines + "\n";
 }
 
-std::string routeTable(const std::vector<Route>& routes, double t_end, const Conditioning& c) {
+std::string routeTable(const std::vector<Route>& routes, double t_end, const Conditioning& c, const Floors& floors) {
   std::ostringstream o;
   o << "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s | cheapest within 1e-6 rad | CPU s / s |\n"
     << "|---|---|---|---|---|---|---|---|\n";
@@ -222,7 +232,7 @@ std::string routeTable(const std::vector<Route>& routes, double t_end, const Con
     for (int k = 0; k < 2; ++k) {
       const double a = kAccuracies[k];
       const CaseRecord* r = x.cheapest(a, t_end);
-      o << " " << (c.ill[k] ? kIll : r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : notReached(routes, x, a) + " | -") << " |";
+      o << " " << (c.ill[k] ? kIll : r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : notReached(floors, x, a) + " | -") << " |";
     }
     o << "\n";
   }
@@ -335,6 +345,7 @@ std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::strin
   const std::vector<Route> routes = routesOf(rs, scene);
   const auto by_owner = fastestByOwner(routes, t_end);
   const Conditioning cond = conditioningOf(rs, scene);
+  const Floors floors = floorsOf(routes);
   std::ostringstream o;
   for (int a = 0; a < 2; ++a)
     if (cond.ill[a])
@@ -349,8 +360,8 @@ std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::strin
       o << "**The reference and its check differ by " << sci(floor) << " rad, more than a tenth of " << sci(a)
         << " rad: on this scene the " << sci(a) << " columns are not resolved (an error below the floor is the "
         << "reference's as much as the run's).**\n\n";
-  o << "#### Each route's cheapest run within 1e-3 and 1e-6 rad over the horizon\n\n" << routeTable(routes, t_end, cond)
-    << gridBoundLines(routes, output_dt) << floorLines(routes);
+  o << "#### Each route's cheapest run within 1e-3 and 1e-6 rad over the horizon\n\n" << routeTable(routes, t_end, cond, floors)
+    << gridBoundLines(routes, output_dt) << floorLines(floors);
   o << "#### Each owner's fastest route\n\n| owner | fastest within 1e-3 rad | CPU s / s | fastest within 1e-6 rad | CPU s / s |\n"
     << "|---|---|---|---|---|\n";
   for (const auto& [owner, f] : by_owner)
