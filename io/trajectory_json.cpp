@@ -35,6 +35,37 @@ std::vector<Pose> posesFrom(const json& j) {
   return out;
 }
 
+// LoopStats whole (a run in a child process carries how it kept its loops
+// closed back to the parent); null for a run without loops.
+json loopStatsJson(const Trajectory& tr) {
+  if (!tr.has_loops) return nullptr;
+  const LoopStats& l = tr.loops;
+  return {{"position_m", l.position_m},           {"position_rad", l.position_rad},
+          {"velocity_m", l.velocity_m},           {"velocity_rad", l.velocity_rad},
+          {"rank_min", l.rank_min},               {"rank_max", l.rank_max},
+          {"projections", l.projections},         {"projection_iterations", l.projection_iterations},
+          {"projections_unconverged", l.projections_unconverged},
+          {"newton_solves", l.newton_solves},     {"newton_iterations", l.newton_iterations},
+          {"newton_unconverged", l.newton_unconverged},
+          {"repartitions", l.repartitions},       {"repartition_times", l.repartition_times}};
+}
+
+void loopStatsFrom(const json& j, Trajectory& tr) {
+  tr.has_loops = !j.is_null();
+  if (!tr.has_loops) return;
+  LoopStats& l = tr.loops;
+  l.position_m = j.at("position_m").get<double>(), l.position_rad = j.at("position_rad").get<double>();
+  l.velocity_m = j.at("velocity_m").get<double>(), l.velocity_rad = j.at("velocity_rad").get<double>();
+  l.rank_min = j.at("rank_min").get<int>(), l.rank_max = j.at("rank_max").get<int>();
+  l.projections = j.at("projections").get<long>(), l.projection_iterations = j.at("projection_iterations").get<long>();
+  l.projections_unconverged = j.at("projections_unconverged").get<long>();
+  l.newton_solves = j.at("newton_solves").get<long>(), l.newton_iterations = j.at("newton_iterations").get<long>();
+  l.newton_unconverged = j.at("newton_unconverged").get<long>();
+  l.repartitions = j.at("repartitions").get<long>();
+  l.repartition_times = j.at("repartition_times").get<std::vector<double>>();
+  if (l.repartition_times.size() > kRepartitionTimesKept) throw std::out_of_range("loops: more repartition times than are kept");
+}
+
 }  // namespace
 
 json trajectoryJson(const Trajectory& tr) {
@@ -52,7 +83,7 @@ json trajectoryJson(const Trajectory& tr) {
           {"failure", tr.failure},       {"failure_kind", failureName(tr.failure_kind)},
           {"failure_time", tr.failure_time}, {"run_time_s", tr.run_time_s},
           {"steps", tr.steps},           {"rhs_evals", tr.rhs_evals}, {"step_retries", tr.step_retries},
-          {"grid_cut_steps", tr.grid_cut_steps}};
+          {"grid_cut_steps", tr.grid_cut_steps}, {"loops", loopStatsJson(tr)}};
 }
 
 Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::string& source) {
@@ -81,6 +112,7 @@ Trajectory trajectoryFromJson(const json& j, const RunSpec& run, const std::stri
     tr.rhs_evals = j.at("rhs_evals").get<long>();
     tr.step_retries = j.at("step_retries").get<long>();
     tr.grid_cut_steps = j.value("grid_cut_steps", 0L);  // absent in trajectories written before it was counted
+    loopStatsFrom(j.value("loops", json(nullptr)), tr);  // absent (a tree) in trajectories written before mechanisms ran outside
     const std::string kind = j.at("failure_kind").get<std::string>();
     for (const FailureInfo& f : failureTable())
       if (kind == f.name) tr.failure_kind = f.id;

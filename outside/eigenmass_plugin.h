@@ -8,7 +8,7 @@
  *   int   em_plugin_abi(void);                       returns EM_PLUGIN_ABI
  *   void* em_plugin_create(const em_model*, char* err, size_t err_size);
  *   int   em_plugin_udot(void*, double t, const double* q, const double* u,
- *                        double* udot, char* err, size_t err_size);
+ *                        const double* tau, double* udot, char* err, size_t err_size);
  *   void  em_plugin_destroy(void*);
  *
  * create returns the plugin's own state for one model, or NULL with a one-line
@@ -18,10 +18,22 @@
  * one run. create is called once per child: once for the probe at the initial
  * state (before any run), once per run, and once per crosscheck of the plugin;
  * each child's destroy ends its state. Nothing a plugin keeps in globals
- * carries from one run to the next. udot writes u' (nu
+ * carries from one run to the next. udot writes u' = A^-1 (B + tau) (nu
  * numbers) at (t, q, u) and returns 0, or returns nonzero with a message in
  * err: the run then fails at t with that cause. Everything eigenmass passes is
  * valid only during the call; copy what you keep.
+ *
+ * tau (nu numbers, never NULL) is a generalized force added to the tree's
+ * right-hand side B (gravity, the joints' springs and dampers, the velocity
+ * terms). On a tree it is zero. On a mechanism (a scene with loops, point
+ * spring-dampers or joint drives: em_model's n_loops, n_point_springs,
+ * n_drives) the plugin still computes the tree's u' and nothing else:
+ * eigenmass puts the drives' torques and the point springs' J^T f into tau,
+ * and closes the loops around the plugin (docs/theory.md eq. (M7)), taking
+ * A^-1 G^T from the plugin's own u' by its linearity in tau: one more call
+ * per closure row, at the same (t, q, u), with tau plus a scaled row of G.
+ * So u' must be linear in tau (it is, for any u' = A^-1 (B + tau)), and a
+ * plugin that ignores tau is wrong on every mechanism (a test catches it).
  *
  * Sizes and orders: bodies come parents first (parent < index), and q, u and
  * u' are in that order, each body's joint coordinates at q[iq .. iq+nq) and
@@ -54,7 +66,9 @@
 extern "C" {
 #endif
 
-#define EM_PLUGIN_ABI 1
+/* 2: em_plugin_udot takes tau; em_model counts the mechanism's loops, point
+   springs and drives. 1: a tree's u' only (refused now). */
+#define EM_PLUGIN_ABI 2
 
 /* Joint kinds (the values are eigenmass's JointType order). */
 enum em_joint_kind { EM_REVOLUTE = 0, EM_UNIVERSAL = 1, EM_GIMBAL = 2, EM_BALL = 3, EM_PRISMATIC = 4, EM_FREE = 5 };
@@ -89,12 +103,17 @@ typedef struct em_model {
   int n_bodies, nq, nu;
   double gravity[3];      /* world frame, m/s^2 */
   const em_body* bodies;  /* n_bodies, parents first */
-  const char* scene_json; /* the same model as an eigenmass-scene/1 file, bodies in this order (docs/scene-format.md) */
+  const char* scene_json; /* the tree as an eigenmass-scene/1 file, bodies in this order (docs/scene-format.md); no loops, point springs or drives in it */
+  /* What makes the scene a mechanism, for the plugin's information only: its
+     closures, point spring-dampers and driven joints. eigenmass handles all
+     three (through tau and its own constraint formulation); 0 on a tree. */
+  int n_loops, n_point_springs, n_drives;
 } em_model;
 
 int em_plugin_abi(void);
 void* em_plugin_create(const em_model* model, char* err, size_t err_size);
-int em_plugin_udot(void* self, double t, const double* q, const double* u, double* udot, char* err, size_t err_size);
+int em_plugin_udot(void* self, double t, const double* q, const double* u, const double* tau, double* udot, char* err,
+                   size_t err_size);
 void em_plugin_destroy(void* self);
 
 #ifdef __cplusplus

@@ -16,6 +16,7 @@
 #include "outside/isolate.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
+#include "solver/mechanism.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -24,7 +25,7 @@ namespace {
 
 using AbiFn = int (*)();
 using CreateFn = void* (*)(const em_model*, char*, size_t);
-using UdotFn = int (*)(void*, double, const double*, const double*, double*, char*, size_t);
+using UdotFn = int (*)(void*, double, const double*, const double*, const double*, double*, char*, size_t);
 using DestroyFn = void (*)(void*);
 
 // One loaded library (a row's `make` finds it by the row's id).
@@ -56,8 +57,10 @@ class AbiModel {
   explicit AbiModel(const Model& m) : name_(m.name), json_(sceneJson(specOf(m))) {
     bodies_.reserve(m.bodies.size());
     for (const Body& b : m.bodies) bodies_.push_back(bodyOf(b));
+    int drives = 0;
+    for (const Body& b : m.bodies) drives += b.joint.torque.size() > 0;
     model_ = {EM_PLUGIN_ABI, name_.c_str(), m.n(), m.nq, m.nu, {m.gravity.x(), m.gravity.y(), m.gravity.z()},
-              bodies_.data(), json_.c_str()};
+              bodies_.data(), json_.c_str(), static_cast<int>(m.loops.size()), static_cast<int>(m.point_springs.size()), drives};
   }
   AbiModel(const AbiModel&) = delete;
   AbiModel& operator=(const AbiModel&) = delete;
@@ -104,32 +107,95 @@ std::string said(const char* err, size_t size) {
   return s.empty() ? "(no message)" : printable(s, 200);  // its bytes escaped: a newline or ESC stays on our one line
 }
 
-// A plugin's method on one model: u' from (t, q, u) alone.
+// A plugin's method on one model: the tree's u' from (t, q, u) and tau. On a
+// mechanism tau carries the drives' and point springs' generalized forces,
+// and A^-1 X (the multipliers' A^-1 G^T) comes from the same plugin by its
+// linearity in tau (eigenmass_plugin.h): the loops are closed around its u'.
 class PluginMethod final : public MethodImpl {
  public:
-  PluginMethod(const Model& m, const PluginLib& lib) : lib_(lib), abi_(m) {
+  PluginMethod(const Model& m, const PluginLib& lib)
+      : lib_(lib), abi_(m), m_(m), tau_(Eigen::VectorXd::Zero(m.nu)), tau_x_(m.nu), base_(m.nu), col_(m.nu),
+        q_(m.nq), u_(m.nu), diag_(m.nu), inv_(m.isMechanism() ? m.nu : 0, m.isMechanism() ? m.nu : 0), eye_(inv_.rows(), inv_.cols()),
+        llt_(inv_.rows()) {
+    eye_.setIdentity();
     char err[512] = "";
     self_ = lib.create(abi_.get(), err, sizeof err);
     if (!self_) throw std::runtime_error("em_plugin_create returned NULL: " + said(err, sizeof err));
   }
   ~PluginMethod() override { lib_.destroy(self_); }
+  // A tree's u' needs nothing formed; a mechanism's tau needs the kinematics
+  // (Dynamics forms them, and A, for a mechanism whatever the method says).
   bool needsEquations() const override { return false; }
-  bool needsKinematics() const override { return false; }
+  bool needsKinematics() const override { return m_.isMechanism(); }
   bool needsA() const override { return false; }
 
-  Status rates(double t, const double* q, const double* u, const Workspace&, const double*, double* udot, double*,
+  Status rates(double t, const double* q, const double* u, const Workspace& ws, const double*, double* udot, double*,
                EvalInfo&) override {
     isolatedBeat(t);
-    char err[512] = "";
-    if (lib_.udot(self_, t, q, u, udot, err, sizeof err) != 0)
-      return Status::failure(t, Failure::Plugin, "plugin '" + lib_.name + "': " + said(err, sizeof err));
+    if (m_.isMechanism()) {
+      tau_.setZero();
+      addMechanismForces(m_, ws, tau_);
+    }
+    if (!call(t, q, u, tau_.data(), udot)) return Status::failure(t, Failure::Plugin, failure_);
+    if (!m_.loops.empty()) {  // where solveWithA differentiates
+      t_ = t;
+      q_ = Eigen::Map<const Eigen::VectorXd>(q, m_.nq);
+      u_ = Eigen::Map<const Eigen::VectorXd>(u, m_.nu);
+      base_ = Eigen::Map<const Eigen::VectorXd>(udot, m_.nu);
+      diag_ = ws.A.diagonal();  // formed: Dynamics forms A where loops are
+    }
     return {};
   }
 
+  // out = A^-1 X column by column: u'(tau + s x) - u'(tau) = s A^-1 x, at the
+  // state of the last rates(). s is a power of two (an exact division) that
+  // makes s A^-1 x about as large as u' itself, so the difference keeps its
+  // digits; the size of A^-1 x is judged from the diagonal of the A that
+  // Dynamics formed (only the scale, never the value, comes from it).
+  bool solveWithA(const double*, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) override {
+    failure_.clear();
+    const double size = std::max(base_.cwiseAbs().maxCoeff(), 1.0);
+    for (Eigen::Index j = 0; j < X.cols(); ++j) {
+      double guess = 0;
+      for (Eigen::Index i = 0; i < X.rows(); ++i) guess = std::max(guess, std::abs(X(i, j)) / diag_(i));
+      const double s = guess > 0 && std::isfinite(guess) ? std::exp2(std::round(std::log2(size / guess))) : 1.0;
+      tau_x_ = tau_ + s * X.col(j);
+      if (!call(t_, q_.data(), u_.data(), tau_x_.data(), col_.data())) {
+        out.setConstant(std::numeric_limits<double>::quiet_NaN());
+        return true;
+      }
+      out.col(j) = (col_ - base_) / s;
+    }
+    return true;
+  }
+  // M = L, L L^T = A^-1 (A^-1 from the plugin as above, symmetrized).
+  bool inverseSquareRoot(const double* x, Eigen::MatrixXd& M) override {
+    solveWithA(x, eye_, inv_);
+    inv_ = 0.5 * (inv_ + inv_.transpose()).eval();
+    llt_.compute(inv_);
+    if (llt_.info() != Eigen::Success) M.setConstant(std::numeric_limits<double>::quiet_NaN());
+    else M = llt_.matrixL();
+    return true;
+  }
+  std::string solveFailure() const override { return failure_; }
+
  private:
+  bool call(double t, const double* q, const double* u, const double* tau, double* udot) {
+    char err[512] = "";
+    if (lib_.udot(self_, t, q, u, tau, udot, err, sizeof err) == 0) return true;
+    failure_ = "plugin '" + lib_.name + "': " + said(err, sizeof err);
+    return false;
+  }
+
   const PluginLib& lib_;
   AbiModel abi_;
+  const Model& m_;
   void* self_ = nullptr;
+  Eigen::VectorXd tau_, tau_x_, base_, col_, q_, u_, diag_;  // declared in the initializers' order
+  Eigen::MatrixXd inv_, eye_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  double t_ = 0;
+  std::string failure_;
 };
 
 std::unique_ptr<MethodImpl> makePluginMethod(const Model& m, const MethodInfo& row, const MethodOptions&) {
@@ -194,7 +260,7 @@ Method addPlugin(const std::string& name, const std::string& path) {
   added.make = makePluginMethod;
   added.summary = row.summary.c_str();
   added.isolated = true;
-  added.tree_only = true;  // the ABI's model is a tree's (loops, point springs, drives: not in it)
+  // Not tree_only: on a mechanism the formulation closes the loops around its u' (PluginMethod).
   row.id = addMethod(added);
   return row.id;
 }
@@ -226,14 +292,36 @@ std::string failureAt(const Isolated& r, const std::string& where) {
 
 }  // namespace
 
+namespace {
+
+// The plugin's u' at (q, u) at t = 0, and on a mechanism the constrained one:
+// the loops closed around it with no stabilization (eq. (M7)), as compare's
+// crosscheck takes the in-house u'.
+Status constrainedRates(const Model& m, PluginMethod& f, const Eigen::VectorXd& q, const Eigen::VectorXd& u, Eigen::VectorXd& udot) {
+  Workspace ws(m);
+  if (m.isMechanism()) formEquations(m, q.data(), u.data(), ws);
+  EvalInfo info;
+  const Status s = f.rates(0, q.data(), u.data(), ws, nullptr, udot.data(), nullptr, info);
+  if (!s || m.loops.empty()) return s;
+  LoopState ls(m);
+  formLoops(m, ws, u.data(), ls);
+  Eigen::MatrixXd AinvGt(m.nu, m.loop_rows);
+  f.solveWithA(nullptr, ls.G.transpose(), AinvGt);
+  if (!AinvGt.allFinite())
+    return Status::failure(0, Failure::Plugin, f.solveFailure().empty() ? "A^-1 G^T from the plugin's u' is not finite" : f.solveFailure());
+  ConstrainedSolve(m).solve(ls, AinvGt, 0.0, 0.0, udot);
+  return s;
+}
+
+}  // namespace
+
 void probePlugin(Method method, const Model& m) {
   const PluginLib* lib = findLib(method);
   if (!lib) throw std::logic_error("probePlugin: not a plugin");
   const Isolated r = runIsolated([&]() -> std::string {
     PluginMethod f(m, *lib);
     Eigen::VectorXd q = m.q0(), u = m.u0(), udot = Eigen::VectorXd::Zero(m.nu);
-    EvalInfo info;
-    const Status s = f.rates(0, q.data(), u.data(), Workspace(m), nullptr, udot.data(), nullptr, info);
+    const Status s = constrainedRates(m, f, q, u, udot);
     if (!s) throw std::runtime_error("em_plugin_udot returned an error at the initial state: " + s.cause);
     if (!udot.allFinite()) throw std::runtime_error("u' at the initial state is not finite (NaN or Inf)");
     return "";
@@ -277,12 +365,10 @@ std::vector<Eigen::VectorXd> pluginUdots(Method method, const Model& m, const st
   if (!lib) throw std::logic_error("pluginUdots: not a plugin");
   const Isolated r = runIsolated([&] {
     PluginMethod f(m, *lib);
-    const Workspace ws(m);
     nlohmann::json out = nlohmann::json::array();
     Eigen::VectorXd udot(m.nu);
     for (size_t k = 0; k < q.size(); ++k) {
-      EvalInfo info;
-      const Status s = f.rates(0, q[k].data(), u[k].data(), ws, nullptr, udot.data(), nullptr, info);
+      const Status s = constrainedRates(m, f, q[k], u[k], udot);
       if (!s) throw std::runtime_error("em_plugin_udot returned an error at state " + std::to_string(k) + ": " + s.cause);
       out.push_back(std::vector<double>(udot.data(), udot.data() + m.nu));
     }

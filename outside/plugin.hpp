@@ -50,7 +50,8 @@ nlohmann::json pluginSource(Method method);
 Trajectory simulateIsolated(const Model& m, const CheckedRunSpec& spec, const SampleObserver& observe);
 
 /// The plugin's u' at states (internal order), evaluated in a child process
-/// (crosscheck). Throws std::runtime_error naming the file when it fails.  // q: (nq), u, udot: (nu) each
+/// (crosscheck); on a mechanism the constrained u', the loops closed around
+/// the plugin's tree u' with its own A^-1 G^T (eigenmass_plugin.h). Throws std::runtime_error naming the file when it fails.  // q: (nq), u, udot: (nu) each
 std::vector<Eigen::VectorXd> pluginUdots(Method method, const Model& m, const std::vector<Eigen::VectorXd>& q,
                                          const std::vector<Eigen::VectorXd>& u);
 

@@ -124,6 +124,12 @@ const Eigen::MatrixXd& Dynamics::inverseSquareRoot(const double* x) {
   return M_;
 }
 
+// A non-finite A^-1 G^T or A^(-1/2): the method's own cause where it has one (a plugin's error).
+Status Dynamics::solveFailed(double t, const char* otherwise) const {
+  const std::string why = f_->solveFailure();
+  return why.empty() ? Status::failure(t, Failure::NotPositiveDefinite, otherwise) : Status::failure(t, Failure::Plugin, why);
+}
+
 // u' = a + A^-1 G^T lambda (docs/theory.md eq. (M7)), a the tree's u' in udot;
 // or Udwadia-Kalaba's u' = a + M (G M)^+ (b - G a) (eq. (M11)).
 Status Dynamics::closeLoops(double t, const double* y, double* udot) {
@@ -133,11 +139,11 @@ Status Dynamics::closeLoops(double t, const double* y, double* udot) {
   int rank = 0;
   if (lo.formulation == Formulation::UdwadiaKalaba) {
     const Eigen::MatrixXd& M = inverseSquareRoot(y + offsetExtra());
-    if (!M.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^(-1/2) not finite (A not positive definite)");
+    if (!M.allFinite()) return solveFailed(t, "A^(-1/2) not finite (A not positive definite)");
     rank = solve_.solveUdwadiaKalaba(loops_, M, lo.alpha, lo.beta, a);
   } else {
     const Eigen::MatrixXd& AinvGt = inverseATimesGt(y + offsetExtra());
-    if (!AinvGt.allFinite()) return Status::failure(t, Failure::NotPositiveDefinite, "A^-1 G^T not finite (A not positive definite)");
+    if (!AinvGt.allFinite()) return solveFailed(t, "A^-1 G^T not finite (A not positive definite)");
     rank = solve_.solve(loops_, AinvGt, lo.alpha, lo.beta, a);
   }
   loop_stats_.rank_min = loop_stats_.rank_min < 0 ? rank : std::min(loop_stats_.rank_min, rank);

@@ -59,6 +59,7 @@ class Dynamics {
 
  private:
   Status closeLoops(double t, const double* y, double* udot);
+  Status solveFailed(double t, const char* otherwise) const;
   Status projectOntoLoops(double t, double* y);
   // Coordinate partitioning: y's dependent coordinates from its independent ones
   // (eq. (M12)), counted; `accepted`: after a step, where the partition may change.

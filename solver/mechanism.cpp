@@ -227,6 +227,10 @@ SpringLine springLine(const Workspace& ws, const PointSpring& s) {
 
 void addAppliedForces(const Model& m, const Workspace& ws, const double* q, const double* u, Eigen::VectorXd& Q) {
   if (m.has_springs) addSpringForces(m, q, u, Q);
+  addMechanismForces(m, ws, Q);
+}
+
+void addMechanismForces(const Model& m, const Workspace& ws, Eigen::VectorXd& Q) {
   if (m.has_drives)
     for (const Body& b : m.bodies)
       if (b.joint.torque.size()) Q.segment(b.iu, b.nu()) += b.joint.torque;

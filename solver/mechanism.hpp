@@ -71,6 +71,9 @@ void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& 
 /// Q += the joint springs', the drives' and the point spring-dampers'
 /// generalized forces (theory.md eq. (M5)).  // q: (nq), u, Q: (nu)
 void addAppliedForces(const Model& m, const Workspace& ws, const double* q, const double* u, Eigen::VectorXd& Q);
+/// Q += the drives' and the point spring-dampers' generalized forces alone
+/// (what a tree's u' from outside lacks: a plugin's tau).  // Q: (nu)
+void addMechanismForces(const Model& m, const Workspace& ws, Eigen::VectorXd& Q);
 /// The force on a's point of point spring-damper `s` whose points are at pa
 /// and pb, moving at va and vb (world): tension k (l - length) + c l' along
 /// the line from a's point to b's; -f acts on b's; zero where the points

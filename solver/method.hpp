@@ -67,6 +67,9 @@ class MethodImpl {
   /// eigenfactor methods: C^T Lambda^(-1/2)), for Udwadia-Kalaba's constrained
   /// acceleration; false: Dynamics factors A itself.  // M: (nu x nu)
   virtual bool inverseSquareRoot(const double* /*x*/, Eigen::MatrixXd& /*M*/) { return false; }
+  /// Why the last solveWithA or inverseSquareRoot gave a non-finite result,
+  /// where the method knows more than "not finite" (a plugin's own message); "" otherwise.
+  virtual std::string solveFailure() const { return ""; }
   /// Whether afterStep changes the state (the integrator must then restart).
   virtual bool correctsAfterStep() const { return false; }
   /// Whether afterStep needs A formed at the accepted state.

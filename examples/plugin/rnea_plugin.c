@@ -7,7 +7,8 @@
  *
  *   bias  = RNEA(q, u, u' = 0, gravity)          (Coriolis, centrifugal, gravity)
  *   M e_k = RNEA(q, 0, u' = e_k, no gravity)     (column k of the mass matrix)
- *   M u'  = Q - bias,  Q = -k (q - rest) - c u   (the joints' springs)
+ *   M u'  = Q - bias + tau,  Q = -k (q - rest) - c u   (the joints' springs;
+ *           tau: what eigenmass adds on a mechanism, its drives and point springs)
  *
  * O(n^2) RNEA passes and an O(n^3) solve: written for clarity, not speed.
  * Build: cc -O2 -shared -fPIC -I<eigenmass>/outside rnea_plugin.c -o librnea.so -lm
@@ -203,7 +204,8 @@ void* em_plugin_create(const em_model* m, char* err, size_t err_size) {
   return s;
 }
 
-int em_plugin_udot(void* self, double t, const double* q, const double* u, double* udot, char* err, size_t err_size) {
+int em_plugin_udot(void* self, double t, const double* q, const double* u, const double* tau, double* udot, char* err,
+                   size_t err_size) {
   (void)t;
   rnea* s = self;
   const int n = s->n;
@@ -220,7 +222,7 @@ int em_plugin_udot(void* self, double t, const double* q, const double* u, doubl
     newtonEuler(s, zero_u, udot, nog, col);
     for (int i = 0; i < n; ++i) s->M[n * i + k] = col[i];
   }
-  for (int i = 0; i < n; ++i) udot[i] = -s->k[i] * (q[i] - s->rest[i]) - s->damp[i] * u[i] - s->bias[i];
+  for (int i = 0; i < n; ++i) udot[i] = tau[i] - s->k[i] * (q[i] - s->rest[i]) - s->damp[i] * u[i] - s->bias[i];
   if (!cholesky(n, s->M, s->L, udot)) {
     snprintf(err, err_size, "rnea example: the mass matrix is not positive definite");
     return 1;

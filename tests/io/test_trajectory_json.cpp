@@ -37,3 +37,22 @@ TEST_CASE("a JSON that is not a trajectory is refused naming its source", "[traj
   j.erase("t");
   CHECK_THROWS_WITH(trajectoryFromJson(j, RunSpec(), "ref.json"), Catch::Contains("ref.json: not a trajectory"));
 }
+
+TEST_CASE("a mechanism's run round-trips how it kept its loops closed", "[trajectory][mechanism]") {
+  // A plugin's run comes back from its child process this way: without the
+  // loop statistics its report had no violation (found when plugins first ran mechanisms).
+  const Model m = test::loadData("mechanisms/iftomm_a04.json");
+  const RunSpec spec = test::runSpec(Method::Classical, Integrator::RK4, 0.1, 1e-3);
+  const Trajectory t = simulate(m, checked(spec));
+  REQUIRE(t.has_loops);
+  REQUIRE(t.loops.projections > 0);
+  const Trajectory back = trajectoryFromJson(nlohmann::json::parse(trajectoryJson(t).dump()), spec, "test");
+  CHECK(back.has_loops);
+  CHECK(back.loops.position_m == t.loops.position_m);
+  CHECK(back.loops.velocity_rad == t.loops.velocity_rad);
+  CHECK(back.loops.rank_min == t.loops.rank_min);
+  CHECK(back.loops.projections == t.loops.projections);
+  CHECK(back.loops.projection_iterations == t.loops.projection_iterations);
+  const Trajectory tree = trajectoryFromJson(trajectoryJson(simulate(test::loadData("pendulum5.json"), checked(spec))), spec, "test");
+  CHECK_FALSE(tree.has_loops);
+}

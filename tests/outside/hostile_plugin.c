@@ -1,6 +1,6 @@
 /* hostile_plugin.c: plugins that misbehave, one way each (HOSTILE_* picks it),
  * for tests/outside/test_plugin.cpp and the CLI's hostile cases. Well-behaved
- * until they misbehave: u' = -q (each coordinate a unit oscillator). */
+ * until they misbehave: u' = -q + tau (each coordinate a unit oscillator). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,7 +34,8 @@ void* em_plugin_create(const em_model* m, char* err, size_t err_size) {
 }
 
 #ifndef HOSTILE_NOSYM
-int em_plugin_udot(void* self, double t, const double* q, const double* u, double* udot, char* err, size_t err_size) {
+int em_plugin_udot(void* self, double t, const double* q, const double* u, const double* tau, double* udot, char* err,
+                   size_t err_size) {
   const self_t* s = self;
   (void)u, (void)err, (void)err_size;
   const double when = 0.0
@@ -55,9 +56,17 @@ int em_plugin_udot(void* self, double t, const double* q, const double* u, doubl
 #elif defined(HOSTILE_ERROR)
     snprintf(err, err_size, "the plugin gave up at t = %g", t);
     return 7;
+#elif defined(HOSTILE_TAU)
+    /* Fails only where tau is not zero: on a mechanism without drives or
+       point springs, in the multipliers' extra calls alone. */
+    for (int i = 0; i < s->nu; ++i)
+      if (tau[i] != 0) {
+        snprintf(err, err_size, "no tau wanted (t = %g)", t);
+        return 3;
+      }
 #endif
   }
-  for (int i = 0; i < s->nu; ++i) udot[i] = -q[i];
+  for (int i = 0; i < s->nu; ++i) udot[i] = -q[i] + tau[i];
   return 0;
 }
 #endif
