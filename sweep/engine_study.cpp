@@ -221,10 +221,24 @@ std::string floorLines(const Floors& floors) {
   return lines.empty() ? "" : "Floors (an engine's model, not its integrator, bounds its accuracy):\n\n" + lines + "\n";
 }
 
+bool anyOf(const std::vector<Route>& routes, std::optional<double> CaseRecord::*field) {
+  for (const Route& x : routes)
+    for (const CaseRecord* r : x.runs)
+      if (r->*field) return true;
+  return false;
+}
+
+// A mechanism's run: how far its loops stood open at its samples, by eigenmass's g(q) (m, rad).
+std::string loopsCell(const CaseRecord& r) {
+  return r.loop_position_m ? sci(*r.loop_position_m) + ", " + sci(r.loop_position_rad.value_or(0)) : std::string("-");
+}
+
 std::string routeTable(const std::vector<Route>& routes, double t_end, const Conditioning& c, const Floors& floors) {
+  const bool loops = anyOf(routes, &CaseRecord::loop_position_m);  // a mechanism: the violation of each cheapest run
+  const std::string open = loops ? " loops open (m, rad) |" : "";
   std::ostringstream o;
-  o << "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s | cheapest within 1e-6 rad | CPU s / s |\n"
-    << "|---|---|---|---|---|---|---|---|\n";
+  o << "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s |" << open
+    << " cheapest within 1e-6 rad | CPU s / s |" << open << "\n|---|---|---|---|---|---|---|---|" << (loops ? "---|---|" : "") << "\n";
   for (const Route& x : routes) {
     int ok = 0;
     for (const CaseRecord* r : x.runs) ok += r->status == Outcome::Ok;
@@ -233,6 +247,7 @@ std::string routeTable(const std::vector<Route>& routes, double t_end, const Con
       const double a = kAccuracies[k];
       const CaseRecord* r = x.cheapest(a, t_end);
       o << " " << (c.ill[k] ? kIll : r ? settingText(*r) + " | " + sci(perSimulatedSecond(*r, t_end)) : notReached(floors, x, a) + " | -") << " |";
+      if (loops) o << " " << (r && !c.ill[k] ? loopsCell(*r) : std::string("-")) << " |";
     }
     o << "\n";
   }
@@ -261,20 +276,14 @@ std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_own
   return o.str() + "\n";
 }
 
-bool anyOf(const std::vector<Route>& routes, std::optional<double> CaseRecord::*field) {
-  for (const Route& x : routes)
-    for (const CaseRecord* r : x.runs)
-      if (r->*field) return true;
-  return false;
-}
-
 std::string runTable(const std::vector<Route>& routes, double t_end) {
   const bool p = anyOf(routes, &CaseRecord::momentum_p), H = anyOf(routes, &CaseRecord::momentum_H),
-             sep = anyOf(routes, &CaseRecord::joint_separation);
+             sep = anyOf(routes, &CaseRecord::joint_separation), loops = anyOf(routes, &CaseRecord::loop_position_m);
   std::ostringstream o;
   o << "| method | scheme | setting | status | max pose error (rad) | > 1e-3 rad at (s) | > 0.1 rad at (s) | max dE / E_scale |"
     << (p ? " max dp / p0 |" : "") << (H ? " max dH_c / H_c0 |" : "") << (sep ? " max joint separation (m) |" : "")
-    << " CPU s / s |\n|---|---|---|---|---|---|---|---|" << (p ? "---|" : "") << (H ? "---|" : "") << (sep ? "---|" : "") << "---|\n";
+    << (loops ? " loops open (m, rad) |" : "") << " CPU s / s |\n|---|---|---|---|---|---|---|---|" << (p ? "---|" : "")
+    << (H ? "---|" : "") << (sep ? "---|" : "") << (loops ? "---|" : "") << "---|\n";
   for (const Route& x : routes)
     for (const CaseRecord* r : x.runs) {
       // A run that stopped at t = 0 has no sample to measure: dashes, not zeros.
@@ -286,6 +295,7 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
       if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";
       if (sep) o << " " << cell(r->joint_separation.value_or(NAN)) << " |";
+      if (loops) o << " " << (none ? std::string("-") : loopsCell(*r)) << " |";
       o << " " << sci(perSimulatedSecond(*r, t_end)) << " |\n";
     }
   return o.str() + "\n";

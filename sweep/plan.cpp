@@ -13,6 +13,7 @@
 #include "io/run_spec_json.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json.hpp"
+#include "compare/engines.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -202,6 +203,9 @@ std::vector<PlanScene> scenesAt(const json& v, const std::string& plan_file) {
       const Scene scene = loadScene(s.file, s.urdf);
       s.has_loops = !scene.model.loops.empty();
       s.benchmark = scene.benchmark;
+      for (const MethodInfo& row : methodTable())
+        if (!row.retired)
+          if (std::string why = methodRefusal(row.id, scene.model); !why.empty()) s.refusals[row.name] = std::move(why);
     } catch (const std::exception& e) {
       throw InputError(at, planSpelling(e.what()));
     }
@@ -472,13 +476,14 @@ std::vector<SweepCase> planCases(const Plan& p) {
         if (p.scenes[s].has_loops && !line.formulations.empty()) forms.assign(line.formulations.begin(), line.formulations.end());
         for (Method m : line.methods)
           for (const std::optional<Formulation>& f : forms)
-            for (double setting : line.settings) {
-              RunSpec spec;
-              spec.method = m;
-              spec.integrator = line.integrator;
-              spec.setSetting(setting);
-              cases.push_back(makeCase(p, s, k, CaseRole::Run, spec, f));
-            }
+            if (!p.scenes[s].refusals.count(methodName(m)))  // left out, and said (leftOutLines)
+              for (double setting : line.settings) {
+                RunSpec spec;
+                spec.method = m;
+                spec.integrator = line.integrator;
+                spec.setSetting(setting);
+                cases.push_back(makeCase(p, s, k, CaseRole::Run, spec, f));
+              }
       }
   for (Method m : p.runs) {  // a recorded run's case, named with the plan's output step (its samples are put on that grid)
     RunSpec spec;
@@ -488,6 +493,35 @@ std::vector<SweepCase> planCases(const Plan& p) {
     cases.push_back(makeCase(p, 0, 0, CaseRole::Run, spec));
   }
   return cases;
+}
+
+std::string leftOutLines(const Plan& p) {
+  std::string out;
+  const int members = p.ensemble ? p.ensemble->count : 1;
+  for (const PlanScene& sc : p.scenes) {
+    std::vector<std::pair<std::string, std::vector<std::string>>> by_reason;  // (why, methods), in the lines' order
+    long cases = 0;
+    for (const PlanLine& line : p.lines) {
+      const size_t forms = sc.has_loops && !line.formulations.empty() ? line.formulations.size() : 1;
+      for (Method m : line.methods) {
+        const auto it = sc.refusals.find(methodName(m));
+        if (it == sc.refusals.end()) continue;
+        cases += static_cast<long>(forms * line.settings.size()) * members;
+        auto same = std::find_if(by_reason.begin(), by_reason.end(), [&](const auto& r) { return r.first == it->second; });
+        if (same == by_reason.end()) by_reason.push_back({it->second, {}}), same = by_reason.end() - 1;
+        if (std::find(same->second.begin(), same->second.end(), it->first) == same->second.end()) same->second.push_back(it->first);
+      }
+    }
+    if (by_reason.empty()) continue;
+    out += "**Not run on " + sc.stem() + "** (" + std::to_string(cases) + " cases of the plan's lines left out):";
+    for (const auto& [why, methods] : by_reason) {
+      std::string names;
+      for (const std::string& n : methods) names += (names.empty() ? "" : ", ") + n;
+      out += " " + names + ": " + why + ".";
+    }
+    out += "\n\n";
+  }
+  return out;
 }
 
 }  // namespace em

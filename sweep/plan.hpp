@@ -4,6 +4,7 @@
 /// number of repeats; and the cases it expands to, each with a stable name
 /// that is also its result file's.
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +46,11 @@ struct PlanScene {
   bool has_loops = false;                 ///< read from the scene when the plan is loaded
   std::optional<BenchmarkSpec> benchmark; ///< the scene's "benchmark" (the benchmark table reads it)
   std::optional<StartOffset> start_offset; ///< "start_offset": every case starts there (refused on a scene with loops)
+  /// Methods that cannot run this scene, and why (compare/engines.hpp's
+  /// methodRefusal: an engine's u' under our integrators on a mechanism, a
+  /// joint kind an engine lacks): a line's cases of them are left out on it,
+  /// and the tables say so (leftOutLines). Read when the plan is loaded.
+  std::map<std::string, std::string> refusals;
   std::string stem() const;  ///< the file's stem: it names the cases
 };
 
@@ -63,6 +69,11 @@ struct Plan {
 
   bool hasTable(PlanTable t) const;
 };
+
+/// One line per scene and reason where a line's methods cannot run a scene
+/// (PlanScene::refusals), naming the methods and how many cases are left
+/// out; "" where none is.
+std::string leftOutLines(const Plan& p);
 
 /// Read and check a plan. Throws one line naming the file and the key
 /// ("plan.json: lines[0].dt[2]: must be a finite number > 0").

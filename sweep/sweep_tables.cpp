@@ -219,6 +219,7 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
       << " that do; no goal is judged on them.**\n\n";
   o << "Horizon " << gnum(plan.t_end) << " s; CPU times are the median of " << plan.repeats
     << " repeats of the integration alone (min and max in the CSV).\n\n";
+  o << leftOutLines(plan);
   if (plan.hasTable(PlanTable::WorkPrecision))
     for (const std::string& s : scenesOf(records)) o << workPrecisionTable(records, s);
   if (plan.hasTable(PlanTable::CostVsSize)) {

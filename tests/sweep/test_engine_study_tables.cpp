@@ -144,6 +144,25 @@ TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-condition
   CHECK(engineStudyScene(rs, "s", 2, 0.01, 1e-12).find("ll-conditioned") == std::string::npos);
 }
 
+TEST_CASE("on a mechanism each cheapest run carries how far its loops stood open, in both tables", "[sweep][engine-study][mechanism]") {
+  useEngines();
+  std::vector<CaseRecord> rs = {run("classical", "rk4", 1e-2, 1e-7, 0.01), run("ode", "ode-step", 1e-3, 5e-4, 0.05),
+                                run("ode", "ode-step", 1e-4, 5e-5, 0.5)};
+  rs[0].loop_position_m = 3.9e-13, rs[0].loop_position_rad = 2e-13;
+  rs[1].loop_position_m = 1e-5, rs[1].loop_position_rad = 5e-6;
+  rs[2].loop_position_m = 1e-7, rs[2].loop_position_rad = 5e-8;
+  const std::string md = engineStudyScene(rs, "s", 1, 0.01, 1e-13);
+  CHECK(lineOf(md, "| owner | method |") ==
+        "| owner | method | scheme | ok / runs | cheapest within 1e-3 rad | CPU s / s | loops open (m, rad) | cheapest within 1e-6 "
+        "rad | CPU s / s | loops open (m, rad) |");
+  CHECK(lineOf(md, "| ode | ode | ode-step |") ==
+        "| ode | ode | ode-step | 2 / 2 | dt 0.001 | 5.00e-02 | 1.00e-05, 5.00e-06 | not reached | - | - |");
+  CHECK(lineOf(md, "| classical | rk4 | dt 0.01 |").find("| 3.90e-13, 2.00e-13 |") != std::string::npos);
+  // A tree's tables keep their columns.
+  rs = {run("classical", "rk4", 1e-2, 1e-7, 0.01)};
+  CHECK(engineStudyScene(rs, "s", 1, 0.01, 1e-13).find("loops open") == std::string::npos);
+}
+
 TEST_CASE("a route's owner: an engine, eigenmass for the in-house methods, else the method itself", "[sweep][engine-study]") {
   useEngines();
   CHECK(routeOwner("eigen-block") == "eigenmass");

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "engines/engine.hpp"
 #include "sweep/sweep.hpp"
 #include "support.hpp"
 
@@ -92,6 +93,28 @@ TEST_CASE("a plan expands to its references first, then scene x line x method x 
     CHECK(c.spec->output_dt == 0.01);
   }
   CHECK(p.repeats == 3);
+}
+
+TEST_CASE("a line's method that cannot run a scene is left out there and said, not run to an error", "[sweep][mechanism]") {
+  // The engine study's template runs the engines' u' under our integrators;
+  // on a mechanism those are a tree's (methodRefusal). Before, each such case
+  // ended in an error and the study called itself incomplete.
+  useEngines();
+  json plan = smallPlan();
+  plan["scenes"] = {test::sourcePath("data/scenes/pendulum5.json"), test::sourcePath("data/scenes/mechanisms/iftomm_a04.json")};
+  plan["lines"] = {{{"methods", {"classical", "mujoco-udot", "dart-udot"}}, {"integrator", "rk4"}, {"dt", {1e-2, 5e-3}}}};
+  const Plan p = loadPlan(writePlan(plan, "left_out.json"));
+  std::map<std::string, int> per_scene_method;
+  for (const SweepCase& c : planCases(p))
+    if (c.role == CaseRole::Run) ++per_scene_method[c.scene_name + " " + methodName(c.spec->method)];
+  CHECK(per_scene_method["pendulum5 mujoco-udot"] == 2);  // a tree: run
+  CHECK(per_scene_method["iftomm_a04 classical"] == 2);
+  CHECK(per_scene_method.count("iftomm_a04 mujoco-udot") == 0);
+  CHECK(per_scene_method.count("iftomm_a04 dart-udot") == 0);
+  const std::string said = leftOutLines(p);
+  CHECK(said.find("**Not run on iftomm_a04** (4 cases of the plan's lines left out): mujoco-udot, dart-udot: its u' comes from "
+                  "outside the formation") == 0);
+  CHECK(said.find("pendulum5") == std::string::npos);
 }
 
 TEST_CASE("a bad plan is refused in one line naming the file and the key", "[sweep][hostile]") {
