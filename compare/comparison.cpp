@@ -302,7 +302,13 @@ std::string timeOrDash(const std::optional<double>& t, bool meaningful) {
   return b;
 }
 
-void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
+// A mechanism's table: one more column, how far each run's loops stood open
+// (the larger of its position violations, m or rad, by eigenmass's g(q)).
+bool anyLoops(const std::vector<MethodMetrics>& ms) {
+  return std::any_of(ms.begin(), ms.end(), [](const MethodMetrics& m) { return m.has_loops; });
+}
+
+void tableHeader(std::ostream& o, const std::vector<double>& thresholds, bool loops) {
   char cell[64];
   std::snprintf(cell, sizeof cell, "%-18s %-7s", "method", "outcome");
   o << cell;
@@ -311,11 +317,12 @@ void tableHeader(std::ostream& o, const std::vector<double>& thresholds) {
       std::snprintf(cell, sizeof cell, " %12s", (std::string(kind) + ">" + gnum(th)).c_str());
       o << cell;
     }
-  std::snprintf(cell, sizeof cell, " %12s %12s %10s %10s\n", "max pose rad", "max dE/Escl", "steps", "CPU s");
+  std::snprintf(cell, sizeof cell, " %12s %12s%s %10s %10s\n", "max pose rad", "max dE/Escl", loops ? "   loops open" : "", "steps",
+                "CPU s");
   o << cell;
 }
 
-void tableRow(std::ostream& o, const MethodMetrics& m) {
+void tableRow(std::ostream& o, const MethodMetrics& m, bool loops) {
   char cell[64];
   std::snprintf(cell, sizeof cell, "%-18s %-7s", m.name().c_str(), outcomeName(m.outcome));
   o << cell;
@@ -327,7 +334,14 @@ void tableRow(std::ostream& o, const MethodMetrics& m) {
     std::snprintf(cell, sizeof cell, " %12s", timeOrDash(t, true).c_str());
     o << cell;
   }
-  std::snprintf(cell, sizeof cell, " %12.3e %12.3e %10ld %10.3f\n", m.pose.value, m.energy.value, m.steps, m.run_time_s);
+  std::snprintf(cell, sizeof cell, " %12.3e %12.3e", m.pose.value, m.energy.value);
+  o << cell;
+  if (loops) {
+    if (m.has_loops) std::snprintf(cell, sizeof cell, " %12.3e", std::max(m.loops.position_m, m.loops.position_rad));
+    else std::snprintf(cell, sizeof cell, " %12s", "-");
+    o << cell;
+  }
+  std::snprintf(cell, sizeof cell, " %10ld %10.3f\n", m.steps, m.run_time_s);
   o << cell;
 }
 
@@ -369,8 +383,10 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
 
 std::string summaryTable(const ComparisonResult& r) {
   std::ostringstream o;
-  tableHeader(o, r.options.thresholds);
-  for (const MethodMetrics& m : r.metrics) tableRow(o, m);
+  const bool loops = anyLoops(r.metrics);
+  tableHeader(o, r.options.thresholds, loops);
+  for (const MethodMetrics& m : r.metrics) tableRow(o, m, loops);
+  if (loops) o << "loops open: the largest violation of the loops at the output samples, m or rad, by eigenmass's g(q) for every run\n";
   for (const MethodMetrics& m : r.metrics)
     if (std::isfinite(m.max_joint_separation))
       o << m.name() << ": its joints' two points drifted apart by up to " << gnum(m.max_joint_separation, 3)

@@ -423,7 +423,9 @@ EngineRow odeEngine() {
   r.code.simulate = simulateFixedStep<OdeStepper>;
   r.code.refusal = odeRefusal;
   r.code.mechanism_refusal = odeMechanismRefusal;
-  // no model: ODE gives no accelerations at a state
+  // no model: ODE gives no accelerations at a state, and crosscheck says so
+  r.code.equations_note = "ODE gives no accelerations at a state (maximal coordinates: its constraint forces exist only "
+                          "inside its step): no rows here; its runs are judged by compare, with its joints' separation";
   r.code.version = [] { return std::string(dODE_VERSION); };
   return r;
 }

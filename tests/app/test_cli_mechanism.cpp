@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include <catch2/catch.hpp>
+
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -229,7 +231,17 @@ TEST_CASE("mechanisms the project had not run: every engine runs them or is name
       if (!ran) CHECK_THAT(r.out, Catch::Contains(std::string(engine) + ": not run: "));  // named, with its reason
     }
     for (const auto& m : report["methods"]) CHECK(m.contains("loops"));  // every run, in-house ones too
+    // ... and on the console: every row's loops-open cell is a number, the engines' too.
+    CHECK_THAT(lineOf(r.out, "method "), Catch::Contains("loops open"));
+    for (const char* method : {"classical ", "simbody ", "mujoco ", "ode "}) {
+      std::istringstream cells(lineOf(r.out, method));
+      std::vector<std::string> words{std::istream_iterator<std::string>(cells), std::istream_iterator<std::string>()};
+      REQUIRE(words.size() >= 3);
+      CHECK(std::stod(words[words.size() - 3]) < 0.1);  // loops open, then steps and CPU s
+    }
     const Run cc = eigenmass("crosscheck " + file);
+    // ODE has no rows: said, not silently absent.
+    CHECK_THAT(cc.out, Catch::Contains("(ode: ODE gives no accelerations at a state"));
     CHECK(cc.status == 0);  // Simbody's constrained u' within 1e-7, and every A
     CHECK_THAT(cc.out, Catch::Contains("simbody ") && Catch::Contains("dart ") && Catch::Contains("bullet "));
     std::istringstream row(cc.out.substr(cc.out.find("\nsimbody ") + 1));
