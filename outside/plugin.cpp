@@ -160,7 +160,9 @@ class PluginMethod final : public MethodImpl {
       for (Eigen::Index i = 0; i < X.rows(); ++i) guess = std::max(guess, std::abs(X(i, j)) / diag_(i));
       const double s = guess > 0 && std::isfinite(guess) ? std::exp2(std::round(std::log2(size / guess))) : 1.0;
       tau_x_ = tau_ + s * X.col(j);
-      if (!call(t_, q_.data(), u_.data(), tau_x_.data(), col_.data())) {
+      const bool answered = call(t_, q_.data(), u_.data(), tau_x_.data(), col_.data());
+      if (answered && !col_.allFinite()) failure_ = "plugin '" + lib_.name + "': u' not finite (NaN or Inf) at tau + a row of G^T";
+      if (!answered || !failure_.empty()) {
         out.setConstant(std::numeric_limits<double>::quiet_NaN());
         return true;
       }
@@ -171,7 +173,8 @@ class PluginMethod final : public MethodImpl {
   // M = L, L L^T = A^-1 (A^-1 from the plugin as above, symmetrized).
   bool inverseSquareRoot(const double* x, Eigen::MatrixXd& M) override {
     solveWithA(x, eye_, inv_);
-    inv_ = 0.5 * (inv_ + inv_.transpose()).eval();
+    for (Eigen::Index i = 0; i < inv_.rows(); ++i)  // symmetrized in place (no temporary per evaluation)
+      for (Eigen::Index j = i + 1; j < inv_.cols(); ++j) inv_(i, j) = inv_(j, i) = 0.5 * (inv_(i, j) + inv_(j, i));
     llt_.compute(inv_);
     if (llt_.info() != Eigen::Success) M.setConstant(std::numeric_limits<double>::quiet_NaN());
     else M = llt_.matrixL();
