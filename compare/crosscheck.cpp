@@ -166,13 +166,13 @@ void comparePlugin(const Model& m, Method plugin, std::vector<Checked>& engines,
     if (const auto d = c.dependent.find(e.name); d != c.dependent.end() && !d->second.udot.empty())
       c.dependent[name + "/" + e.name] = {"", "", d->second.udot};
   for (size_t k = 0; k < qs.size(); ++k) {
-    c.rows.push_back({static_cast<int>(k), name, 0, 0, differenceIn(udot[k], inhouseAt(m, qs[k], us[k])), true});
+    const Inhouse in = inhouseAt(m, qs[k], us[k]);  // once per state, for every row below
+    c.rows.push_back({static_cast<int>(k), name, 0, 0, differenceIn(udot[k], in), true});
     for (Checked& e : engines) {
       if (m.isMechanism() && engineCode(parseEngine(e.name)).mechanism_state) continue;  // its u' of a mechanism is not exposed
       const Eigen::VectorXd theirs = e.model->at(qs[k], us[k]).udot;
       // On a mechanism relative to the in-house scale (the larger of the constrained and the free u', inhouseAt's reason).
-      const double diff = m.isMechanism() ? differenceIn(udot[k], {{}, {}, theirs, inhouseAt(m, qs[k], us[k]).udot_scale})
-                                          : relativeDifference(udot[k], theirs);
+      const double diff = m.isMechanism() ? differenceIn(udot[k], {{}, {}, theirs, in.udot_scale}) : relativeDifference(udot[k], theirs);
       c.rows.push_back({static_cast<int>(k), name + "/" + e.name, 0, 0, diff, true});
     }
   }

@@ -13,7 +13,6 @@
 #include "io/run_spec_json.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json.hpp"
-#include "compare/engines.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -514,11 +513,7 @@ std::string leftOutLines(const Plan& p) {
     }
     if (by_reason.empty()) continue;
     out += "**Not run on " + sc.stem() + "** (" + std::to_string(cases) + " cases of the plan's lines left out):";
-    for (const auto& [why, methods] : by_reason) {
-      std::string names;
-      for (const std::string& n : methods) names += (names.empty() ? "" : ", ") + n;
-      out += " " + names + ": " + why + ".";
-    }
+    for (const auto& [why, methods] : by_reason) out += " " + joined(methods) + ": " + why + ".";
     out += "\n\n";
   }
   return out;
