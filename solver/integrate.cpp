@@ -12,6 +12,7 @@
 
 #include "solver/augmented_lagrangian.hpp"
 #include "solver/ida.hpp"
+#include "solver/ode_bdf.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -268,6 +269,35 @@ int runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y
   return m.loops.empty() ? -1 : ida.rank();
 }
 
+// CVODE's BDF on the method's y' (solver/ode_bdf.hpp): each of its own steps is
+// accepted (checked) as every adaptive run's is, and each output sample is
+// its interpolating polynomial at the output time (IDA's samples are too).
+void runMultistep(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y) {
+  const int n = run.dynamics().size();
+  const bool retry = spec.options.retry_failed_steps;
+  run.retryTrialFailures(retry);
+  auto rhs = [&run, retry](double t, const double* yy, double* dy) { return run.evaluate(t, yy, dy) ? 0 : (retry ? 1 : -1); };
+  BdfSolver bdf(n, rhs, y.data(), spec.tol, spec.output_dt, n_out * spec.output_dt);
+  Eigen::VectorXd checked(n);  // the step's state as accept() checks it: CVODE keeps its own
+  long k = 1;
+  while (k <= n_out) {
+    if (!bdf.step()) {
+      const Status trial = run.takeTrialFailure();
+      run.fail(Status::failure(bdf.t(), Failure::IntegratorStopped,
+                               "CVODE stopped: " + bdf.error() + (trial.ok ? "" : " (last failed evaluation: " + trial.cause + ")")));
+      break;
+    }
+    if (!run.takeTrialFailure().ok) ++run.retries();  // CVODE cut that step and went on
+    checked = Eigen::Map<const Eigen::VectorXd>(bdf.y(), n);
+    if (!run.accept(bdf.t(), checked.data())) break;
+    for (; k <= n_out && k * spec.output_dt <= bdf.t(); ++k) {
+      bdf.interpolate(k * spec.output_dt, y.data());
+      run.sample(k * spec.output_dt, y.data());
+    }
+  }
+  if (k <= n_out) y = Eigen::Map<const Eigen::VectorXd>(bdf.y(), n);  // where it ended
+}
+
 // The trapezoidal rule of the augmented Lagrangian (solver/augmented_lagrangian.hpp):
 // exact multiples of dt, every step checked as the fixed-step rows' are.
 // Returns its Newton counts and G's rank.
@@ -290,17 +320,35 @@ LoopStats runTrapezoidal(Integration& run, const RunSpec& spec, long n_out, long
 
 }  // namespace
 
+namespace {
+
+// A multistep scheme's history is of its own states: a method that corrects
+// the state after a step (a Jacobi correction, eigen-block's re-clustering)
+// or a formulation that projects it onto the loops would break it.
+void refuseCorrections(const Model& m, const RunSpec& spec, const IntegratorInfo& scheme) {
+  const MethodInfo& method = info(spec.method);
+  const std::string why = std::string("integrator ") + scheme.name + " is multistep: it cannot take a state corrected between its steps; ";
+  if (method.correction != Correction::None || method.extra == ExtraState::CD)
+    throw std::invalid_argument(why + "method " + method.name + " corrects its state after every step (run eigen, classical or articulated)");
+  const Formulation f = spec.options.loops.formulation;
+  if (!m.loops.empty() && (f == Formulation::Projection || f == Formulation::CoordinatePartitioning))
+    throw std::invalid_argument(why + "formulation " + formulationName(f) + " corrects q and u after every step (run udwadia-kalaba or baumgarte)");
+}
+
+}  // namespace
+
 void refuseUnrunnable(const Model& m, const RunSpec& spec) {
   const IntegratorInfo& scheme = info(spec.integrator);
   if (scheme.stepsItself() && info(spec.method).extra != ExtraState::None)
     throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself: method " +
                                 methodName(spec.method) + " carries its own state (run it with classical)");
-  if (!scheme.stepsItself() && (scheme.fixed_step ? !scheme.step : !scheme.gsl))  // a row no code of ours steps (a recorded run's)
+  if (!scheme.stepped())  // a row no code of ours steps (a recorded run's)
     throw std::invalid_argument(std::string("integrator ") + scheme.name + ": " + scheme.summary);
   if (scheme.augmented_lagrangian)
     if (const int b = firstQuaternionBody(m); b >= 0)
       throw std::invalid_argument("integrator trapezoidal integrates q' = u: body '" + m.bodies[b].name + "' has a " +
                                   jointRow(m.bodies[b].joint.type).name + " joint (a quaternion)");
+  if (scheme.multistep) refuseCorrections(m, spec, scheme);
   if (m.loops.empty() || scheme.dae) return;
   const bool al = spec.options.loops.formulation == Formulation::AugmentedLagrangian;
   if (al && !scheme.augmented_lagrangian)
@@ -330,6 +378,8 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
     dae_rank = runIda(run, spec, n_out, y, tr);
   else if (scheme.augmented_lagrangian)
     al_stats = runTrapezoidal(run, spec, n_out, per_output, y);
+  else if (scheme.multistep)
+    runMultistep(run, spec, n_out, y);
   else if (spec.fixedStep())
     runFixed(run, spec, n_out, per_output, y);
   else

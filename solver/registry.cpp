@@ -110,6 +110,10 @@ std::deque<IntegratorInfo>& integrators() {
        "the trapezoidal rule, implicit, fixed step, Newton on the index-3 augmented Lagrangian with mass-orthogonal "
        "projections (formulation augmented-lagrangian; on a tree, on A u' = B); q' = u: no ball or free joints "
        "(method classical's formation, its own solves)", "P", false, true},
+      {Integrator::CVODE, "cvode", {Engine::InHouse}, false, nullptr, nullptr,
+       "SUNDIALS CVODE, variable-order BDF (1 to 5), Newton on a difference-quotient Jacobian, adaptive (stiff), on the "
+       "method's own u'; samples interpolated from its steps; no method or formulation that corrects the state between steps",
+       "X", false, false, true},
   };
   return table;
 }

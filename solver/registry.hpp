@@ -30,7 +30,7 @@ enum class Engine : int { InHouse };
 enum class Method : int { Classical, Articulated, Eigen, EigenJacobi, EigenJacobiOrth, EigenBlock, EigenBlockJacobi };
 
 /// The in-house integrators; another engine's own schemes take the ids after them.
-enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP, IDA, Trapezoidal };
+enum class Integrator : int { RK4, RKF45, RK8PD, BSIMP, IDA, Trapezoidal, CVODE };
 
 /// Another engine's integrator, as its row names it: a name already in the
 /// table (e.g. rk4: the same tableau) is that row, which then also lists the engine.
@@ -171,8 +171,13 @@ struct IntegratorInfo {
   /// (solver/augmented_lagrangian.hpp): it steps A, B and the loops itself, a
   /// fixed step dt, with a method that has no extra state.
   bool augmented_lagrangian = false;
+  /// A multistep solver (CVODE's BDF, solver/ode_bdf.hpp) that steps the
+  /// method's y' itself: its history forbids a state corrected between steps.
+  bool multistep = false;
   /// Integrates the formation's A and B itself (ida, trapezoidal): no step function, no method's state.
   bool stepsItself() const { return dae || augmented_lagrangian; }
+  /// Whether code of ours steps it (a recorded run's row has none).
+  bool stepped() const { return stepsItself() || multistep || (fixed_step ? step != nullptr : gsl != nullptr); }
   bool runs(Engine e) const;
 };
 

@@ -139,7 +139,7 @@ TEST_CASE("x-extreme is validated, naming the file and the key", "[extreme]") {
   CHECK_THAT(errorOf("{\"reference_tol\": -1}"), Catch::Contains("case.json: x-extreme.reference_tol: must be a finite number > 0"));
   CHECK_THAT(errorOf("{\"run\": [\"rk4:1e-3\"]}"), Catch::Contains("case.json: x-extreme.run: unknown key"));
   CHECK_THAT(errorOf("{\"reference_integrator\": \"rk4\"}"),
-             Catch::Contains("case.json: x-extreme.reference_integrator: 'rk4' is not an in-house adaptive integrator (rkf45, rk8pd, bsimp, ida)"));
+             Catch::Contains("case.json: x-extreme.reference_integrator: 'rk4' is not an in-house adaptive integrator (rkf45, rk8pd, bsimp, ida, cvode)"));
   CHECK_THAT(errorOf("{\"reference_integrator\": \"rkmerson\"}"), Catch::Contains("'rkmerson' is not an in-house adaptive integrator"));
   // The singular four-bars' reference passes the singular positions: rk8pd with the projection, not ida.
   const ExtremeCase singular = loadExtremeCase(gallery("singular_fourbars"));

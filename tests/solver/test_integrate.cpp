@@ -198,3 +198,97 @@ TEST_CASE("the hand-written rk4 converges at fourth order", "[integrate][closedf
     CHECK(order < 4.3);
   }
 }
+
+namespace {
+
+// The damped rotor of the closed-form test above, as a model.
+Model dampedRotor(double I, double c, double u0) {
+  SceneSpec s;
+  s.name = "rotor";
+  s.gravity = Vec3::Zero();
+  BodySpec b;
+  b.name = "rotor";
+  b.parent = "ground";
+  b.inertia = Vec3(1.0, 1.0, I).asDiagonal();
+  b.joint.axis[0] = Vec3::UnitZ();
+  b.joint.q0 = Eigen::VectorXd::Zero(1);
+  b.joint.u0 = Eigen::VectorXd::Constant(1, u0);
+  b.joint.has_spring = true;
+  b.joint.spring = {Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, c), Eigen::VectorXd::Zero(1)};
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
+}  // namespace
+
+TEST_CASE("cvode (BDF) follows the damped rotor's closed form, sampled at the output times by interpolation", "[closedform][integrate]") {
+  const double I = 2.0, c = 0.5, u0 = 3.0;
+  const Model m = dampedRotor(I, c, u0);
+  const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::CVODE, 4.0, 1e-10, 0.1)));
+  REQUIRE(t.status() == Outcome::Ok);
+  REQUIRE(t.size() == 41);
+  double worst = 0;
+  for (size_t k = 0; k < t.size(); ++k) {
+    CHECK(t.t[k] == k * 0.1);  // the output times themselves, not the steps' ends
+    worst = std::max(worst, std::abs(t.u[k][0] - u0 * std::exp(-c * t.t[k] / I)));
+  }
+  // tol 1e-10 (relative and absolute) on u ~ 1: BDF's global error is a few
+  // tolerances over 4 s; 1e-8 leaves room and fails an order-1 mistake
+  // (e.g. a Jacobian of the wrong sign costs convergence, not accuracy, but
+  // a sample off by one step is ~u0 c dt / I = 0.07 off).
+  CHECK(worst < 1e-8);
+  CHECK(t.steps < t.rhs_evals);
+}
+
+TEST_CASE("cvode agrees with rk8pd on pendulum5 and on a mechanism under Udwadia-Kalaba", "[integrate][identity]") {
+  for (const char* scene : {"pendulum5.json", "mechanisms/iftomm_a02_n2.json"}) {
+    const Model m = test::loadData(scene);
+    RunSpec r = test::runSpec(Method::Classical, Integrator::RK8PD, 1.0, 1e-13);
+    RunSpec b = test::runSpec(Method::Classical, Integrator::CVODE, 1.0, 1e-11);
+    r.options.loops.formulation = b.options.loops.formulation = Formulation::UdwadiaKalaba;
+    const Trajectory ref = simulate(m, checked(r)), t = simulate(m, checked(b));
+    INFO(scene);
+    REQUIRE(t.status() == Outcome::Ok);
+    // Both with the same unstabilized formulation: the gap is the BDF's global
+    // error at 1e-11 over 1 s (measured 1e-9 and below).
+    CHECK((t.q.back() - ref.q.back()).cwiseAbs().maxCoeff() < 1e-7);
+  }
+}
+
+TEST_CASE("cvode on a stiff spring-damper (IFToMM A05): the benchmark's finer level in a fraction of rk8pd's evaluations", "[integrate]") {
+  const Model m = test::loadData("mechanisms/iftomm_a05.json");
+  const Trajectory ref = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-11)));
+  const Trajectory rk = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 2.0, 1e-8)));
+  const Trajectory bdf = simulate(m, checked(test::runSpec(Method::Classical, Integrator::CVODE, 2.0, 1e-8)));
+  REQUIRE(ref.status() == Outcome::Ok);
+  REQUIRE(bdf.status() == Outcome::Ok);
+  double worst = 0;
+  for (size_t k = 0; k < ref.size(); ++k) worst = std::max(worst, std::abs(bdf.q[k][1] - ref.q[k][1]));  // the slider's s
+  CHECK(worst < 1e-5);  // A05's finer precision level (m)
+  // The springs' time constant (c/k = 0.05 s against eigenvalues near -1e4 /s)
+  // holds an explicit scheme to its stability bound: rk8pd needs >5x more.
+  INFO("evaluations: cvode " << bdf.rhs_evals << ", rk8pd " << rk.rhs_evals);
+  CHECK(5 * bdf.rhs_evals < rk.rhs_evals);
+}
+
+TEST_CASE("cvode refuses what corrects the state between its steps, naming it", "[integrate]") {
+  const Model tree = test::loadData("pendulum5.json");
+  const auto why = [](const Model& m, RunSpec s) {
+    try {
+      simulate(m, checked(s));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(why(tree, test::runSpec(Method::EigenJacobi, Integrator::CVODE, 0.1, 1e-8)),
+             Catch::Contains("multistep") && Catch::Contains("eigen-jacobi"));
+  CHECK_THAT(why(tree, test::runSpec(Method::EigenBlock, Integrator::CVODE, 0.1, 1e-8)), Catch::Contains("eigen-block"));
+  CHECK(why(tree, test::runSpec(Method::Eigen, Integrator::CVODE, 0.1, 1e-8)).empty());
+  const Model mech = test::loadData("mechanisms/iftomm_a02_n2.json");
+  for (Formulation f : {Formulation::Projection, Formulation::CoordinatePartitioning}) {
+    RunSpec s = test::runSpec(Method::Classical, Integrator::CVODE, 0.1, 1e-8);
+    s.options.loops.formulation = f;
+    CHECK_THAT(why(mech, s), Catch::Contains(formulationName(f)));
+  }
+}

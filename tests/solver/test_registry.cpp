@@ -57,8 +57,12 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
   }
   CHECK(info(defaultIntegrator(Engine::InHouse)).runs(Engine::InHouse));
   CHECK_FALSE(info(adaptiveIntegrator(Engine::InHouse)).fixed_step);
-  for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function or its GSL stepper
-    if (i.runs(Engine::InHouse)) CHECK((i.stepsItself() || (i.fixed_step ? i.step != nullptr : i.gsl != nullptr)));  // ida and trapezoidal step themselves
+  for (const IntegratorInfo& i : integratorTable())  // an in-house row names its step function, its GSL stepper or its own solver
+    if (i.runs(Engine::InHouse)) {
+      INFO(i.name);
+      CHECK(i.stepped());
+      CHECK(int(i.stepsItself()) + int(i.multistep) + int(i.step != nullptr) + int(i.gsl != nullptr) == 1);  // exactly one way
+    }
   CHECK_NOTHROW(requireCompatible(Method::Classical, Integrator::BSIMP));
 }
 
