@@ -20,6 +20,24 @@ double maxRelEnergyError(const Trajectory& t) {
   return e;
 }
 
+// One body turning about z at its CM, no gravity, no spring, a damper c.
+Model dampedRotor(double I, double c, double u0) {
+  SceneSpec s;
+  s.name = "rotor";
+  s.gravity = Vec3::Zero();
+  BodySpec b;
+  b.name = "rotor";
+  b.parent = "ground";
+  b.inertia = Vec3(1.0, 1.0, I).asDiagonal();
+  b.joint.axis[0] = Vec3::UnitZ();
+  b.joint.q0 = Eigen::VectorXd::Zero(1);
+  b.joint.u0 = Eigen::VectorXd::Constant(1, u0);
+  b.joint.has_spring = true;
+  b.joint.spring = {Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, c), Eigen::VectorXd::Zero(1)};
+  s.bodies.push_back(b);
+  return buildModel(s);
+}
+
 int countingRhs(double, const double y[], double dydt[], void* calls) {
   ++*static_cast<int*>(calls);
   dydt[0] = -2.0 * y[0];
@@ -90,20 +108,7 @@ TEST_CASE("a damped rotor: u and W_diss follow their closed forms", "[closedform
   // One body turning about z at its CM, no gravity, no spring, damper c:
   // I u' = -c u, so u = u0 e^(-c t / I) and W_diss = I u0^2 (1 - e^(-2 c t / I)) / 2.
   const double I = 2.0, c = 0.5, u0 = 3.0;
-  SceneSpec s;
-  s.name = "rotor";
-  s.gravity = Vec3::Zero();
-  BodySpec b;
-  b.name = "rotor";
-  b.parent = "ground";
-  b.inertia = Vec3(1.0, 1.0, I).asDiagonal();
-  b.joint.axis[0] = Vec3::UnitZ();
-  b.joint.q0 = Eigen::VectorXd::Zero(1);
-  b.joint.u0 = Eigen::VectorXd::Constant(1, u0);
-  b.joint.has_spring = true;
-  b.joint.spring = {Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, c), Eigen::VectorXd::Zero(1)};
-  s.bodies.push_back(b);
-  const Model m = buildModel(s);
+  const Model m = dampedRotor(I, c, u0);
   REQUIRE(m.has_dampers);
   const Trajectory t = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK8PD, 4.0, 1e-12, 0.5)));
   REQUIRE(t.status() == Outcome::Ok);
@@ -199,27 +204,6 @@ TEST_CASE("the hand-written rk4 converges at fourth order", "[integrate][closedf
   }
 }
 
-namespace {
-
-// The damped rotor of the closed-form test above, as a model.
-Model dampedRotor(double I, double c, double u0) {
-  SceneSpec s;
-  s.name = "rotor";
-  s.gravity = Vec3::Zero();
-  BodySpec b;
-  b.name = "rotor";
-  b.parent = "ground";
-  b.inertia = Vec3(1.0, 1.0, I).asDiagonal();
-  b.joint.axis[0] = Vec3::UnitZ();
-  b.joint.q0 = Eigen::VectorXd::Zero(1);
-  b.joint.u0 = Eigen::VectorXd::Constant(1, u0);
-  b.joint.has_spring = true;
-  b.joint.spring = {Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, c), Eigen::VectorXd::Zero(1)};
-  s.bodies.push_back(b);
-  return buildModel(s);
-}
-
-}  // namespace
 
 TEST_CASE("cvode (BDF) follows the damped rotor's closed form, sampled at the output times by interpolation", "[closedform][integrate]") {
   const double I = 2.0, c = 0.5, u0 = 3.0;
