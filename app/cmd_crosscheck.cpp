@@ -8,7 +8,7 @@
 
 #include "app/cli.hpp"
 #include "compare/crosscheck.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 
 namespace em::cli {
 

@@ -11,7 +11,7 @@
 #include "compare/provenance.hpp"
 #include "io/atomic_file.hpp"
 #include "io/shipped.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 
 int main(int argc, char** argv) {
   em::setCommandLine(argc, argv);

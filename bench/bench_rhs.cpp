@@ -29,7 +29,7 @@
 #include "solver/dynamics.hpp"
 #include "solver/eigenfactor_ops.hpp"
 #include "compare/crosscheck.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "outside/plugin.hpp"
 
 using namespace em;

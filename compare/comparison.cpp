@@ -1,6 +1,6 @@
 #include "compare/comparison.hpp"
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/integrate.hpp"
 
 #include <algorithm>

@@ -8,7 +8,7 @@
 
 #include "io/json_input.hpp"
 #include "outside/plugin.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/formation.hpp"
 #include "solver/mechanism.hpp"
 

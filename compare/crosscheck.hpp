@@ -1,13 +1,13 @@
 #pragma once
 /// The in-house equations against independent engines at many states: A, B
 /// and u' at the initial state and at random ones, against every engine whose
-/// row gives equations at a state (engines/engine.hpp): for a URDF, the
+/// row gives equations at a state (reference/engine.hpp): for a URDF, the
 /// engine's own reading of the file where it has one (MuJoCo), else the Model.
 #include <map>
 #include <string>
 #include <vector>
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "io/scene.hpp"
 #include "solver/registry.hpp"
 

@@ -6,7 +6,7 @@
 #include "compare/progress.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 /// Runs one method on its engine (the one dispatch point: the in-house
-/// integrators, or the engine's row, engines/engine.hpp), and the one place
+/// integrators, or the engine's row, reference/engine.hpp), and the one place
 /// where a scene's run defaults and the reference's defaults apply.
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #include "compare/provenance.hpp"
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 
 #include <chrono>
 #include <ctime>

@@ -21,7 +21,7 @@
 #include "io/scene_json.hpp"
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
 #include "solver/mechanism.hpp"

@@ -51,7 +51,7 @@ struct EngineRoles {
 };
 
 /// An engine's own code: how it runs, what it gives at a state, what it says
-/// of itself (engines/engine.hpp). The registry never looks inside it.
+/// of itself (reference/engine.hpp). The registry never looks inside it.
 struct EngineCode;
 
 /// One of a method's own options, a column of its row: the plan key and the
@@ -72,7 +72,7 @@ struct MethodParam {
 };
 
 /// An engine's row, found by its id (info(Engine)). Its fields are named
-/// where it is written (engines/<name>.cpp); addEngine sets the last three.
+/// where it is written (reference/<name>.cpp); addEngine sets the last three.
 struct EngineInfo {
   const char* name = nullptr;
   const char* summary = nullptr;       ///< its method's one line (--help, docs)

@@ -1,6 +1,6 @@
 #pragma once
 // The other engines' methods, schemes and engines by name: their ids are
-// given at run time, when engines/table.cpp adds their rows.
+// given at run time, when reference/table.cpp adds their rows.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/engines.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "io/scene_json.hpp"
 #include "support.hpp"
 

@@ -47,7 +47,7 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 matplotlib.rcParams.update({"svg.hashsalt": "eigenmass", "svg.fonttype": "none", "pdf.fonttype": 42})
 
 # One colour per method and one marker per integrator: the registry's, given by
-# `eigenmass plot` as --style (solver/registry.cpp, engines/table.cpp).
+# `eigenmass plot` as --style (solver/registry.cpp, reference/table.cpp).
 MARKERS = {}
 COLORS = {}
 OUTCOME_COLORS = {"ok": "#4daf4a", "wrong": "#ff7f00", "failed": "#e41a1c"}

@@ -774,7 +774,7 @@ TEST_CASE("plot draws a new robot's report: a series and a legend entry per meth
   CHECK(drawsText(energy, "|E(t) + W_diss(t) - E(0)| / max kinetic energy of the reference"));
   CHECK(drawsText(coord, rep["series"]["coordinate"]["name"].get<std::string>() + ", rad"));
   CHECK(div.find("failed-") == std::string::npos);  // nothing failed on this robot: no x drawn
-  // Colours are the registry's (solver/registry.cpp, engines/table.cpp): classical
+  // Colours are the registry's (solver/registry.cpp, reference/table.cpp): classical
   // tab:blue, eigen tab:orange, simbody tab:gray, mujoco tab:red; no method is drawn black.
   for (const char* hex : {"#1f77b4", "#ff7f0e", "#7f7f7f", "#d62728"}) CHECK(div.find(std::string("stroke: ") + hex) != std::string::npos);
   CHECK(div.find("stroke: #000000; stroke-width: 1.2") == std::string::npos);

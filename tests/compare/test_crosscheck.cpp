@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "compare/crosscheck.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "support.hpp"
 
 using namespace em;

@@ -67,7 +67,7 @@ TEST_CASE("the registry's properties are what each method does", "[registry][dyn
 }
 
 TEST_CASE("another engine is added at run time: its method, its schemes, a shared tableau and its tolerance bound", "[registry]") {
-  // What engines/table.cpp does for every engine's row, on a made-up engine.
+  // What reference/table.cpp does for every engine's row, on a made-up engine.
   const size_t methods = methodTable().size(), integrators = integratorTable().size();
   EngineInfo row;
   row.name = "toy";

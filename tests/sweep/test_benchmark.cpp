@@ -12,7 +12,7 @@
 #include "app/cli_support.hpp"
 #include "compare/benchmark.hpp"
 #include "compare/engines.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "io/json_input.hpp"
 #include "io/scene.hpp"
 #include "solver/rotation.hpp"

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "app/cli_support.hpp"
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "sweep/sweep.hpp"
 
 using namespace em;

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "sweep/sweep.hpp"
 #include "support.hpp"
 

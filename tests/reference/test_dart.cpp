@@ -1,4 +1,4 @@
-// DART as an engine (engines/dart.cpp): its u' under the in-house
+// DART as an engine (reference/dart.cpp): its u' under the in-house
 // rk4 integrates the same ODE as classical rk4, so the two agree to
 // round-off until chaos amplifies it; World::step is first order; on a free
 // body in zero gravity its stepping keeps momenta as measured here (Erez,
@@ -90,7 +90,7 @@ TEST_CASE("DART's World::step closes the energy balance on a damped scene to fir
   CHECK(balance[0] > 1.6 * balance[1]);
 }
 
-// Mechanisms in DART (engines/dart.cpp): closures as its BallJointConstraint
+// Mechanisms in DART (reference/dart.cpp): closures as its BallJointConstraint
 // (a hinge two) and WeldJointConstraint, impulses at the velocity level;
 // drives as joint forces, point springs as external forces. Oracle: the
 // in-house motion (classical, projection, rk8pd 1e-12). Measured over 0.5 s

@@ -1,4 +1,4 @@
-// Bullet as an engine (engines/bullet.cpp): its u' under the
+// Bullet as an engine (reference/bullet.cpp): its u' under the
 // in-house rk4 integrates the same ODE as classical rk4, so the two agree to
 // round-off until chaos amplifies it, on every joint kind (a free joint as
 // the floating base and inside a tree); stepSimulation's semi-implicit Euler
@@ -134,7 +134,7 @@ TEST_CASE("Bullet's stepping closes the energy balance on a damped scene at firs
   }
 }
 
-// Mechanisms in Bullet (engines/bullet.cpp): closures as btMultiBodyPoint2Point
+// Mechanisms in Bullet (reference/bullet.cpp): closures as btMultiBodyPoint2Point
 // (a hinge two) and btMultiBodyFixedConstraint, held at the velocity level by
 // its solver (ERP 0.2, 10 iterations), handed to it as one group; drives and
 // point springs as forces held over a step. Oracle: the in-house motion

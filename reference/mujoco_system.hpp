@@ -23,7 +23,7 @@
 #include <utility>
 #include <vector>
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/model.hpp"
 #include "solver/trajectory.hpp"
 
@@ -61,7 +61,7 @@ class MujocoSystem {
   /// at the zero configuration (leaves the state at zero).
   std::vector<CompiledMass> compiledMass();
 
-  // Stepping (engines/mujoco.cpp): the peer as a trajectory engine.
+  // Stepping (reference/mujoco.cpp): the peer as a trajectory engine.
   /// Fixed step dt with MuJoCo's integrator `scheme` (mjINT_EULER, mjINT_RK4,
   /// mjINT_IMPLICIT); with `energies`, every forward computes them (mjENBL_ENERGY).
   void configure(int scheme, double dt, bool energies = true);

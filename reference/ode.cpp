@@ -40,8 +40,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "engines/engine.hpp"
-#include "engines/fixed_step.hpp"
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
 #include "solver/formation.hpp"
 #include "solver/joint.hpp"
 

@@ -2,11 +2,11 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 
 namespace em {
 
-// Each engine's row, defined in its own file (engines/<name>.cpp).
+// Each engine's row, defined in its own file (reference/<name>.cpp).
 EngineRow simbodyEngine();
 EngineRow mujocoEngine();
 EngineRow dartEngine();
@@ -49,7 +49,7 @@ void useEngines() {
 const EngineCode& engineCode(Engine e) {
   useEngines();
   const EngineInfo& row = info(e);
-  if (!row.code) throw std::logic_error(std::string("engineCode: '") + row.name + "' runs no code of engines/");
+  if (!row.code) throw std::logic_error(std::string("engineCode: '") + row.name + "' runs no code of reference/");
   return *row.code;
 }
 

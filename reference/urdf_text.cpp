@@ -1,4 +1,4 @@
-#include "engines/urdf_text.hpp"
+#include "reference/urdf_text.hpp"
 
 #include <stdexcept>
 

@@ -2,7 +2,7 @@
 /// The engine seam: every independent engine (Simbody, MuJoCo, ...) is one
 /// row of engineRows(), naming what it can do; nothing outside an engine's
 /// row and its own files asks which engine it is. Adding an engine is its
-/// row (its own file under engines/, listed in engines/table.cpp) and its
+/// row (its own file under reference/, listed in reference/table.cpp) and its
 /// CMake lines. useEngines() adds every row to the registry
 /// (solver/registry.hpp: the engine, its method and its schemes).
 #include <memory>
@@ -126,7 +126,7 @@ struct EngineCode {
 };
 
 /// One engine: its registry row and its code, written in its own file
-/// (engines/<name>.cpp) with named fields.
+/// (reference/<name>.cpp) with named fields.
 struct EngineRow {
   EngineInfo info;
   EngineCode code;

@@ -1,4 +1,4 @@
-// The engine seam (engines/table.cpp): every row is in the
+// The engine seam (reference/table.cpp): every row is in the
 // registry as an engine, a method and its schemes; every row runs a scene on
 // the grid through the one dispatch point and lands near the in-house
 // solution; every row that gives equations gives the in-house ones. A new

@@ -1,6 +1,6 @@
-#include "engines/mujoco_system.hpp"
+#include "reference/mujoco_system.hpp"
 
-#include "engines/urdf_text.hpp"
+#include "reference/urdf_text.hpp"
 
 #include <cstdio>
 #include <set>

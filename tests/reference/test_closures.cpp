@@ -1,4 +1,4 @@
-// Every engine's closures on the same mechanism (engines/*.cpp, "Mechanisms"):
+// Every engine's closures on the same mechanism (reference/*.cpp, "Mechanisms"):
 // the stabilization each engine's row declares as options (MuJoCo's solref,
 // ERP elsewhere) is what the run uses. Oracle: the constraint dynamics each
 // engine documents. MuJoCo's connect is a damped spring of time constant tau,

@@ -1,4 +1,4 @@
-// ODE as an engine (engines/ode.cpp): maximal coordinates read back
+// ODE as an engine (reference/ode.cpp): maximal coordinates read back
 // into ours give the initial state back to round-off on every joint kind;
 // dWorldStep is first order, and its constraint violation (the joints' two
 // points apart) shrinks with dt; on a free body in zero gravity its stepping
@@ -134,7 +134,7 @@ TEST_CASE("ODE's stepping closes the energy balance on a damped scene at first o
   CHECK(balance[0] > 1.6 * balance[1]);
 }
 
-// Mechanisms in ODE (engines/ode.cpp): each loop one more ODE joint, held as
+// Mechanisms in ODE (reference/ode.cpp): each loop one more ODE joint, held as
 // the tree's are (ERP 0.2, CFM 1e-10), a drive a joint torque and a point
 // spring forces at its points, held over a step. Oracle: the IVP test set's
 // published solution of Andrews' squeezer at 0.03 s (andrews.json's

@@ -1,4 +1,4 @@
-#include "engines/fixed_step.hpp"
+#include "reference/fixed_step.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -43,7 +43,7 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
   };
   sample(0.0);
   if (m.has_dampers) engine.dissipation(P, Pdot);
-  // Timed as every owner is (solver/integrate.cpp, engines/simbody.cpp): over
+  // Timed as every owner is (solver/integrate.cpp, reference/simbody.cpp): over
   // whole output intervals, the steps with their per-step checks, the samples
   // apart. A clock read per step cost 1.4-1.6 us of CPU here (clock() is a
   // system call), charged to every engine step; per interval it is two reads

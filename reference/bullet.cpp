@@ -54,8 +54,8 @@
 #include <tuple>
 #include <vector>
 
-#include "engines/engine.hpp"
-#include "engines/fixed_step.hpp"
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
 #include "solver/formation.hpp"
 #include "solver/joint.hpp"
 #include "solver/mechanism.hpp"

@@ -1,4 +1,4 @@
-// MuJoCo as a trajectory engine (engines/mujoco.cpp): the same
+// MuJoCo as a trajectory engine (reference/mujoco.cpp): the same
 // scheme (rk4) at the same step integrates the same ODE as the in-house
 // classical rk4, so the two agree to round-off until chaos amplifies it; at
 // a small step MuJoCo agrees with Simbody; its energies and poses are ours.
@@ -6,8 +6,8 @@
 
 #include <random>
 
-#include "engines/mujoco.hpp"
-#include "engines/simbody.hpp"
+#include "reference/mujoco.hpp"
+#include "reference/simbody.hpp"
 #include "solver/integrate.hpp"
 #include "engines.hpp"
 #include "support.hpp"

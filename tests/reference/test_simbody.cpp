@@ -2,7 +2,7 @@
 // independent Simbody model of the same scene, state by state and over time.
 #include <catch2/catch.hpp>
 
-#include "engines/simbody.hpp"
+#include "reference/simbody.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
 #include "solver/mechanism.hpp"

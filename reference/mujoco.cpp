@@ -1,4 +1,4 @@
-#include "engines/mujoco.hpp"
+#include "reference/mujoco.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -6,9 +6,9 @@
 
 #include <mujoco/mujoco.h>
 
-#include "engines/engine.hpp"
-#include "engines/fixed_step.hpp"
-#include "engines/mujoco_system.hpp"
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
+#include "reference/mujoco_system.hpp"
 #include "solver/method.hpp"
 
 namespace em {
@@ -29,7 +29,7 @@ int scheme(Integrator i) {
 thread_local long g_evaluations = 0;
 void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
 
-// MuJoCo stepped by the one fixed-step loop (engines/fixed_step.hpp).
+// MuJoCo stepped by the one fixed-step loop (reference/fixed_step.hpp).
 class MujocoStepper : public FixedStepEngine {
  public:
   MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
@@ -117,7 +117,7 @@ std::string fullInertiaNote(const Model& m) {
   return "";
 }
 
-// What of a mechanism MuJoCo's row does not map (engines/mujoco_system.cpp maps
+// What of a mechanism MuJoCo's row does not map (reference/mujoco_system.cpp maps
 // ball, hinge and weld closures as connects, point spring-dampers as spatial
 // tendons with stiffness and damping, drives as qfrc_applied).
 std::string mechanismRefusal(const Model& m) {

@@ -51,9 +51,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "engines/engine.hpp"
-#include "engines/fixed_step.hpp"
-#include "engines/urdf_text.hpp"
+#include "reference/engine.hpp"
+#include "reference/fixed_step.hpp"
+#include "reference/urdf_text.hpp"
 #include "solver/formation.hpp"
 #include "solver/mechanism.hpp"
 #include "solver/method.hpp"
@@ -579,7 +579,7 @@ EquationsDependence dartDependence(const Model& m) {
   EquationsDependence d;
   const std::string free = jointsOfKinds(m, {JointType::Free});
   const std::string free_line = "the speeds of its joints of kind " + free + " map to ours through eigenmass's change of frame "
-                                "(engines/dart.cpp: the bias -R^T (w x v), v' - w x v)";
+                                "(reference/dart.cpp: the bias -R^T (w x v), v' - w x v)";
   if (m.has_springs) d.B = "its joint springs' and dampers' part is eigenmass's -k (q - q_rest) - c u on DART's parameters";
   if (!free.empty()) d.B += (d.B.empty() ? "" : "; ") + free_line, d.udot = free_line;
   return d;

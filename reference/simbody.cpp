@@ -1,6 +1,6 @@
-#include "engines/simbody.hpp"
+#include "reference/simbody.hpp"
 
-#include "engines/engine.hpp"
+#include "reference/engine.hpp"
 #include "solver/mechanism.hpp"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 /// MuJoCo as a trajectory engine (method `mujoco`): the same Model as MJCF
-/// (engines/mujoco_system.hpp), stepped by MuJoCo's own fixed-step
+/// (reference/mujoco_system.hpp), stepped by MuJoCo's own fixed-step
 /// integrators (euler, rk4, implicit) and sampled through the shared sampler.
 #include "solver/model.hpp"
 #include "solver/run_spec.hpp"
