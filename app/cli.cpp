@@ -18,7 +18,7 @@
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
 #include "io/run_spec_json.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/formulation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 #include "solver/text.hpp"

@@ -10,7 +10,7 @@
 #include "outside/plugin.hpp"
 #include "reference/engine.hpp"
 #include "solver/formation.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/projection.hpp"
 
 namespace em {
 

@@ -10,7 +10,7 @@
 #include "solver/dynamics.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/constrained.hpp"
 #include "solver/text.hpp"
 
 namespace em {

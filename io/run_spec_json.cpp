@@ -1,6 +1,6 @@
 #include "io/run_spec_json.hpp"
 
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/formulation.hpp"
 
 #include "io/json_input.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "io/scene_json.hpp"
 #include "io/urdf.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/assembly.hpp"
 #include "solver/model.hpp"
 
 namespace em {

@@ -7,7 +7,10 @@
 #include <unordered_map>
 
 #include "io/json_input.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
+#include "solver/formation.hpp"
+#include "solver/mechanism/assembly.hpp"
+#include "solver/mechanism/loops.hpp"
 #include "solver/run_spec.hpp"
 #include "solver/text.hpp"
 
@@ -217,15 +220,15 @@ LoopSpec loop(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   LoopSpec l;
   l.type = loopType(requireKey(v, path, "type"), at(path, "type"));
-  const bool axes = loopRow(l.type).axes;
-  onlyKeys(v, path, axes ? std::vector<std::string>{"name", "type", "body_a", "point_a", "body_b", "point_b", "axis_a", "axis_b"}
-                         : std::vector<std::string>{"name", "type", "body_a", "point_a", "body_b", "point_b"});
+  const LoopAxes axes = loopRow(l.type).axes;
+  std::vector<std::string> keys = {"name", "type", "body_a", "point_a", "body_b", "point_b"};
+  if (axes != LoopAxes::None) keys.push_back("axis_a");
+  if (axes == LoopAxes::AB) keys.push_back("axis_b");
+  onlyKeys(v, path, keys);
   l.name = name(requireKey(v, path, "name"), at(path, "name"));
   readEnds(v, path, l.body_a, l.point_a, l.body_b, l.point_b);
-  if (axes) {
-    l.axis_a = unitAxis(requireKey(v, path, "axis_a"), at(path, "axis_a"));
-    l.axis_b = unitAxis(requireKey(v, path, "axis_b"), at(path, "axis_b"));
-  }
+  if (axes != LoopAxes::None) l.axis_a = unitAxis(requireKey(v, path, "axis_a"), at(path, "axis_a"));
+  if (axes == LoopAxes::AB) l.axis_b = unitAxis(requireKey(v, path, "axis_b"), at(path, "axis_b"));
   l.extra = extras(v);
   return l;
 }
@@ -435,12 +438,12 @@ void checkMechanismStart(Model& m, bool assemble, Assembly* assembled) {
   if (assemble && m.loops.empty())
     throw Err("simulate.assemble", "the scene has no loops to assemble its start onto (or --assemble was given for a tree)");
   if (!m.isMechanism()) return;
-  finishMechanism(m);
   if (assemble) {
     const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
     if (!a.converged)
       throw Err("simulate.assemble", "Gauss-Newton did not close the loops from the written start (gap " + gnum(a.gap, 3) + ") in " +
                                          std::to_string(kAssembleIterations) + " steps: start nearer an assembled position");
+    m = withInitialState(std::move(m), a.q, a.u);
     if (assembled) *assembled = a;
   }
   const Eigen::VectorXd q = m.q0(), u = m.u0();
@@ -489,7 +492,8 @@ json jointJson(const Joint& j) {
 json loopJson(const LoopSpec& l) {
   json o = {{"name", l.name}, {"type", loopRow(l.type).name}, {"body_a", l.body_a}, {"point_a", vecJson(l.point_a)},
             {"body_b", l.body_b}, {"point_b", vecJson(l.point_b)}};
-  if (loopRow(l.type).axes) o["axis_a"] = vecJson(l.axis_a), o["axis_b"] = vecJson(l.axis_b);
+  if (loopRow(l.type).axes != LoopAxes::None) o["axis_a"] = vecJson(l.axis_a);
+  if (loopRow(l.type).axes == LoopAxes::AB) o["axis_b"] = vecJson(l.axis_b);
   o.update(l.extra);
   return o;
 }

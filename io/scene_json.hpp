@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/assembly.hpp"
 #include "solver/model.hpp"
 
 namespace em {

@@ -1,4 +1,5 @@
 #include "outside/recorded.hpp"
+#include "solver/applied_forces.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -24,7 +24,7 @@
 #include "reference/engine.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/formulation.hpp"
 #include "solver/method.hpp"
 
 namespace py = pybind11;

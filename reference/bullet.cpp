@@ -46,6 +46,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyFixedConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyPoint2Point.h>
+#include <BulletDynamics/Featherstone/btMultiBodySliderConstraint.h>
 #include <LinearMath/btScalar.h>
 
 #include <memory>
@@ -58,12 +59,17 @@
 #include "reference/fixed_step.hpp"
 #include "solver/formation.hpp"
 #include "solver/joint.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/method.hpp"
 
 static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build (bullet-float64)");
 
 namespace em {
+
+// The closure kinds Bullet 3.24's multibody constraints express (BulletChain::closures); the others are refused by name.
+const std::vector<LoopType> kBulletLoops = {LoopType::Ball, LoopType::Hinge, LoopType::Weld, LoopType::Slider};
+constexpr const char* kBulletConstraints =
+    "Bullet 3.24's multibody constraints (btMultiBodyPoint2Point, btMultiBodyFixedConstraint, btMultiBodySliderConstraint)";
 
 namespace {
 
@@ -419,6 +425,7 @@ std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
   std::vector<std::unique_ptr<btMultiBodyConstraint>> out;
   for (const Loop& loop : m_.loops) {
     End a = end(loop.a.body), b = end(loop.b.body);
+    const Vec3 line = (a.mb ? Mat3(linkFrame(a) * a.Pt) : Mat3::Identity()) * loop.axis_a;  // a slider's axis, world
     Vec3 xa = loop.a.point, xb = loop.b.point, da = loop.axis_a, db = loop.axis_b;
     if (!a.mb) std::swap(a, b), std::swap(xa, xb), std::swap(da, db);  // the world as Bullet's B side
     const auto pivot = [](const End& e, const Vec3& x) { return bt(e.Pt * x); };
@@ -443,6 +450,20 @@ std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
                                                                      frame_a, identity));
         break;
       }
+      case LoopType::Slider: {  // the pivots on one line along axis_a (in A's link frame), the frames' turn as it is now
+        const Mat3 rel = linkFrame(a).transpose() * linkFrame(b);
+        const btMatrix3x3 frame_a(rel(0, 0), rel(0, 1), rel(0, 2), rel(1, 0), rel(1, 1), rel(1, 2), rel(2, 0), rel(2, 1), rel(2, 2));
+        const btMatrix3x3 identity = btMatrix3x3::getIdentity();
+        const btVector3 axis = bt(Vec3(linkFrame(a).transpose() * line));
+        if (!b.mb)
+          out.push_back(std::make_unique<btMultiBodySliderConstraint>(a.mb, a.link, nullptr, pivot(a, xa), bt(xb), frame_a, identity, axis));
+        else
+          out.push_back(std::make_unique<btMultiBodySliderConstraint>(a.mb, a.link, b.mb, b.link, pivot(a, xa), pivot(b, xb), frame_a,
+                                                                      identity, axis));
+        break;
+      }
+      case LoopType::Universal:
+        throw std::invalid_argument(unmappedLoop(m_, kBulletLoops, kBulletConstraints));
     }
   }
   return out;
@@ -738,6 +759,20 @@ std::unique_ptr<MethodImpl> makeBulletUdot(const Model& m, const MethodInfo&, co
 
 }  // namespace
 
+
+// What Bullet does to this scene that bounds its agreement: its slider rows
+// (btMultiBodySliderConstraint::createConstraintRows) take the line's body's
+// velocity at the line's pivot, not at the slider's point, so on a line that
+// turns they are not the derivative of the slider's gap. Its runs then close
+// the loop but converge to another motion (docs/reference-engines.md).
+std::string bulletSceneNote(const Model& m) {
+  for (const Loop& l : m.loops)
+    if (l.type == LoopType::Slider && l.a.body >= 0 && l.b.body >= 0)
+      return "loop '" + l.name + "': Bullet's slider constraint takes the turning line's velocity at its pivot, not at the "
+             "slider's point (btMultiBodySliderConstraint): its runs converge to another motion where the line turns";
+  return "";
+}
+
 EngineRow bulletEngine() {
   EngineRow r;
   r.info.name = "bullet";
@@ -760,11 +795,12 @@ EngineRow bulletEngine() {
   r.code.version = [] { return std::to_string(BT_BULLET_VERSION / 100) + "." + std::to_string(BT_BULLET_VERSION % 100); };
   r.code.udot_method = {"bullet-udot", "Bullet's u' (its articulated-body forward dynamics) under the in-house integrators: "
                                        "Bullet's formulation apart from its integrator", "#5c4000", makeBulletUdot};
-  r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
+  r.code.mechanism_refusal = [](const Model& m) { return unmappedLoop(m, kBulletLoops, kBulletConstraints); };  // point springs and drives all map
   r.code.mechanism_state = "Bullet's forward dynamics at a state is its multibody's, a mechanism's tree: its constraints act "
                            "only inside its solver's step, and point springs and drives are applied there; its A is judged, "
                            "its B and u' of a mechanism are not exposed";
   r.code.dependence = bulletDependence;
+  r.code.scene_note = bulletSceneNote;
   r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
                           "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
   return r;

@@ -55,10 +55,14 @@
 #include "reference/fixed_step.hpp"
 #include "reference/urdf_text.hpp"
 #include "solver/formation.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/method.hpp"
 
 namespace em {
+
+// The closure kinds DART 6.12's joint constraints express (addClosure); the others are refused by name.
+const std::vector<LoopType> kDartLoops = {LoopType::Ball, LoopType::Hinge, LoopType::Weld};
+constexpr const char* kDartConstraints = "DART 6.12's joint constraints (BallJointConstraint, WeldJointConstraint)";
 
 namespace {
 
@@ -503,6 +507,9 @@ class DartStepper : public FixedStepEngine {
         if (second) add(std::make_shared<dart::constraint::WeldJointConstraint>(first, second));
         else add(std::make_shared<dart::constraint::WeldJointConstraint>(first));
         break;
+      case LoopType::Universal:
+      case LoopType::Slider:
+        throw std::invalid_argument(unmappedLoop(m_, kDartLoops, kDartConstraints));
     }
   }
   void add(const dart::constraint::ConstraintBasePtr& c) { world_->getConstraintSolver()->addConstraint(c); }
@@ -610,7 +617,7 @@ EngineRow dartEngine() {
     return std::make_unique<DartUrdfModel>(m, source);
   };
   r.code.version = [] { return std::string(DART_VERSION); };
-  r.code.mechanism_refusal = [](const Model&) { return std::string(); };  // every closure, point spring and drive maps
+  r.code.mechanism_refusal = [](const Model& m) { return unmappedLoop(m, kDartLoops, kDartConstraints); };  // point springs and drives all map
   r.code.mechanism_state = "DART's equations at a state are its skeleton's, a mechanism's tree: its joint constraints act "
                            "only as impulses inside World::step, and point springs and drives are applied there; its A is "
                            "judged, its B and u' of a mechanism are not exposed";

@@ -143,4 +143,9 @@ const EngineCode& engineCode(Engine e);
 /// ("gimbal (body 'link1'), free (body 'base')"), or "": for dependence lines.
 std::string jointsOfKinds(const Model& m, const std::vector<JointType>& kinds);
 
+/// The first loop of `m` whose kind is not among `mapped`, as one line: "loop
+/// 'u' is a universal closure, which <constraints> cannot express (it maps
+/// ball, hinge, weld)", or "": an engine's mechanism refusal names the kind.
+std::string unmappedLoop(const Model& m, const std::vector<LoopType>& mapped, const std::string& constraints);
+
 }  // namespace em

@@ -4,7 +4,7 @@
 #include <ctime>
 #include <optional>
 
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/loops.hpp"
 
 namespace em {
 

@@ -121,6 +121,7 @@ std::string fullInertiaNote(const Model& m) {
 // ball, hinge and weld closures as connects, point spring-dampers as spatial
 // tendons with stiffness and damping, drives as qfrc_applied).
 std::string mechanismRefusal(const Model& m) {
+  if (std::string why = unmappedLoop(m, kMjLoops, "MuJoCo 2.2's equality constraints (connect, weld)"); !why.empty()) return why;
   for (const Body& b : m.bodies)
     if (b.joint.torque.size() > 0 && (b.joint.type == JointType::Ball || b.joint.type == JointType::Free))
       return "the drive on body '" + b.name + "': MuJoCo reads a " + jointTypeName(b.joint.type) +

@@ -106,6 +106,9 @@ std::vector<MjConnect> mjConnects(const Model& m) {
       case LoopType::Weld:  // a vector d of a's frame is rel^T d in b's at the weld (R_b = R_a rel)
         for (const Vec3& d : {Vec3(kLever * Vec3::UnitX()), Vec3(kLever * Vec3::UnitY())}) add(d, l.rel.transpose() * d);
         break;
+      case LoopType::Universal:
+      case LoopType::Slider:
+        throw std::invalid_argument(unmappedLoop(m, kMjLoops, "MuJoCo 2.2's equality constraints (connect, weld)"));
     }
   }
   return out;

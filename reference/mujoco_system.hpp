@@ -29,6 +29,10 @@
 
 namespace em {
 
+/// The closure kinds MuJoCo's connect equalities express (mjConnects): the
+/// others are refused by name (mujoco.cpp's mechanismRefusal).
+inline const std::vector<LoopType> kMjLoops = {LoopType::Ball, LoopType::Hinge, LoopType::Weld};
+
 /// The MJCF of `m` as (file name, text): "scene.xml" first, then the files it
 /// includes (MuJoCo's parser allows 100 nested elements per file).
 std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m);

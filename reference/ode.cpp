@@ -26,7 +26,8 @@
 // max_joint_separation. Point spring-dampers are forces at their points, and
 // drives (a constant generalized force) joint torques, both from the state at
 // a step's start, held over it as the joint springs are.
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
+#include "solver/mechanism/loops.hpp"
 //
 // Two schemes: ode-step (dWorldStep: a direct solve of the constraint forces,
 // then semi-implicit Euler) and ode-quickstep (dWorldQuickStep: 20 iterations
@@ -181,7 +182,10 @@ class OdeSystem {
       jointSpeeds(b.joint, q.data() + b.iq, p.R.transpose() * (s.w - p.w), xdot, u.data() + b.iu);
       apart = std::max(apart, jointSeparation(b.joint, x));
     }
-    for (const Loop& l : m_.loops) apart = std::max(apart, (at(l.b).p - at(l.a).p).norm());
+    for (const Loop& l : m_.loops) {
+      const Point a = at(l.a);
+      apart = std::max(apart, loopPointGap(l, a.p, at(l.b).p, a.body ? rotationOf(a.body) : Mat3::Identity()));
+    }
     last_q_ = q;
     return apart;
   }
@@ -281,6 +285,20 @@ class OdeSystem {
         j = dJointCreateFixed(world_, nullptr);
         dJointAttach(j, a.body, b.body);
         dJointSetFixed(j);
+        break;
+      case LoopType::Universal: {  // axis 1 turns with body 1 (a), axis 2 with body 2 (b)
+        const Vec3 axis2 = (b.body ? rotationOf(b.body) : Mat3::Identity()) * l.axis_b;
+        j = dJointCreateUniversal(world_, nullptr);
+        dJointAttach(j, a.body, b.body);
+        dJointSetUniversalAnchor(j, a.p.x(), a.p.y(), a.p.z());
+        dJointSetUniversalAxis1(j, axis.x(), axis.y(), axis.z());
+        dJointSetUniversalAxis2(j, axis2.x(), axis2.y(), axis2.z());
+        break;
+      }
+      case LoopType::Slider:  // along axis_a, b's turn relative to a's as it is now (rel)
+        j = dJointCreateSlider(world_, nullptr);
+        dJointAttach(j, a.body, b.body);
+        dJointSetSliderAxis(j, axis.x(), axis.y(), axis.z());
         break;
     }
   }

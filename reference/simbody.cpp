@@ -1,7 +1,7 @@
 #include "reference/simbody.hpp"
 
 #include "reference/engine.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/loops.hpp"
 
 #include <cmath>
 #include <ctime>
@@ -204,6 +204,14 @@ struct SimbodySystem::Impl {
 
   MobilizedBody& bodyOf(int i) { return i < 0 ? matter.updGround() : mobods[i]; }
 
+  // A loop's held turn R_a^T R_b (Loop::rel) as Simbody's Rotation.
+  static Rotation relOf(const Loop& l) {
+    SimTK::Mat33 R;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) R(i, j) = l.rel(i, j);
+    return Rotation(R);
+  }
+
   // Bodies' frames sit at their CMs here, so a loop's points are Simbody stations as written.
   void addLoop(const Loop& l) {
     MobilizedBody &a = bodyOf(l.a.body), &b = bodyOf(l.b.body);
@@ -221,14 +229,20 @@ struct SimbodySystem::Impl {
         SimTK::Constraint::ConstantAngle(b, p2, a, axis_a);
         return;
       }
-      case LoopType::Weld: {
+      case LoopType::Weld:
         // b's frame at R_a rel: Simbody's weld makes frame F (on a) and M (on b) coincide.
-        SimTK::Mat33 R;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) R(i, j) = l.rel(i, j);
-        SimTK::Constraint::Weld(a, Transform(Rotation(R), pa), b, Transform(pb));
+        SimTK::Constraint::Weld(a, Transform(relOf(l), pa), b, Transform(pb));
         return;
-      }
+      case LoopType::Universal:
+        // The points meet, and axis_b stays square to axis_a (ConstantAngle's default angle: pi/2).
+        SimTK::Constraint::Ball(a, pa, b, pb);
+        SimTK::Constraint::ConstantAngle(a, SimTK::UnitVec3(toSimTK(l.axis_a)), b, SimTK::UnitVec3(toSimTK(l.axis_b)));
+        return;
+      case LoopType::Slider:
+        // b's point on a's line through pa along axis_a, and b's frame at R_a rel.
+        SimTK::Constraint::PointOnLine(a, SimTK::UnitVec3(toSimTK(l.axis_a)), pa, b, pb);
+        SimTK::Constraint::ConstantOrientation(a, relOf(l), b, Rotation());
+        return;
     }
   }
 

@@ -70,4 +70,15 @@ std::string jointsOfKinds(const Model& m, const std::vector<JointType>& kinds) {
   return out;
 }
 
+std::string unmappedLoop(const Model& m, const std::vector<LoopType>& mapped, const std::string& constraints) {
+  for (const Loop& l : m.loops) {
+    if (std::find(mapped.begin(), mapped.end(), l.type) != mapped.end()) continue;
+    std::string kinds;
+    for (LoopType k : mapped) kinds += (kinds.empty() ? "" : ", ") + std::string(loopRow(k).name);
+    return "loop '" + l.name + "' is a " + loopRow(l.type).name + " closure, which " + constraints + " cannot express (it maps " +
+           kinds + ")";
+  }
+  return "";
+}
+
 }  // namespace em

@@ -2,6 +2,9 @@
 // trapezoidal rule (docs/theory.md eq. (M13)).
 #include "solver/augmented_lagrangian.hpp"
 
+#include "solver/applied_forces.hpp"
+#include "solver/mechanism/constrained.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

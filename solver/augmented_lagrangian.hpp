@@ -13,7 +13,7 @@
 /// the implicit trapezoidal rule on A u' = B. It integrates q' = u: no
 /// quaternion joints (ball, free). A, B and g are the formation's and
 /// solver/mechanism's; the solves are its own (Cholesky of T).
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/loops.hpp"
 #include "solver/method.hpp"
 
 namespace em {

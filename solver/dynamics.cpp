@@ -1,4 +1,6 @@
 #include "solver/dynamics.hpp"
+#include "solver/mechanism/loops.hpp"
+#include "solver/applied_forces.hpp"
 
 #include <cmath>
 #include <limits>

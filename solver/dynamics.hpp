@@ -8,7 +8,7 @@
 /// dissipated work W_diss (1), with W_diss' = sum c u^2].
 #include <memory>
 
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/projection.hpp"
 #include "solver/trajectory.hpp"
 #include "solver/method.hpp"
 

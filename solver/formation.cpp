@@ -1,10 +1,11 @@
 #include "solver/formation.hpp"
 
+#include "solver/applied_forces.hpp"
+
 #include <limits>
 
 #include <Eigen/Eigenvalues>
 
-#include "solver/mechanism.hpp"
 
 namespace em {
 
@@ -16,22 +17,6 @@ inline Mat3 kernel(const Vec3& a, const Vec3& b) {
 }
 
 }  // namespace
-
-Workspace::Workspace(const Model& m) {
-  const int n = m.n(), nu = m.nu;
-  for (auto* v : {&omega, &b, &d, &o, &vo, &v_rel, &r, &v, &s, &e, &h, &F, &F_slide, &tau, &S, &z, &y, &L, &S_dot}) v->assign(n, Vec3::Zero());
-  for (auto* M : {&Kd, &IC, &JW, &Gamma, &IC_dot}) M->assign(n, Mat3::Zero());
-  R.assign(n, Mat3::Identity());
-  J_w.assign(n, Mat3::Zero());
-  mu.assign(n, 0.0);
-  P = Eigen::Matrix3Xd::Zero(3, nu);
-  Pdot = Eigen::Matrix3Xd::Zero(3, nu);
-  A = Eigen::MatrixXd::Zero(nu, nu);
-  Adot = Eigen::MatrixXd::Zero(nu, nu);
-  B = Eigen::VectorXd::Zero(nu);
-  phi = Eigen::VectorXd::Zero(3 * n);
-  psi = Eigen::VectorXd::Zero(3 * n);
-}
 
 void formKinematics(const Model& m, const double* q, const double* u, Workspace& ws) {
   // Outward recursion over the regular numbering (parents first); docs/theory.md §3, §12.
@@ -259,24 +244,6 @@ void formB(const Model& m, const double* q, const double* u, Workspace& ws) {
     ws.B.segment(body.iu + nt, nr).noalias() = -(ws.P.middleCols(body.iu + nt, nr).transpose() * ws.psi.segment<3>(3 * i));
   }
   if (m.hasAppliedForces()) addAppliedForces(m, ws, q, u, ws.B);
-}
-
-void addSpringForces(const Model& m, const double* q, const double* u, Eigen::VectorXd& Q) {
-  for (const Body& body : m.bodies) {
-    if (!body.joint.has_spring) continue;
-    const Spring& sp = body.joint.spring;
-    for (int k = 0; k < body.nu(); ++k)
-      Q[body.iu + k] += -sp.k[k] * (q[body.iq + k] - sp.q_rest[k]) - sp.c[k] * u[body.iu + k];
-  }
-}
-
-double dissipationRate(const Model& m, const double* u) {
-  double P = 0;
-  for (const Body& body : m.bodies) {
-    if (!body.joint.has_spring) continue;
-    for (int k = 0; k < body.nu(); ++k) P += body.joint.spring.c[k] * u[body.iu + k] * u[body.iu + k];
-  }
-  return P;
 }
 
 void formSubtreeRates(const Model& m, Workspace& ws) {

@@ -6,7 +6,8 @@
 
 #include <Eigen/QR>
 
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
+#include "solver/mechanism/constrained.hpp"
 
 namespace em {
 

@@ -1,5 +1,7 @@
 #include "solver/integrate.hpp"
 
+#include "solver/mechanism/formulation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <ctime>

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/method.hpp"
 #include "solver/text.hpp"
 

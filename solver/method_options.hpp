@@ -8,7 +8,7 @@
 namespace em {
 
 /// How a mechanism's loops are kept closed (docs/theory.md §15), one row each
-/// in formulationTable() (solver/mechanism.cpp).
+/// in formulationTable() (solver/mechanism/formulation.cpp).
 enum class Formulation {
   Baumgarte,   ///< multipliers at acceleration level, G u' = -c - 2 alpha G u - beta^2 g
   Projection,  ///< the same, and after every accepted step q onto g = 0 and u onto G u = 0 in A's metric

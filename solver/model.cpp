@@ -14,6 +14,12 @@ constexpr bool jointRowsInOrder() {
   return true;
 }
 static_assert(jointRowsInOrder(), "kJointTypes: one row per JointType, in its order (jointRow indexes by it)");
+constexpr bool loopRowsInOrder() {
+  for (int i = 0; i < static_cast<int>(std::size(kLoopTypes)); ++i)
+    if (static_cast<int>(kLoopTypes[i].type) != i || kLoopTypes[i].point_rows > kLoopTypes[i].equations) return false;
+  return true;
+}
+static_assert(loopRowsInOrder(), "kLoopTypes: one row per LoopType, in its order (loopRow indexes by it), point rows within its rows");
 }  // namespace
 
 const std::vector<JointTypeInfo>& jointTypeTable() {
@@ -135,6 +141,28 @@ void placeMechanism(const MechanismDef& def, Model& m) {
   m.has_dampers = m.has_dampers || m.has_drives;
 }
 
+// Every body's R (world <- body) at q0, parents first, as formKinematics forms it (docs/theory.md §3).
+std::vector<Mat3> rotationsAtStart(const Model& m) {
+  std::vector<Mat3> R(m.bodies.size());
+  for (int i = 0; i < m.n(); ++i) {
+    const Body& b = m.bodies[i];
+    const Mat3 R_p = b.parent < 0 ? Mat3::Identity() : R[b.parent];
+    R[i] = R_p * jointRow(b.joint.type).kinematics->rotation(b.joint, b.joint.q0.data());
+  }
+  return R;
+}
+
+// The turn each loop that holds one keeps: R_a^T R_b at the initial state (Loop::rel).
+void holdStartTurns(Model& m) {
+  bool any = false;
+  for (const Loop& l : m.loops) any = any || loopRow(l.type).holds_turn;
+  if (!any) return;
+  const std::vector<Mat3> R = rotationsAtStart(m);
+  const auto at = [&R](int body) { return body < 0 ? Mat3::Identity() : R[body]; };
+  for (Loop& l : m.loops)
+    if (loopRow(l.type).holds_turn) l.rel = at(l.a.body).transpose() * at(l.b.body);
+}
+
 }  // namespace
 
 Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& defs, const MechanismDef& mechanism) {
@@ -145,11 +173,20 @@ Model buildModel(const std::string& name, const Vec3& gravity, const std::vector
   m.has_gravity = gravity.squaredNorm() > 0;
   placeBodies(defs, regularOrder(defs), m);
   placeMechanism(mechanism, m);
+  holdStartTurns(m);
   // §2: T(j,i) = 1 when joint j lies on the path from the ground to body i.
   const int n = m.n();
   m.T = Eigen::MatrixXi::Zero(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = i; j >= 0; j = m.bodies[j].parent) m.T(j, i) = 1;
+  return m;
+}
+
+Model withInitialState(Model m, const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  for (Body& b : m.bodies) {
+    b.joint.q0 = q.segment(b.iq, b.nq());
+    b.joint.u0 = u.segment(b.iu, b.nu());
+  }
   return m;
 }
 

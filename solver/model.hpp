@@ -82,28 +82,45 @@ struct Attachment {
 };
 
 /// A closure kind (docs/theory.md §15): its scene name, the equations it adds
-/// and whether the scene gives it axes. One row per kind, in LoopType order.
-enum class LoopType { Ball, Hinge, Weld };
+/// (its point rows, in m, first; then its direction rows), which axes the
+/// scene gives it, whether it holds the relative turn its bodies have at the
+/// start (Loop::rel), and its equations (one file each,
+/// solver/mechanism/kinds/<kind>.cpp). One row per kind, in LoopType order
+/// (static_assert in model.cpp). A new kind is its value here, its row, its own
+/// file and, in each engine, its mapping or its refusal by name.
+enum class LoopType { Ball, Hinge, Weld, Universal, Slider };
+enum class LoopAxes { None, A, AB };  ///< none; axis_a; axis_a and axis_b
+struct LoopEquations;  // solver/mechanism/loops.hpp
+extern const LoopEquations kBallLoop, kHingeLoop, kWeldLoop, kUniversalLoop, kSliderLoop;
 struct LoopTypeInfo {
   LoopType type;
   const char* name;
-  int equations;  ///< ball 3 (the points meet), hinge 5 (and the axes stay aligned), weld 6 (and the frames)
-  bool axes;      ///< the scene gives axis_a and axis_b
+  int equations;   ///< ball 3, hinge 5, weld 6, universal 4, slider 5
+  int point_rows;  ///< the first rows, a point's gap in m: 3 where the points meet, a slider's 2 off its line
+  LoopAxes axes;   ///< the axes the scene gives (unit, in a's and b's frames)
+  bool holds_turn; ///< keeps b's frame at R_a rel (weld, slider)
+  const LoopEquations* equations_of;
 };
 inline constexpr LoopTypeInfo kLoopTypes[] = {
-    {LoopType::Ball, "ball", 3, false}, {LoopType::Hinge, "hinge", 5, true}, {LoopType::Weld, "weld", 6, false}};
+    {LoopType::Ball, "ball", 3, 3, LoopAxes::None, false, &kBallLoop},
+    {LoopType::Hinge, "hinge", 5, 3, LoopAxes::AB, false, &kHingeLoop},
+    {LoopType::Weld, "weld", 6, 3, LoopAxes::None, true, &kWeldLoop},
+    {LoopType::Universal, "universal", 4, 3, LoopAxes::AB, false, &kUniversalLoop},
+    {LoopType::Slider, "slider", 5, 2, LoopAxes::A, true, &kSliderLoop}};
 inline const LoopTypeInfo& loopRow(LoopType t) { return kLoopTypes[static_cast<int>(t)]; }
 
-/// One closure of the tree into a mechanism (the scene's `loops`): a's point
-/// and b's point meet; a hinge keeps axis_a (body a's frame) along axis_b
-/// (body b's); a weld keeps b's frame at the orientation relative to a's that
-/// it has at the initial state (rel = R_a^T R_b there).
+/// One closure of the tree into a mechanism (the scene's `loops`), by its kind:
+/// a ball's points meet; a hinge's also keep axis_a (body a's frame) along
+/// axis_b (body b's); a universal's keep axis_a square to axis_b; a weld keeps
+/// b's frame at the orientation relative to a's that it has at the initial
+/// state (rel = R_a^T R_b there); a slider keeps that orientation and b's point
+/// on the line through a's point along axis_a.
 struct Loop {
   std::string name;
   LoopType type = LoopType::Ball;
   Attachment a, b;
-  Vec3 axis_a = Vec3::UnitZ(), axis_b = Vec3::UnitZ();  ///< unit (hinge)
-  Mat3 rel = Mat3::Identity();                           ///< weld: R_a^T R_b at q0 (set by finishMechanism)
+  Vec3 axis_a = Vec3::UnitZ(), axis_b = Vec3::UnitZ();  ///< unit (hinge, universal; slider: axis_a)
+  Mat3 rel = Mat3::Identity();                           ///< weld, slider: R_a^T R_b at q0 (set by buildModel)
 };
 
 /// A linear spring-damper between two points (the scene's `forces`): tension
@@ -213,6 +230,10 @@ struct Model {
   /// quaternion's, not a displacement): what a coordinate error in rad compares.
   std::vector<int> angleCoordinates() const;
 };
+
+/// The same model started at (q, u), internal order (an assembled start:
+/// solver/mechanism/assembly.hpp); its loops keep the turns they hold (rel).
+Model withInitialState(Model m, const Eigen::VectorXd& q, const Eigen::VectorXd& u);
 
 /// Bounds of a state (a scene's q0 and u0, an ensemble's members, a state
 /// handed to the Python module): at 1e4 rad (m) a double still resolves

@@ -1,4 +1,5 @@
 #include "sweep/plan.hpp"
+#include "solver/mechanism/formulation.hpp"
 
 #include "outside/plugin.hpp"
 #include "outside/recorded.hpp"

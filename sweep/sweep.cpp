@@ -1,4 +1,5 @@
 #include "sweep/sweep.hpp"
+#include "solver/mechanism/formulation.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>

@@ -132,8 +132,20 @@ def _opposed_axis_b():
 case("loop_hinge_axes_opposed", "loops[0]", "loop 'l' is open by 3.14 rad at the initial state",
      top("loops", [{"name": "l", "type": "hinge", "body_a": "upper", "point_a": [0, 0, 0.5], "body_b": "ground",
                     "axis_a": [1, 0, 0], "axis_b": _opposed_axis_b()}]))
-case("loop_unknown_type", "loops[0].type", "unknown loop type 'slider'",
-     top("loops", [{"name": "l", "type": "slider", "body_a": "upper", "body_b": "ground"}]))
+case("loop_unknown_type", "loops[0].type", "unknown loop type 'cam'",
+     top("loops", [{"name": "l", "type": "cam", "body_a": "upper", "body_b": "ground"}]))
+case("loop_universal_without_axis_b", "loops[0].axis_b", "missing required key",
+     top("loops", [{"name": "l", "type": "universal", "body_a": "upper", "point_a": [0, 0, 0.5], "body_b": "ground",
+                    "axis_a": [1, 0, 0]}]))
+case("loop_slider_with_axis_b", "loops[0].axis_b", "unknown key",
+     top("loops", [{"name": "l", "type": "slider", "body_a": "upper", "body_b": "ground", "axis_a": [1, 0, 0],
+                    "axis_b": [0, 1, 0]}]))
+case("loop_universal_axes_parallel", "loops[0]", "loop 'l' is open by 1.57 rad at the initial state",
+     top("loops", [{"name": "l", "type": "universal", "body_a": "upper", "point_a": [0, 0, 0.5], "body_b": "ground",
+                    "axis_a": [1, 0, 0], "axis_b": _opposed_axis_b()}]))
+case("loop_slider_off_its_line", "loops[0]", "loop 'l' is open by 0.0993 m at the initial state",
+     top("loops", [{"name": "l", "type": "slider", "body_a": "ground", "point_a": [0, 0, 0], "body_b": "upper",
+                    "point_b": [0, 0, 0], "axis_a": [0, 0, 1]}]))
 case("force_negative_k", "forces[0].k", "must be >= 0",
      top("forces", [{"name": "s", "type": "spring", "body_a": "lower", "body_b": "ground", "k": -1, "length": 1}]))
 case("force_huge_length", "forces[0].length", "1e+300 m beyond 10000 m",

@@ -5,7 +5,7 @@
 #include "reference/simbody.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/projection.hpp"
 #include "momenta.hpp"
 #include "engines.hpp"
 #include "support.hpp"

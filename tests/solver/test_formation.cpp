@@ -8,6 +8,7 @@
 #include <new>
 
 #include "solver/dynamics.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/dense_oracles.hpp"
 #include "solver/formation.hpp"
 #include "support.hpp"

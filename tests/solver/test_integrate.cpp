@@ -7,6 +7,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "solver/integrate.hpp"
+#include "solver/mechanism/formulation.hpp"
 #include "solver/steppers.hpp"
 #include "support.hpp"
 

@@ -12,7 +12,9 @@
 #include "io/json_input.hpp"
 #include "io/scene_json.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/formulation.hpp"
+#include "solver/mechanism/projection.hpp"
+#include "solver/mechanism/assembly.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -50,7 +52,8 @@ Eigen::VectorXd moved(const Model& m, const Eigen::VectorXd& q, const Eigen::Vec
 
 // A 3D mechanism of every closure kind and every joint kind the loops read:
 // a ball-jointed arm, a universal, a prismatic and a free body, closed by a
-// ball, a hinge and a weld. Its state is random (the loops need not be closed
+// ball, a hinge, a weld, a universal and two sliders (one on a moving line,
+// one on the ground's). Its state is random (the loops need not be closed
 // for G and c to be g's derivatives).
 Model everyLoopKind() {
   const std::string text = R"({"format": "eigenmass-scene/1", "name": "loops3d", "gravity": [0, 0, -9.81],
@@ -67,7 +70,13 @@ Model everyLoopKind() {
       {"name": "ball", "type": "ball", "body_a": "c", "point_a": [0, 0.05, -0.1], "body_b": "d", "point_b": [0.1, 0, 0]},
       {"name": "hinge", "type": "hinge", "body_a": "b", "point_a": [0.1, 0, 0], "body_b": "ground", "point_b": [0.2, 0.1, -0.4],
        "axis_a": [0, 0, 1], "axis_b": [0, 0.6, 0.8]},
-      {"name": "weld", "type": "weld", "body_a": "d", "point_a": [0, 0.1, 0], "body_b": "a", "point_b": [0.1, 0, 0]}],
+      {"name": "weld", "type": "weld", "body_a": "d", "point_a": [0, 0.1, 0], "body_b": "a", "point_b": [0.1, 0, 0]},
+      {"name": "universal", "type": "universal", "body_a": "a", "point_a": [0, 0.1, 0.1], "body_b": "c", "point_b": [0.05, 0, 0],
+       "axis_a": [0.6, 0, 0.8], "axis_b": [0, 1, 0]},
+      {"name": "slider", "type": "slider", "body_a": "c", "point_a": [0.1, 0.02, 0], "body_b": "d", "point_b": [0, 0, 0.1],
+       "axis_a": [0, 0.8, 0.6]},
+      {"name": "slider_on_ground", "type": "slider", "body_a": "ground", "point_a": [0.3, 0, 0], "body_b": "b",
+       "point_b": [0, 0.1, 0], "axis_a": [1, 0, 0]}],
     "simulate": {"t_end": 1, "output_dt": 0.1}})";
   SceneSpec spec = parseSceneSpec(text);
   MechanismDef mech;
@@ -97,10 +106,13 @@ Trajectory run(const Model& m, Method method, Integrator integrator, double tol,
 
 TEST_CASE("G is the derivative of g, and c of G u, for every closure kind", "[mechanism]") {
   const Model m = everyLoopKind();
-  REQUIRE(m.loop_rows == 3 + 5 + 6);
+  REQUIRE(m.loop_rows == 3 + 5 + 6 + 4 + 5 + 5);
   std::mt19937 rng(7);
-  // Central differences: truncation h^2 |g'''| ~ 1e-12, round-off eps |g| / h ~ 1e-11.
-  const double h = 1e-5, tol = 1e-8;
+  // Central differences: truncation h^2 |g'''| / 6, round-off eps |G u| / h.
+  // The universal's and sliders' rows carry the largest third derivatives:
+  // measured 1.06e-8 at h = 1e-5 on c (trial 2), falling as h^2 (1.06e-6 at
+  // 1e-4); at h = 2e-6 truncation is ~4e-10 and round-off ~1e-9.
+  const double h = 2e-6, tol = 1e-8;
   for (int trial = 0; trial < 5; ++trial) {
     Eigen::VectorXd q, u;
     randomState(m, rng, q, u);
@@ -190,7 +202,7 @@ TEST_CASE("a mechanism's bad loops and forces: one line naming the JSON path", "
       {R"("loops": [{"name": "l", "type": "ball", "body_a": "x", "body_b": "ground"}])", "loops[0].body_a: unknown body 'x'"},
       {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "body_b": "a"}])", "loops[0].body_b: joins body 'a' to itself"},
       {R"("loops": [{"name": "l", "type": "hinge", "body_a": "a", "body_b": "ground", "axis_a": [0, 0, 0], "axis_b": [0, 0, 1]}])", "loops[0].axis_a"},
-      {R"("loops": [{"name": "l", "type": "slot", "body_a": "a", "body_b": "ground"}])", "loops[0].type: unknown loop type 'slot' (ball, hinge, weld)"},
+      {R"("loops": [{"name": "l", "type": "slot", "body_a": "a", "body_b": "ground"}])", "loops[0].type: unknown loop type 'slot' (ball, hinge, weld, universal, slider)"},
       {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "body_b": "ground", "axis_a": [0, 0, 1]}])", "loops[0]"},
       {R"("loops": [{"name": "l", "type": "ball", "body_a": "a", "point_a": [0, -0.5, 0], "body_b": "ground", "point_b": [0, -1.5, 0]}])",
        "loops[0]: loop 'l' is open by 0.5 m at the initial state"},

@@ -1,0 +1,72 @@
+#pragma once
+/// The constrained accelerations of a mechanism (docs/theory.md §15, eqs.
+/// (M7), (M11)): the multipliers by G A^-1 G^T, or Udwadia-Kalaba's M (G M)^+,
+/// and a mechanism's equations at one state.
+#include <Eigen/QR>
+
+#include "solver/mechanism/loops.hpp"
+
+namespace em {
+
+/// The rank threshold of G A^-1 G^T, relative to its largest pivot: rows
+/// beyond the rank are redundant (a planar mechanism closed by balls, Bricard).
+inline constexpr double kLoopRankTol = 1e-10;
+/// The same decision for G M (M M^T = A^-1), whose singular values are the
+/// square roots of G A^-1 G^T's: sqrt(1e-10).
+inline constexpr double kLoopRankTolUK = 1e-5;
+
+/// How the multipliers are had (docs/theory.md §15): u' = a + A^-1 G^T lambda,
+/// (G A^-1 G^T) lambda = -c - 2 alpha G u - beta^2 g - G a, a = A^-1 B, solved
+/// by a complete orthogonal decomposition (rank-revealing; least-norm lambda
+/// on redundant rows). Preallocated for one model: no allocation per call.
+class ConstrainedSolve {
+ public:
+  explicit ConstrainedSolve(const Model& m);
+  /// u' in place (the tree's a on entry), lambda, given AinvGt = A^-1 G^T.
+  /// Returns the rank of G A^-1 G^T.
+  int solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta, Eigen::Ref<Eigen::VectorXd> udot);
+  /// Udwadia-Kalaba: u' += M (G M)^+ (b - G a), b = -c - 2 alpha G u - beta^2 g,
+  /// M M^T = A^-1 (docs/theory.md eq. (M11)). Rank from G M's complete orthogonal
+  /// decomposition at kLoopRankTolUK. Returns that rank; lambda() is not formed.
+  int solveUdwadiaKalaba(const LoopState& ls, const Eigen::MatrixXd& M, double alpha, double beta,
+                         Eigen::Ref<Eigen::VectorXd> udot);
+  /// out = A^-1 G^T (G A^-1 G^T)^+ r: the least change in A's metric that
+  /// takes G's rows by r (a projection's step).  // r: (m), out: (nu)
+  void correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r, Eigen::VectorXd& out);
+  const Eigen::VectorXd& lambda() const { return lambda_; }
+  int rank() const { return rank_; }
+
+ private:
+  void residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a);
+  Eigen::MatrixXd S_, GM_;
+  Eigen::VectorXd r_, lambda_, w_;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_, cod_gm_;
+  int rank_ = 0;
+};
+
+/// A mechanism's equations at one state (theory.md eq. (M7), solved by
+/// Cholesky): the closures (g, G, c), the rank of G A^-1 G^T, the multipliers
+/// lambda (the force on body a's point, and for a direction row the moment
+/// along e x f; the least-norm one on redundant rows) and the constrained u'.
+struct ConstrainedEquations {
+  explicit ConstrainedEquations(const Model& m) : loops(m) {}
+  LoopState loops;
+  Eigen::VectorXd udot, lambda;
+  int rank = 0;
+};
+/// From a Workspace whose A and B are formed at (q, u) (formEquations).  // u: (nu)
+ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u);
+
+/// tr.loop_samples and tr.lambda_names at every sample of a run on `m` (a
+/// model with loops; nothing otherwise): the violation by our g(q) and G u,
+/// and (M7)'s lambda at the sampled state, whoever made the run (an engine's
+/// samples are measured the same way). Bookkeeping after the run: it allocates.
+void recordLoopSamples(const Model& m, Trajectory& tr);
+
+/// tr.loop_samples and tr.lambda_names at every sample of a run on `m` (a
+/// model with loops; nothing otherwise): the violation by our g(q) and G u,
+/// and (M7)'s lambda at the sampled state, whoever made the run (an engine's
+/// samples are measured the same way). Bookkeeping after the run: it allocates.
+void recordLoopSamples(const Model& m, Trajectory& tr);
+
+}  // namespace em
