@@ -48,11 +48,17 @@
  *   ball         4  3  unit quaternion [w,x,y,z]            angular velocity, parent frame
  *   prismatic    1  1  slide along axis[0]                  q'
  *   free         7  6  [x, y, z, quaternion w,x,y,z]        [x', y', z', angular velocity, parent frame]
+ *   planar       3  3  [s1, s2, theta]: slides along        q'
+ *                      axis[0], axis[1], then the turn
+ *                      about n = axis[0] x axis[1]
  *
  * The rotation of a body relative to its parent is Rot(axis0, q0) (revolute),
  * Rot(a0,q0) Rot(a1,q1) (universal), Rx Ry Rz (gimbal), R(quaternion) (ball,
- * free); a slide x moves the joint point by x along axis[0] (prismatic) or by
- * (x, y, z) along the parent's axes (free), before the rotation.
+ * free), Rot(n, theta) (planar); a slide moves the joint point by x along
+ * axis[0] (prismatic), by (x, y, z) along the parent's axes (free) or by
+ * s1 axis[0] + s2 axis[1] (planar), before the rotation. These are every kind
+ * there is: a kind eigenmass adds gets its value here and a new
+ * EM_PLUGIN_ABI, so a plugin never receives a kind its header does not name.
  *
  * The ABI changes only with EM_PLUGIN_ABI; a library built against another
  * version is refused in one line before any run.
@@ -66,12 +72,23 @@
 extern "C" {
 #endif
 
-/* 2: em_plugin_udot takes tau; em_model counts the mechanism's loops, point
-   springs and drives. 1: a tree's u' only (refused now). */
-#define EM_PLUGIN_ABI 2
+/* 3: em_joint_kind names EM_PLANAR (6), which ABI 2 passed unnamed.
+   2: em_plugin_udot takes tau; em_model counts the mechanism's loops, point
+   springs and drives. 1: a tree's u' only. Every other value is refused. */
+#define EM_PLUGIN_ABI 3
 
-/* Joint kinds (the values are eigenmass's JointType order). */
-enum em_joint_kind { EM_REVOLUTE = 0, EM_UNIVERSAL = 1, EM_GIMBAL = 2, EM_BALL = 3, EM_PRISMATIC = 4, EM_FREE = 5 };
+/* Joint kinds (the values are eigenmass's JointType order, checked when
+   eigenmass is compiled); EM_JOINT_KINDS counts them. */
+enum em_joint_kind {
+  EM_REVOLUTE = 0,
+  EM_UNIVERSAL = 1,
+  EM_GIMBAL = 2,
+  EM_BALL = 3,
+  EM_PRISMATIC = 4,
+  EM_FREE = 5,
+  EM_PLANAR = 6,
+  EM_JOINT_KINDS = 7
+};
 
 /* One body and its inboard joint. */
 typedef struct em_body {
@@ -84,8 +101,9 @@ typedef struct em_body {
   /* Unit joint axes. revolute, prismatic: axis[0], in the parent frame. universal:
      axis[0] fixed in the parent, axis[1] fixed in the body (R = Rot(a0,q0) Rot(a1,q1):
      axis[1]'s components are the same in the body frame at every q, and in the
-     parent frame at q = 0). gimbal, ball, free: unused, all zero (the kinds'
-     own axes are the parent's x, y, z). */
+     parent frame at q = 0). planar: axis[0] and axis[1], perpendicular, both in
+     the parent frame. gimbal, ball, free: unused, all zero (the kinds' own axes
+     are the parent's x, y, z). */
   double axis[2][3];
   double in_parent[3];   /* a: parent CM to the joint point, parent frame (world for a root), m */
   double in_body[3];     /* c: body CM to the joint point, body frame, m */

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,10 +17,23 @@
 #include "outside/isolate.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/applied_forces.hpp"
+#include "solver/mechanism/constrained.hpp"
 #include "solver/text.hpp"
 
 namespace em {
+
+// The C header's joint kinds are JointType's, value for value, and every kind
+// is named there: a kind added to one and not the other fails to compile.
+constexpr bool pluginKindsMatch() {
+  constexpr int c[] = {EM_REVOLUTE, EM_UNIVERSAL, EM_GIMBAL, EM_BALL, EM_PRISMATIC, EM_FREE, EM_PLANAR};
+  constexpr JointType t[] = {JointType::Revolute, JointType::Universal, JointType::Gimbal, JointType::Ball,
+                             JointType::Prismatic, JointType::Free, JointType::Planar};
+  for (int k = 0; k < EM_JOINT_KINDS; ++k)
+    if (c[k] != static_cast<int>(t[k]) || kJointTypes[k].type != t[k]) return false;
+  return std::size(kJointTypes) == EM_JOINT_KINDS && std::size(c) == EM_JOINT_KINDS;
+}
+static_assert(pluginKindsMatch(), "outside/eigenmass_plugin.h's em_joint_kind must name every JointType, in its order");
 
 namespace {
 

@@ -118,7 +118,7 @@ TEST_CASE("hostile plugins: one line naming the file, exit 2, before any run", "
       {"x=" + lib("hostile_nan"), "u' at the initial state is not finite"},
       {"x=" + lib("hostile_segv"), "crashed (SIGSEGV) in em_plugin_udot at t = 0"},
       {"x=" + lib("hostile_hang"), "no return within 0.5 s (killed)"},
-      {"x=" + lib("hostile_abi"), "built against plugin ABI 100"},
+      {"x=" + lib("hostile_abi"), "built against plugin ABI 101"},
       {"x=" + lib("hostile_nosym"), "no symbol em_plugin_udot"},
       {"x=" + lib("hostile_null"), "em_plugin_create returned NULL: this plugin refuses\\nevery \\x1b[31mmodel"},
       {"x=" + lib("hostile_error"), "returned an error at the initial state"},

@@ -17,8 +17,33 @@ int em_plugin_abi(void) {
 #endif
 }
 
+#ifdef HOSTILE_KINDS
+/* Written from the header alone: the name of every kind it names, by a switch
+   with no default (a compiler warns on a kind it leaves out), "unnamed" for a
+   value the header does not name. */
+static const char* kind_name(int k) {
+  switch ((enum em_joint_kind)k) {
+    case EM_REVOLUTE: return "revolute";
+    case EM_UNIVERSAL: return "universal";
+    case EM_GIMBAL: return "gimbal";
+    case EM_BALL: return "ball";
+    case EM_PRISMATIC: return "prismatic";
+    case EM_FREE: return "free";
+    case EM_PLANAR: return "planar";
+    case EM_JOINT_KINDS: break;
+  }
+  return "unnamed";
+}
+#endif
+
 void* em_plugin_create(const em_model* m, char* err, size_t err_size) {
-#ifdef HOSTILE_NULL
+#ifdef HOSTILE_KINDS
+  /* Refuses every model, naming the kinds of its joints in body order. */
+  size_t at = (size_t)snprintf(err, err_size, "kinds:");
+  for (int i = 0; i < m->n_bodies && at < err_size; ++i)
+    at += (size_t)snprintf(err + at, err_size - at, " %s", kind_name(m->bodies[i].joint));
+  return NULL;
+#elif defined(HOSTILE_NULL)
   snprintf(err, err_size, "this plugin refuses\nevery \x1b[31mmodel");  /* a newline and ESC: escaped in our line */
   (void)m;
   return NULL;

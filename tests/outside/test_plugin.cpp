@@ -8,7 +8,8 @@
 #include "outside/plugin.hpp"
 #include "solver/formation.hpp"
 #include "solver/integrate.hpp"
-#include "solver/mechanism.hpp"
+#include "solver/mechanism/formulation.hpp"
+#include "solver/mechanism/projection.hpp"
 #include "support.hpp"
 
 using namespace em;
@@ -87,7 +88,7 @@ TEST_CASE("a plugin's run in a child process is the run in-process, bit for bit"
 }
 
 TEST_CASE("a bad library is refused in one line naming the file", "[outside][plugin]") {
-  CHECK_THROWS_WITH(plugin("hostile_abi"), Catch::Contains("libhostile_abi.so: built against plugin ABI 100, this eigenmass speaks 2"));
+  CHECK_THROWS_WITH(plugin("hostile_abi"), Catch::Contains("libhostile_abi.so: built against plugin ABI 101, this eigenmass speaks 3"));
   CHECK_THROWS_WITH(plugin("hostile_nosym"), Catch::Contains("libhostile_nosym.so: no symbol em_plugin_udot"));
   CHECK_THROWS_WITH(addPlugin("text", test::sourcePath("README.md")), Catch::Contains("README.md: not a loadable library"));
   CHECK_THROWS_WITH(addPlugin("gone", "/nonexistent/libx.so"), "/nonexistent/libx.so: cannot read the plugin");
@@ -112,6 +113,17 @@ TEST_CASE("a plugin that fails at the initial state is refused before any run, i
   CHECK_THROWS_WITH(probePlugin(plugin("rnea"), test::loadData("pendulum5_ball.json")),
                     Catch::Contains("revolute, universal and gimbal joints only (body"));
   setPluginTimeout(timeout);
+}
+
+// A plugin written from the header alone names every joint kind it is handed:
+// the planar sled's joints reach it as EM_PLANAR and EM_REVOLUTE, never as an
+// unnamed value (ABI 2 passed a planar joint as 6, which its header did not name).
+TEST_CASE("a plugin written from the header names every joint kind it receives, planar included", "[outside][plugin]") {
+  const Model m = test::loadData("planar_sled.json");
+  std::string kinds;
+  for (const Body& b : m.bodies) kinds += std::string(" ") + jointTypeName(b.joint.type);
+  CHECK_THAT(kinds, Catch::Contains("planar"));
+  CHECK_THROWS_WITH(probePlugin(plugin("hostile_kinds"), m), Catch::Contains("em_plugin_create returned NULL: kinds:" + kinds));
 }
 
 TEST_CASE("a plugin that fails during a run ends that run with its time and cause, its samples before kept", "[outside][plugin]") {
