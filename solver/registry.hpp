@@ -76,7 +76,9 @@ struct MethodParam {
 struct EngineInfo {
   const char* name = nullptr;
   const char* summary = nullptr;       ///< its method's one line (--help, docs)
-  std::vector<EngineScheme> schemes;   ///< its integrators (rk4: the in-house tableau)
+  /// Its integrators (rk4: the in-house tableau). A scheme's position here is
+  /// its id (schemeIndex): the engine's code names its schemes by an enum in this order.
+  std::vector<EngineScheme> schemes;
   const char* fixed_scheme = nullptr;  ///< what it runs when nothing is asked
   const char* adaptive_scheme = nullptr;  ///< a tolerance alone, and as a reference
   double max_tol = HUGE_VAL;           ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
@@ -91,6 +93,7 @@ struct EngineInfo {
   Integrator fixed_default = Integrator::RK4;     ///< fixed_scheme's row
   Integrator adaptive_default = Integrator::RK4;  ///< adaptive_scheme's row
   Method method = Method::Classical;              ///< the method it runs (in-house: the reference's, classical)
+  std::vector<Integrator> scheme_rows;            ///< each scheme's integrator row, in schemes' order
 };
 
 /// Tolerance of a reference run when none is asked (with the engine's adaptive default).
@@ -267,6 +270,10 @@ bool findMethod(const std::string& name, Method& out);
 bool findIntegrator(const std::string& name, Integrator& out);
 bool findEngine(const std::string& name, Engine& out);
 bool findOutcome(const std::string& name, Outcome& out);
+/// Which of engine `e`'s schemes `i` is: its position in e's row's schemes,
+/// the id an engine's own code compares (never the scheme's name). Throws
+/// std::logic_error where `e` does not run `i`.
+int schemeIndex(Engine e, Integrator i);
 /// Whether engine `e` runs a scheme that takes a tolerance.
 bool hasAdaptiveScheme(Engine e);
 /// Every engine but the in-house code, in table order.
