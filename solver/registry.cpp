@@ -200,6 +200,7 @@ bool findMethod(const std::string& name, Method& out) { return find(methodTable(
 bool findIntegrator(const std::string& name, Integrator& out) { return find(integratorTable(), name, out); }
 bool findEngine(const std::string& name, Engine& out) { return find(engineTable(), name, out); }
 bool findOutcome(const std::string& name, Outcome& out) { return find(outcomeTable(), name, out); }
+bool findFailure(const std::string& name, Failure& out) { return find(failureTable(), name, out); }
 
 int schemeIndex(Engine e, Integrator i) {
   const EngineInfo& row = info(e);

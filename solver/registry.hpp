@@ -270,6 +270,7 @@ bool findMethod(const std::string& name, Method& out);
 bool findIntegrator(const std::string& name, Integrator& out);
 bool findEngine(const std::string& name, Engine& out);
 bool findOutcome(const std::string& name, Outcome& out);
+bool findFailure(const std::string& name, Failure& out);
 /// Which of engine `e`'s schemes `i` is: its position in e's row's schemes,
 /// the id an engine's own code compares (never the scheme's name). Throws
 /// std::logic_error where `e` does not run `i`.

@@ -67,7 +67,7 @@ struct Route {
 std::vector<Route> routesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   std::vector<Route> out;
   for (const CaseRecord& r : rs) {
-    if (r.scene != scene || r.role != "run" || r.member != 0) continue;
+    if (r.scene != scene || r.role != CaseRole::Run || r.member != 0) continue;
     auto it = std::find_if(out.begin(), out.end(), [&](const Route& x) { return x.method == r.method && x.integrator == r.integrator; });
     if (it == out.end()) it = out.insert(out.end(), Route{routeOwner(r.method), r.method, r.integrator, {}});
     it->runs.push_back(&r);
@@ -151,7 +151,7 @@ struct Conditioning {
 
 Conditioning conditioningOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   Conditioning c;
-  const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "reference"; });
+  const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == CaseRole::Reference; });
   if (ref == rs.end() || !ref->sensitivity_rad) return c;
   c.twin_rad = ref->sensitivity_rad, c.twin_failed_at = ref->sensitivity_failed_at;
   const Sensitivity twin{kSensitivitySigma, *ref->sensitivity_rad, ref->sensitivity_failed_at};
@@ -290,7 +290,7 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
       const bool none = r->status != Outcome::Ok && r->failure_time.value_or(1) <= 0;
       auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
       o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
-        << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : std::string(failureName(r->failure_kind)) + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
         << cell(r->max_pose) << " | " << when(r->pose_beyond[0]) << " | " << when(r->pose_beyond[1]) << " | " << cell(r->max_energy) << " |";
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
       if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";

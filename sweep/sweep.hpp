@@ -22,14 +22,17 @@ using FirstTimes = std::array<std::optional<double>, kCaseThresholds.size()>;  /
 
 /// What one case's result file says (`eigenmass-sweep-case/1`).
 struct CaseRecord {
-  std::string name, role, scene, method, integrator;
+  std::string name;
+  CaseRole role = CaseRole::Run;  ///< written as caseRoleName
+  std::string scene, method, integrator;
   std::string formulation;   ///< a line's formulation that names the case (empty: the plan's, or a tree)
   int member = 0;            ///< ensemble member (0: the scene itself)
   SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;
   int nu = 0;
   Outcome status = Outcome::Ok;  ///< Ok or Failed
-  std::string failure_kind, failure;
+  Failure failure_kind = Failure::None;  ///< written as failureName
+  std::string failure;
   std::optional<double> failure_time;
   bool has_error = false;  ///< errors against the plan's reference
   double max_pose = 0, max_coord = 0, max_energy = 0;

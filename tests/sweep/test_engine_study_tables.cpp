@@ -20,9 +20,9 @@ namespace {
 CaseRecord run(const std::string& method, const std::string& integrator, double dt, double err, double cpu,
                Outcome status = Outcome::Ok) {
   CaseRecord r;
-  r.role = "run", r.scene = "s", r.method = method, r.integrator = integrator;
+  r.role = CaseRole::Run, r.scene = "s", r.method = method, r.integrator = integrator;
   r.setting_kind = SettingKind::Dt, r.setting = dt, r.status = status;
-  if (status != Outcome::Ok) r.failure_kind = "blow-up", r.failure_time = 1.0;
+  if (status != Outcome::Ok) r.failure_kind = Failure::BlowUp, r.failure_time = 1.0;
   r.has_error = true, r.max_pose = err, r.cpu_s = {cpu, cpu, cpu};
   return r;
 }
@@ -122,7 +122,7 @@ TEST_CASE("an engine whose own dynamics stay beyond an accuracy is said to be at
 TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-conditioned and no route is ranked there", "[sweep][engine-study]") {
   useEngines();
   CaseRecord ref;
-  ref.role = "reference", ref.scene = "s", ref.method = "classical", ref.integrator = "rk8pd";
+  ref.role = CaseRole::Reference, ref.scene = "s", ref.method = "classical", ref.integrator = "rk8pd";
   ref.setting_kind = SettingKind::Tolerance, ref.setting = 1e-12, ref.sensitivity_rad = 1e-5;
   std::vector<CaseRecord> rs = {ref, run("classical", "rk4", 1e-3, 1e-4, 0.1), run("classical", "rk4", 1e-4, 1e-7, 1.0),
                                 run("mujoco", "rk4", 1e-4, 1e-7, 0.5)};
