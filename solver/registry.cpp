@@ -53,7 +53,7 @@ MethodInfo inHouse(Method id, const char* name, MethodFactory* make, const char*
   r.make = make;
   r.colour = colour;
   r.summary = summary;
-  r.owner = "eigenmass";
+  r.owner = kInHouseOwner;
   return r;
 }
 

@@ -96,6 +96,10 @@ struct EngineInfo {
   std::vector<Integrator> scheme_rows;            ///< each scheme's integrator row, in schemes' order
 };
 
+/// The owner of the in-house methods' routes (MethodInfo::owner): the engine
+/// study's and the benchmark's "eigenmass", which every table compares against.
+inline constexpr const char* kInHouseOwner = "eigenmass";
+
 /// Tolerance of a reference run when none is asked (with the engine's adaptive default).
 constexpr double kReferenceTol = 1e-10;
 
@@ -132,7 +136,7 @@ struct MethodInfo {
   /// Its runs go through a child process (code from outside that may crash
   /// or hang: a plugin's; compare/engines.cpp's runTrajectory).
   bool isolated = false;
-  /// Whose route it is in the engine study: "eigenmass" for the in-house
+  /// Whose route it is in the engine study: kInHouseOwner for the in-house
   /// methods, an engine's name for its method; nullptr: its own name (an
   /// engine's u' under the in-house integrators, a plugin).
   const char* owner = nullptr;

@@ -18,9 +18,8 @@ namespace {
 std::string sci(double x) { return sciCell(x); }
 
 // The benchmark's owners: an engine, eigenmass's formulations and methods,
-// and IDA apart (SUNDIALS' DAE solver integrates our formation but is not
-// ours: the goal is to beat it).
-std::string ownerOf(const CaseRecord& r) { return r.integrator == "ida" ? "ida" : routeOwner(r.method); }
+// and IDA apart (benchmarkOwner).
+std::string ownerOf(const CaseRecord& r) { return benchmarkOwner(r.method, r.integrator); }
 
 bool reached(const CaseRecord& r, double level) {
   return r.status == Outcome::Ok && r.benchmark_error && std::isfinite(*r.benchmark_error) && *r.benchmark_error <= level;
@@ -136,7 +135,7 @@ std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, const B
 std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec& spec, const std::vector<CaseRecord>& rs,
                       const std::string& scene) {
   std::ostringstream o;
-  const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == "eigenmass"; });
+  const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == kInHouseOwner; });
   if (self == owners.end()) return "";
   for (size_t k = 0; k < spec.levels.size(); ++k) {
     if (const std::string why = unresolved(rs, scene, spec, spec.levels[k]); !why.empty()) {
@@ -146,7 +145,7 @@ std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec&
     const CaseRecord* mine = self->run[k];
     std::vector<std::string> cheaper, dearer;
     for (const OwnerBest& b : owners) {
-      if (b.owner == "eigenmass" || !b.run[k]) continue;
+      if (b.owner == kInHouseOwner || !b.run[k]) continue;
       if (!mine || b.run[k]->cpuMedian() < mine->cpuMedian())
         cheaper.push_back(b.owner + (mine ? " (eigenmass " + gnum(mine->cpuMedian() / b.run[k]->cpuMedian(), 3) + "x its CPU)" : ""));
       else
@@ -234,7 +233,7 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
 
 std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
   std::vector<std::string> owners;  // in order of first appearance, eigenmass first
-  owners.push_back("eigenmass");
+  owners.push_back(kInHouseOwner);
   for (const BenchmarkProblem& p : problems)
     for (const CaseRecord& r : p.records)
       if (r.role == CaseRole::Run && std::find(owners.begin(), owners.end(), ownerOf(r)) == owners.end()) owners.push_back(ownerOf(r));
@@ -259,7 +258,7 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
         const CaseRecord* r = it == best.end() ? nullptr : it->run[k];
         o << " " << (r ? sci(r->cpuMedian()) : std::string("-")) << " |";
         if (!r) continue;
-        if (w == "eigenmass") mine = r, mine_route = it->route[k];
+        if (w == kInHouseOwner) mine = r, mine_route = it->route[k];
         else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
       }
       o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";
