@@ -169,6 +169,33 @@ TEST_CASE("a route's owner: an engine, eigenmass for the in-house methods, else 
   CHECK(routeOwner("simbody") == "simbody");
   CHECK(routeOwner("dart-udot") == "dart-udot");
   CHECK(routeOwner("someone's plugin") == "someone's plugin");
+  CHECK(routeOwner("eigen-block") == kInHouseOwner);
+  // The benchmark's: a DAE solver's routes are its own (by its row, not its name), else the method's owner.
+  CHECK(benchmarkOwner("classical", "ida") == "ida");
+  CHECK(benchmarkOwner("classical", "cvode") == kInHouseOwner);
+  CHECK(benchmarkOwner("mujoco", "rk4") == "mujoco");
+  CHECK(benchmarkOwner("someone's plugin", "someone's scheme") == "someone's plugin");
+}
+
+TEST_CASE("a case file's role and failure kind are written by name and read back as the same types", "[sweep]") {
+  for (const CaseRole role : {CaseRole::Reference, CaseRole::Check, CaseRole::Run}) {
+    CaseRecord r = run("classical", "rk4", 1e-2, 1e-3, 0.1, Outcome::Failed);
+    r.name = "s.classical.rk4.0.01", r.role = role, r.failure = "a cause";
+    const nlohmann::json j = caseRecordJson(r);
+    CHECK(j["role"] == caseRoleName(role));
+    CHECK(j["failure"]["kind"] == "blow-up");
+    const CaseRecord back = readCaseRecord(j, "x.json");
+    CHECK(back.role == role);
+    CHECK(back.failure_kind == Failure::BlowUp);
+    CHECK(mergedCsv({back}).find(std::string(",") + caseRoleName(role) + ",classical,rk4,dt,") != std::string::npos);
+  }
+  CHECK(std::string(caseRoleName(CaseRole::Check)) == "check");
+  CaseRecord r = run("classical", "rk4", 1e-2, 1e-3, 0.1);
+  r.name = "s.classical.rk4.0.01";
+  nlohmann::json j = caseRecordJson(r);
+  CHECK(readCaseRecord(j, "x.json").failure_kind == Failure::None);
+  j["role"] = "runner";
+  CHECK_THROWS_WITH(readCaseRecord(j, "x.json"), Catch::Contains("x.json") && Catch::Contains("role 'runner'"));
 }
 
 TEST_CASE("engine-study runs every engine on a scene as a sweep, with the momenta of a free robot", "[sweep][cli][engine-study]") {
