@@ -28,15 +28,20 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct BenchArgs {
+struct BenchArgs : TemplatePlanArgs {
   std::vector<std::string> problems;
-  std::string results, plan;
-  double t_end = 0;
-  int jobs = 0;
-  bool list = false;
 };
 
 constexpr const char* kShippedProblems = "data/scenes/mechanisms";
+
+constexpr TemplatePlanHelp kBenchHelp = {
+    "Horizon T, s, up to each problem's own (a shorter run measures the output steps within it, said in the tables); "
+    "default the problem's",
+    "The routes' template plan (default the shipped data/plans/benchmark.json); its scenes, horizon and output step are "
+    "each problem's",
+    "Folder of the results: a subfolder per problem and benchmark.md; default results/benchmark/",
+    "Write the plans, print one shell command per case (GNU parallel, a Slurm array) and stop; `sweep PLAN --merge DIR` "
+    "merges each problem, and `benchmark` again writes the summary"};
 
 // Every shipped scene that is a benchmark problem: its problem name and file, in file-name order.
 std::vector<std::pair<std::string, std::string>> shippedProblems() {
@@ -180,18 +185,7 @@ void addBenchmark(CLI::App& app) {
   auto a = std::make_shared<BenchArgs>();
   cmd->add_option("problem", a->problems, "Problems: shipped names (A01, A02, A02-N2, A03, A04, A05) or scene files with a "
                                           "\"benchmark\" key; default every shipped problem");
-  cmd->add_option("--t-end", a->t_end, "Horizon T, s, up to each problem's own (a shorter run measures the output steps "
-                                       "within it, said in the tables); default the problem's")->check(positiveFinite());
-  cmd->add_option("--plan", a->plan, "The routes' template plan (default the shipped data/plans/benchmark.json); its scenes, "
-                                     "horizon and output step are each problem's")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--results", a->results, "Folder of the results: a subfolder per problem and benchmark.md; default "
-                                           "results/benchmark/");
-  CLI::Option* jobs = cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core (not with --list: it runs "
-                                                            "none)")->check(CLI::Range(1, 1024));
-  jobs->excludes(cmd->add_flag("--list", a->list, "Write the plans, print one shell command per case (GNU parallel, a Slurm "
-                                                  "array) and stop; `sweep PLAN --merge DIR` merges each problem, and "
-                                                  "`benchmark` again writes the summary"));
+  addTemplatePlanOptions(cmd, *a, kBenchHelp);
   cmd->callback([a] { guarded([&] { return runBenchmark(*a); }); });
 }
 

@@ -23,12 +23,16 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct StudyArgs {
+constexpr TemplatePlanHelp kStudyHelp = {
+    "Horizon T, s; default the study plan's",
+    "The study's template plan: its lines, reference and tables (default the shipped data/plans/engines.json); its "
+    "scenes are replaced by SCENE",
+    "Folder of the case results and of the plan written for them; default results/engine-study-<scene stem>/",
+    "Write the plan, print one shell command per case (GNU parallel, a Slurm array) and stop; `sweep PLAN --merge DIR` "
+    "merges them"};
+
+struct StudyArgs : TemplatePlanArgs {
   SceneArg scene;
-  std::string results, plan;
-  double t_end = 0;
-  int jobs = 0;
-  bool list = false;
 };
 
 int runStudy(StudyArgs& a) {
@@ -62,16 +66,7 @@ void addEngineStudy(CLI::App& app) {
                                                  "(docs/engines.md)");
   auto a = std::make_shared<StudyArgs>();
   addSceneArg(cmd, a->scene);
-  cmd->add_option("--t-end", a->t_end, "Horizon T, s; default the study plan's")->check(positiveFinite());
-  cmd->add_option("--plan", a->plan, "The study's template plan: its lines, reference and tables (default the shipped "
-                                     "data/plans/engines.json); its scenes are replaced by SCENE")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--results", a->results, "Folder of the case results and of the plan written for them; default "
-                                           "results/engine-study-<scene stem>/");
-  CLI::Option* jobs = cmd->add_option("-j,--jobs", a->jobs, "Worker processes; default: every core (not with --list: it runs "
-                                                            "none)")->check(CLI::Range(1, 1024));
-  jobs->excludes(cmd->add_flag("--list", a->list, "Write the plan, print one shell command per case (GNU parallel, a Slurm array) and "
-                                                  "stop; `sweep PLAN --merge DIR` merges them"));
+  addTemplatePlanOptions(cmd, *a, kStudyHelp);
   cmd->callback([a] { guarded([&] { return runStudy(*a); }); });
 }
 

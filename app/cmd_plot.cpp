@@ -27,6 +27,7 @@
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "io/scene_json.hpp"
+#include "sweep/sweep.hpp"
 
 namespace em::cli {
 
@@ -207,16 +208,28 @@ struct ScratchFolder {
 // Every method's colour and every integrator's marker, from the registry:
 // one per method in every figure. A method from outside (a plugin, a
 // recorded run) is not in this process's registry: a report keeps its colour.
+// Whose route each method is, and the integrators that own their routes, as
+// the tables count them (routeOwner, benchmarkOwner): the figures name no
+// engine or owner of their own.
 std::string figureStyle(const std::string& input, const std::string& kind) {
   nlohmann::json colours = nlohmann::json::object(), markers = nlohmann::json::object();
-  for (const MethodInfo& m : methodTable()) colours[m.name] = methodColour(m.id);
+  nlohmann::json owners = nlohmann::json::object(), integrator_owners = nlohmann::json::object();
+  for (const MethodInfo& m : methodTable()) colours[m.name] = methodColour(m.id), owners[m.name] = methodOwner(m.id);
   if (kind == "report")
     for (const nlohmann::json& m : readJsonFile(input, "report").value("methods", nlohmann::json::array()))
       if (m.contains("colour") && m["colour"].is_string() && std::regex_match(m["colour"].get<std::string>(), std::regex("#[0-9a-fA-F]{6}|[a-z:]{1,32}")) &&
           m.contains("name") && m["name"].is_string())
         colours[m["name"].get<std::string>()] = m["colour"];
-  for (const IntegratorInfo& i : integratorTable()) markers[i.name] = i.marker ? i.marker : ".";
-  return nlohmann::json{{"colours", colours}, {"markers", markers}}.dump();
+  for (const IntegratorInfo& i : integratorTable()) {
+    markers[i.name] = i.marker ? i.marker : ".";
+    if (routeOwningIntegrator(i)) integrator_owners[i.name] = i.name;
+  }
+  return nlohmann::json{{"colours", colours},
+                        {"markers", markers},
+                        {"owners", owners},
+                        {"integrator_owners", integrator_owners},
+                        {"in_house_owner", kInHouseOwner}}
+      .dump();
 }
 
 // --csv-dir must hold this report's runs: read only where the report keeps no

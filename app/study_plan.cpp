@@ -13,6 +13,15 @@ namespace em::cli {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+void addTemplatePlanOptions(CLI::App* cmd, TemplatePlanArgs& a, const TemplatePlanHelp& help) {
+  cmd->add_option("--t-end", a.t_end, help.t_end)->check(positiveFinite());
+  cmd->add_option("--plan", a.plan, help.plan)->check(CLI::ExistingFile);
+  cmd->add_option("--results", a.results, help.results);
+  CLI::Option* jobs = cmd->add_option("-j,--jobs", a.jobs, "Worker processes; default: every core (not with --list: it runs "
+                                                           "none)")->check(CLI::Range(1, 1024));
+  jobs->excludes(cmd->add_flag("--list", a.list, help.list));
+}
+
 json templatePlan(const json& tmpl, const std::string& scene_path, const UrdfOptions& urdf, const std::string& name,
                   const std::string& description) {
   json p = tmpl;

@@ -4,11 +4,26 @@
 // study (`engine-study`) and the benchmark (`benchmark`) are such plans.
 #include <string>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "io/urdf.hpp"
 
 namespace em::cli {
+
+/// What every subcommand that runs a template plan as a sweep takes.
+struct TemplatePlanArgs {
+  std::string results, plan;
+  double t_end = 0;  ///< 0: the plan's (the problem's)
+  int jobs = 0;
+  bool list = false;
+};
+/// Each option's help, the subcommand's own words.
+struct TemplatePlanHelp {
+  const char *t_end, *plan, *results, *list;
+};
+/// Its options, in this order: --t-end, --plan, --results, -j/--jobs and --list (which excludes --jobs).
+void addTemplatePlanOptions(CLI::App* cmd, TemplatePlanArgs& a, const TemplatePlanHelp& help);
 
 /// The template's lines, reference and tables on this one scene (its import options kept), named `name`.
 nlohmann::json templatePlan(const nlohmann::json& tmpl, const std::string& scene_path, const UrdfOptions& urdf,

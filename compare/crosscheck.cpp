@@ -39,26 +39,6 @@ Inhouse inhouseAt(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorX
   return {ws.A, ws.B, udot, std::max(udot.cwiseAbs().maxCoeff(), free_scale)};
 }
 
-// A mechanism's states are consistent: a random one projected onto the loops
-// (positions, then speeds; eqs. (M8), (M9)). A draw whose projection does not
-// converge (a far branch, a singular position) is drawn again.
-constexpr double kConsistentTol = 1e-12;   // m or rad: the assembly's own tolerance
-constexpr int kProjectionSteps = 50;       // Gauss-Newton steps per draw (io's kAssembleIterations)
-constexpr int kDraws = 200;                // draws per state before giving up
-
-void consistentState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  Workspace ws(m);
-  LoopProjector project(m);
-  for (int draw = 0; draw < kDraws; ++draw) {
-    randomState(m, rng, q, u);
-    if (!project.positions(m, ws, q.data(), u.data(), kConsistentTol, kProjectionSteps).converged) continue;
-    project.velocities(u.data());
-    return;
-  }
-  throw std::runtime_error("no consistent state found in " + std::to_string(kDraws) +
-                           " random draws projected onto the loops (every projection failed to converge)");
-}
-
 // An engine's model as it can take the scene: its own URDF reader, else the
 // Model; where its reader cannot be used, the Model, and a note saying so.
 std::unique_ptr<EngineModel> engineModel(Engine e, const Scene& scene, const UrdfOptions& urdf,
@@ -179,6 +159,24 @@ void comparePlugin(const Model& m, Method plugin, std::vector<Checked>& engines,
 }
 
 }  // namespace
+
+// A mechanism's consistent states (consistentState).
+constexpr double kConsistentTol = 1e-12;   // m or rad: the assembly's own tolerance
+constexpr int kProjectionSteps = 50;       // Gauss-Newton steps per draw (io's kAssembleIterations)
+constexpr int kDraws = 200;                // draws per state before giving up
+
+void consistentState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
+  Workspace ws(m);
+  LoopProjector project(m);
+  for (int draw = 0; draw < kDraws; ++draw) {
+    randomState(m, rng, q, u);
+    if (!project.positions(m, ws, q.data(), u.data(), kConsistentTol, kProjectionSteps).converged) continue;
+    project.velocities(u.data());
+    return;
+  }
+  throw std::runtime_error("no consistent state found in " + std::to_string(kDraws) +
+                           " random draws projected onto the loops (every projection failed to converge)");
+}
 
 CrossCheck crossCheck(const Scene& scene, const UrdfOptions& urdf, int states, unsigned seed, const std::vector<Method>& plugins) {
   const Model& m = scene.model;

@@ -4,6 +4,7 @@
 /// row gives equations at a state (reference/engine.hpp): for a URDF, the
 /// engine's own reading of the file where it has one (MuJoCo), else the Model.
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,12 @@ struct CrossCheck {
   /// an entry's agreement is not independent evidence; its disagreement still counts.
   std::map<std::string, EquationsDependence> dependent;
 };
+
+/// A consistent state of a mechanism, as crosscheck draws them: a random one
+/// (randomState) projected onto its loops (positions, then speeds; eqs. (M8),
+/// (M9)), drawn again where the projection does not converge (a far branch, a
+/// singular position). Throws std::runtime_error after 200 draws that all failed.
+void consistentState(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u);
 
 /// `states` random states after the initial one (randomState, seeded `seed`).
 /// For a URDF scene, `urdf` must be the options it was loaded with. Each of

@@ -657,6 +657,9 @@ class ClosedLoopWorld : public btMultiBodyDynamicsWorld {
   }
 };
 
+// Bullet's schemes: their ids, the order of its row's schemes (bulletEngine).
+enum BulletScheme { kBulletEuler, kBulletRk4, kBulletSchemes };
+
 // btMultiBodyDynamicsWorld::stepSimulation at exactly dt (no sub-steps), no
 // colliders: Bullet's semi-implicit Euler, or btMultiBody's rk4 (four
 // forward dynamics per step), the springs' torques held over the step.
@@ -665,7 +668,7 @@ class BulletStepper : public FixedStepEngine {
   BulletStepper(const Model& m, const RunSpec& spec)
       : m_(m), chain_(m), dt_(spec.dt), q_(m.q0()), u_(m.u0()), udot_(m.nu), forces_(false) {
     forces_ = m.hasAppliedForces();
-    rk4_ = std::string(integratorName(spec.integrator)) == "bullet-rk4";
+    rk4_ = schemeIndex(spec.engine(), spec.integrator) == kBulletRk4;
     chain_.body().useRK4Integration(rk4_);
     world_.setGravity(bt(m.gravity));
     world_.addMultiBody(&chain_.body());
@@ -779,9 +782,9 @@ EngineRow bulletEngine() {
   r.info.summary = "Bullet 3.24's btMultiBody stepped by btMultiBodyDynamicsWorld (Featherstone's articulated bodies, "
                    "semi-implicit Euler or its rk4, springs and dampers as joint torques held over a step), fixed step "
                    "(what PyBullet runs)";
-  r.info.schemes = {
-      {"bullet-euler", true, "Bullet's semi-implicit Euler (stepSimulation: velocities, then positions from them)", "P"},
-      {"bullet-rk4", true, "btMultiBody's own rk4 (useRK4Integration; the springs' torques held over the step)", "X"}};
+  r.info.schemes.resize(kBulletSchemes);  // each at its id
+  r.info.schemes[kBulletEuler] = {"bullet-euler", true, "Bullet's semi-implicit Euler (stepSimulation: velocities, then positions from them)", "P"};
+  r.info.schemes[kBulletRk4] = {"bullet-rk4", true, "btMultiBody's own rk4 (useRK4Integration; the springs' torques held over the step)", "X"};
   r.info.fixed_scheme = "bullet-euler";
   r.info.adaptive_scheme = "bullet-euler";  // Bullet has no adaptive scheme
   r.info.colour = "darkgoldenrod";

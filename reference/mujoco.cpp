@@ -15,14 +15,11 @@ namespace em {
 
 namespace {
 
-// MuJoCo's schemes, as its row lists them.
-int scheme(Integrator i) {
-  const std::string name = integratorName(i);
-  if (name == "euler") return mjINT_EULER;
-  if (name == "rk4") return mjINT_RK4;
-  if (name == "implicit") return mjINT_IMPLICIT;
-  throw std::logic_error("no MuJoCo integrator for " + name);
-}
+// MuJoCo's schemes: their ids, the order of its row's schemes (mujocoEngine), and MuJoCo's integrator of each.
+enum MujocoScheme { kMujocoRk4, kMujocoEuler, kMujocoImplicit, kMujocoSchemes };
+constexpr int kMujocoIntegrator[kMujocoSchemes] = {mjINT_RK4, mjINT_EULER, mjINT_IMPLICIT};
+
+int scheme(const RunSpec& spec) { return kMujocoIntegrator[schemeIndex(spec.engine(), spec.integrator)]; }
 
 // Evaluations of MuJoCo's equations: mj_passive runs once in every forward
 // pass, a stage of its integrators included (rk4: four per step).
@@ -33,7 +30,7 @@ void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
 class MujocoStepper : public FixedStepEngine {
  public:
   MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
-    peer_.configure(scheme(spec.integrator), spec.dt);
+    peer_.configure(scheme(spec), spec.dt);
     if (!m.loops.empty()) {
       const MethodInfo& row = info(spec.method);
       const double solref[2] = {row.param("mujoco_solref_time", spec.options), row.param("mujoco_solref_damping", spec.options)};
@@ -167,10 +164,10 @@ EngineRow mujocoEngine() {
   EngineRow r;
   r.info.name = "mujoco";
   r.info.summary = "MuJoCo 2.2's own dynamics (CRB mass matrix, sparse LTDL): a second independent engine, fixed step";
-  r.info.schemes = {
-      {"rk4", true, "MuJoCo's RK4, the in-house tableau", "o"},
-      {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step", "P"},
-      {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step", "X"}};
+  r.info.schemes.resize(kMujocoSchemes);  // each at its id
+  r.info.schemes[kMujocoRk4] = {"rk4", true, "MuJoCo's RK4, the in-house tableau", "o"};
+  r.info.schemes[kMujocoEuler] = {"euler", true, "MuJoCo's semi-implicit Euler (velocity first, position from the new velocity; damping implicit), fixed step", "P"};
+  r.info.schemes[kMujocoImplicit] = {"implicit", true, "MuJoCo's implicit-in-velocity Euler (damping and velocity-dependent forces implicit), fixed step", "X"};
   r.info.fixed_scheme = "rk4";
   r.info.adaptive_scheme = "rk4";  // MuJoCo 2.2 has no adaptive scheme
   r.info.colour = "tab:red";

@@ -368,11 +368,14 @@ class OdeSystem {
   Eigen::VectorXd last_q_;       // (nq): the last read-back, for angle branches
 };
 
+// ODE's schemes: their ids, the order of its row's schemes (odeEngine).
+enum OdeScheme { kOdeStep, kOdeQuickstep, kOdeSchemes };
+
 // dWorldStep or dWorldQuickStep at exactly dt, one evaluation a step.
 class OdeStepper : public FixedStepEngine {
  public:
   OdeStepper(const Model& m, const RunSpec& spec)
-      : m_(m), ode_(m), dt_(spec.dt), quick_(std::string(integratorName(spec.integrator)) == "ode-quickstep"),
+      : m_(m), ode_(m), dt_(spec.dt), quick_(schemeIndex(spec.engine(), spec.integrator) == kOdeQuickstep),
         q_(m.q0()), u_(m.u0()) {
     const MethodInfo& row = info(spec.method);
     dWorldSetERP(ode_.world(), row.param("ode_erp", spec.options));
@@ -428,9 +431,9 @@ EngineRow odeEngine() {
   r.info.name = "ode";
   r.info.summary = "ODE 0.16's bodies and joints in maximal coordinates (constraint forces, ERP 0.2 and CFM 1e-10, its "
                    "defaults; springs and dampers as joint torques held over a step), fixed step (Gazebo Classic's default)";
-  r.info.schemes = {
-      {"ode-step", true, "ODE's dWorldStep: constraint forces by a direct solve, then semi-implicit Euler", "v"},
-      {"ode-quickstep", true, "ODE's dWorldQuickStep: 20 projected Gauss-Seidel iterations in place of the solve", "^"}};
+  r.info.schemes.resize(kOdeSchemes);  // each at its id
+  r.info.schemes[kOdeStep] = {"ode-step", true, "ODE's dWorldStep: constraint forces by a direct solve, then semi-implicit Euler", "v"};
+  r.info.schemes[kOdeQuickstep] = {"ode-quickstep", true, "ODE's dWorldQuickStep: 20 projected Gauss-Seidel iterations in place of the solve", "^"};
   r.info.fixed_scheme = "ode-step";
   r.info.adaptive_scheme = "ode-step";  // ODE has no adaptive scheme
   r.info.colour = "navy";

@@ -352,13 +352,18 @@ std::vector<Pose> SimbodySystem::poses() { return impl_->poses(); }
 
 namespace {
 
-// Simbody's schemes, as its row lists them.
-std::unique_ptr<SimTK::Integrator> makeIntegrator(Integrator i, const SimTK::MultibodySystem& system) {
-  const std::string name = integratorName(i);
-  if (name == "rkmerson") return std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system);
-  if (name == "rk3") return std::make_unique<SimTK::RungeKutta3Integrator>(system);
-  if (name == "cpodes") return std::make_unique<SimTK::CPodesIntegrator>(system);
-  throw std::logic_error("no Simbody integrator for " + name);
+// Simbody's schemes: their ids, the order of its row's schemes (simbodyEngine).
+enum class SimbodyScheme { RkMerson, Rk3, CPodes, Count };
+
+// Simbody's scheme of a run, by its id.
+std::unique_ptr<SimTK::Integrator> makeIntegrator(const RunSpec& spec, const SimTK::MultibodySystem& system) {
+  switch (static_cast<SimbodyScheme>(schemeIndex(spec.engine(), spec.integrator))) {
+    case SimbodyScheme::RkMerson: return std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system);
+    case SimbodyScheme::Rk3: return std::make_unique<SimTK::RungeKutta3Integrator>(system);
+    case SimbodyScheme::CPodes: return std::make_unique<SimTK::CPodesIntegrator>(system);
+    case SimbodyScheme::Count: break;
+  }
+  throw std::logic_error(std::string("no Simbody integrator for ") + integratorName(spec.integrator));
 }
 
 }  // namespace
@@ -380,7 +385,7 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
   const RunSpec& spec = run;
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
   auto& I = *impl_;
-  std::unique_ptr<SimTK::Integrator> integ = makeIntegrator(spec.integrator, I.system);
+  std::unique_ptr<SimTK::Integrator> integ = makeIntegrator(spec, I.system);
   integ->setAccuracy(spec.tol);
   Trajectory tr = makeTrajectory(I.model, spec);
   // Start from t = 0 whatever an earlier run left in the state.
@@ -438,9 +443,10 @@ EngineRow simbodyEngine() {
   EngineRow r;
   r.info.name = "simbody";
   r.info.summary = "Simbody's own O(n) recursive dynamics: the independent engine";
-  r.info.schemes = {{"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive", "v"},
-                    {"rk3", false, "Simbody Runge-Kutta 3, adaptive", "<"},
-                    {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive", ">"}};
+  r.info.schemes.resize(static_cast<size_t>(SimbodyScheme::Count));  // each at its id
+  r.info.schemes[static_cast<size_t>(SimbodyScheme::RkMerson)] = {"rkmerson", false, "Simbody Runge-Kutta-Merson, adaptive", "v"};
+  r.info.schemes[static_cast<size_t>(SimbodyScheme::Rk3)] = {"rk3", false, "Simbody Runge-Kutta 3, adaptive", "<"};
+  r.info.schemes[static_cast<size_t>(SimbodyScheme::CPodes)] = {"cpodes", false, "Simbody CPodes (implicit BDF), adaptive", ">"};
   r.info.fixed_scheme = "rkmerson";
   r.info.adaptive_scheme = "rkmerson";
   r.info.max_tol = 1.0;  // Simbody asserts (SIGABRT) on an accuracy >= 1

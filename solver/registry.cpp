@@ -53,7 +53,7 @@ MethodInfo inHouse(Method id, const char* name, MethodFactory* make, const char*
   r.make = make;
   r.colour = colour;
   r.summary = summary;
-  r.owner = "eigenmass";
+  r.owner = kInHouseOwner;
   return r;
 }
 
@@ -200,6 +200,14 @@ bool findMethod(const std::string& name, Method& out) { return find(methodTable(
 bool findIntegrator(const std::string& name, Integrator& out) { return find(integratorTable(), name, out); }
 bool findEngine(const std::string& name, Engine& out) { return find(engineTable(), name, out); }
 bool findOutcome(const std::string& name, Outcome& out) { return find(outcomeTable(), name, out); }
+bool findFailure(const std::string& name, Failure& out) { return find(failureTable(), name, out); }
+
+int schemeIndex(Engine e, Integrator i) {
+  const EngineInfo& row = info(e);
+  for (size_t k = 0; k < row.scheme_rows.size(); ++k)
+    if (row.scheme_rows[k] == i) return static_cast<int>(k);
+  throw std::logic_error(std::string("registry: ") + row.name + " has no scheme " + integratorName(i));
+}
 
 bool hasAdaptiveScheme(Engine e) {
   for (const IntegratorInfo& i : integratorTable())
@@ -266,7 +274,7 @@ Engine addEngine(EngineInfo row) {
   if (nameTaken(row.name)) throw std::logic_error(std::string("registry: the name ") + row.name + " is taken");
   row.id = static_cast<Engine>(engines().size());
   row.method = static_cast<Method>(methods().size());
-  for (const EngineScheme& s : row.schemes) schemeRow(s, row.id);
+  for (const EngineScheme& s : row.schemes) row.scheme_rows.push_back(schemeRow(s, row.id));
   row.fixed_default = parseIntegrator(row.fixed_scheme);
   row.adaptive_default = parseIntegrator(row.adaptive_scheme);
   MethodInfo m;

@@ -76,7 +76,9 @@ struct MethodParam {
 struct EngineInfo {
   const char* name = nullptr;
   const char* summary = nullptr;       ///< its method's one line (--help, docs)
-  std::vector<EngineScheme> schemes;   ///< its integrators (rk4: the in-house tableau)
+  /// Its integrators (rk4: the in-house tableau). A scheme's position here is
+  /// its id (schemeIndex): the engine's code names its schemes by an enum in this order.
+  std::vector<EngineScheme> schemes;
   const char* fixed_scheme = nullptr;  ///< what it runs when nothing is asked
   const char* adaptive_scheme = nullptr;  ///< a tolerance alone, and as a reference
   double max_tol = HUGE_VAL;           ///< a tolerance must be below it (Simbody asserts on an accuracy >= 1)
@@ -91,7 +93,12 @@ struct EngineInfo {
   Integrator fixed_default = Integrator::RK4;     ///< fixed_scheme's row
   Integrator adaptive_default = Integrator::RK4;  ///< adaptive_scheme's row
   Method method = Method::Classical;              ///< the method it runs (in-house: the reference's, classical)
+  std::vector<Integrator> scheme_rows;            ///< each scheme's integrator row, in schemes' order
 };
+
+/// The owner of the in-house methods' routes (MethodInfo::owner): the engine
+/// study's and the benchmark's "eigenmass", which every table compares against.
+inline constexpr const char* kInHouseOwner = "eigenmass";
 
 /// Tolerance of a reference run when none is asked (with the engine's adaptive default).
 constexpr double kReferenceTol = 1e-10;
@@ -129,7 +136,7 @@ struct MethodInfo {
   /// Its runs go through a child process (code from outside that may crash
   /// or hang: a plugin's; compare/engines.cpp's runTrajectory).
   bool isolated = false;
-  /// Whose route it is in the engine study: "eigenmass" for the in-house
+  /// Whose route it is in the engine study: kInHouseOwner for the in-house
   /// methods, an engine's name for its method; nullptr: its own name (an
   /// engine's u' under the in-house integrators, a plugin).
   const char* owner = nullptr;
@@ -267,6 +274,11 @@ bool findMethod(const std::string& name, Method& out);
 bool findIntegrator(const std::string& name, Integrator& out);
 bool findEngine(const std::string& name, Engine& out);
 bool findOutcome(const std::string& name, Outcome& out);
+bool findFailure(const std::string& name, Failure& out);
+/// Which of engine `e`'s schemes `i` is: its position in e's row's schemes,
+/// the id an engine's own code compares (never the scheme's name). Throws
+/// std::logic_error where `e` does not run `i`.
+int schemeIndex(Engine e, Integrator i);
 /// Whether engine `e` runs a scheme that takes a tolerance.
 bool hasAdaptiveScheme(Engine e);
 /// Every engine but the in-house code, in table order.

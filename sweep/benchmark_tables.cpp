@@ -18,9 +18,8 @@ namespace {
 std::string sci(double x) { return sciCell(x); }
 
 // The benchmark's owners: an engine, eigenmass's formulations and methods,
-// and IDA apart (SUNDIALS' DAE solver integrates our formation but is not
-// ours: the goal is to beat it).
-std::string ownerOf(const CaseRecord& r) { return r.integrator == "ida" ? "ida" : routeOwner(r.method); }
+// and IDA apart (benchmarkOwner).
+std::string ownerOf(const CaseRecord& r) { return benchmarkOwner(r.method, r.integrator); }
 
 bool reached(const CaseRecord& r, double level) {
   return r.status == Outcome::Ok && r.benchmark_error && std::isfinite(*r.benchmark_error) && *r.benchmark_error <= level;
@@ -42,7 +41,7 @@ struct BRoute {
 std::vector<BRoute> routesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   std::vector<BRoute> out;
   for (const CaseRecord& r : rs) {
-    if (r.scene != scene || r.role != "run") continue;
+    if (r.scene != scene || r.role != CaseRole::Run) continue;
     auto it = std::find_if(out.begin(), out.end(), [&](const BRoute& x) {
       return x.method == r.method && x.formulation == r.formulation && x.integrator == r.integrator;
     });
@@ -69,7 +68,7 @@ std::string whyNot(const BRoute& x) {
     if (r->status == Outcome::Ok && r->benchmark_error && (!best || *r->benchmark_error < *best->benchmark_error)) best = r;
   if (best) return "not reached: best " + sci(*best->benchmark_error) + " m (" + settingText(*best) + ")";
   const CaseRecord* f = x.runs.empty() ? nullptr : x.runs.back();  // the finest run's failure
-  return f ? "not reached: every run failed (finest: " + f->failure_kind + " at " + gnum(f->failure_time.value_or(0), 4) + " s)"
+  return f ? "not reached: every run failed (finest: " + std::string(failureName(f->failure_kind)) + " at " + gnum(f->failure_time.value_or(0), 4) + " s)"
            : "not reached: no run";
 }
 
@@ -78,7 +77,7 @@ std::string whyNot(const BRoute& x) {
 // (beyond it the reference is unchecked), or it lies within ten times the level.
 std::string unresolved(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec, double level) {
   if (spec.hasSolution()) return "";  // judged against the problem's own solution, not our reference
-  const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
+  const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == CaseRole::Check; });
   if (c == rs.end()) return "";
   if (c->status != Outcome::Ok) return "the reference's check failed at " + gnum(c->failure_time.value_or(0), 4) + " s";
   if (c->benchmark_error && *c->benchmark_error > level / 10) return "the reference's check is " + sci(*c->benchmark_error) + " m from it";
@@ -136,7 +135,7 @@ std::vector<OwnerBest> fastestByOwner(const std::vector<BRoute>& routes, const B
 std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec& spec, const std::vector<CaseRecord>& rs,
                       const std::string& scene) {
   std::ostringstream o;
-  const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == "eigenmass"; });
+  const auto self = std::find_if(owners.begin(), owners.end(), [](const OwnerBest& b) { return b.owner == kInHouseOwner; });
   if (self == owners.end()) return "";
   for (size_t k = 0; k < spec.levels.size(); ++k) {
     if (const std::string why = unresolved(rs, scene, spec, spec.levels[k]); !why.empty()) {
@@ -146,7 +145,7 @@ std::string goalLines(const std::vector<OwnerBest>& owners, const BenchmarkSpec&
     const CaseRecord* mine = self->run[k];
     std::vector<std::string> cheaper, dearer;
     for (const OwnerBest& b : owners) {
-      if (b.owner == "eigenmass" || !b.run[k]) continue;
+      if (b.owner == kInHouseOwner || !b.run[k]) continue;
       if (!mine || b.run[k]->cpuMedian() < mine->cpuMedian())
         cheaper.push_back(b.owner + (mine ? " (eigenmass " + gnum(mine->cpuMedian() / b.run[k]->cpuMedian(), 3) + "x its CPU)" : ""));
       else
@@ -170,7 +169,7 @@ std::string runTable(const std::vector<BRoute>& routes, double t_end) {
     for (const CaseRecord* r : x.runs) {
       const std::optional<double> g = violation(*r);
       o << "| " << x.name() << " | " << settingText(*r) << " | "
-        << (r->status == Outcome::Ok ? std::string("ok") : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << (r->status == Outcome::Ok ? std::string("ok") : std::string(failureName(r->failure_kind)) + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
         << sci(r->benchmark_error.value_or(NAN)) << " | " << (r->benchmark_error_t ? gnum(*r->benchmark_error_t, 4) : "-") << " | "
         << (g ? sci(*g) : "-") << " | " << sci(r->max_energy) << " | " << sci(r->cpuMedian()) << " | "
         << sci(cpuPerSimulatedSecond(*r, t_end)) << " |\n";
@@ -195,19 +194,19 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
   std::vector<std::string> levels;
   for (double l : spec.levels) levels.push_back(gnum(l) + " m");
   o << joined(levels) << ".";
-  const auto check = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "check"; });
+  const auto check = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == CaseRole::Check; });
   if (spec.hasSolution()) {  // the reference and its check measured like every run
-    for (const char* role : {"reference", "check"}) {
+    for (const CaseRole role : {CaseRole::Reference, CaseRole::Check}) {
       const auto c = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == role; });
       if (c == rs.end() || !c->benchmark_error) continue;
-      o << " The " << (std::string(role) == "check" ? "reference's check" : "reference run") << " is " << sci(*c->benchmark_error)
+      o << " The " << (role == CaseRole::Check ? "reference's check" : "reference run") << " is " << sci(*c->benchmark_error)
         << " m from the solution"
-        << (c->status != Outcome::Ok ? " up to " + gnum(c->failure_time.value_or(0), 4) + " s, where it failed (" + c->failure_kind + ")" : "") << ".";
+        << (c->status != Outcome::Ok ? " up to " + gnum(c->failure_time.value_or(0), 4) + " s, where it failed (" + failureName(c->failure_kind) + ")" : "") << ".";
     }
   } else if (check != rs.end() && check->benchmark_error) {
     o << " The reference's check is " << sci(*check->benchmark_error) << " m from it by this measure";
     if (check->status != Outcome::Ok)
-      o << " up to " << gnum(check->failure_time.value_or(0), 4) << " s, where the check failed (" << check->failure_kind
+      o << " up to " << gnum(check->failure_time.value_or(0), 4) << " s, where the check failed (" << failureName(check->failure_kind)
         << "): beyond it the reference stands unchecked";
     for (double l : spec.levels)
       if (*check->benchmark_error > l / 10) o << "; the level " << gnum(l) << " m is within ten times that: not resolved";
@@ -234,10 +233,10 @@ std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string&
 
 std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
   std::vector<std::string> owners;  // in order of first appearance, eigenmass first
-  owners.push_back("eigenmass");
+  owners.push_back(kInHouseOwner);
   for (const BenchmarkProblem& p : problems)
     for (const CaseRecord& r : p.records)
-      if (r.role == "run" && std::find(owners.begin(), owners.end(), ownerOf(r)) == owners.end()) owners.push_back(ownerOf(r));
+      if (r.role == CaseRole::Run && std::find(owners.begin(), owners.end(), ownerOf(r)) == owners.end()) owners.push_back(ownerOf(r));
   std::ostringstream o;
   o << "CPU s of each owner's fastest route within each precision level (its whole run, the horizon's; - : no route "
        "reached it); eigenmass's route; whether it is the cheapest.\n\n| problem | level (m) |";
@@ -259,7 +258,7 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
         const CaseRecord* r = it == best.end() ? nullptr : it->run[k];
         o << " " << (r ? sci(r->cpuMedian()) : std::string("-")) << " |";
         if (!r) continue;
-        if (w == "eigenmass") mine = r, mine_route = it->route[k];
+        if (w == kInHouseOwner) mine = r, mine_route = it->route[k];
         else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
       }
       o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";

@@ -67,7 +67,7 @@ struct Route {
 std::vector<Route> routesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   std::vector<Route> out;
   for (const CaseRecord& r : rs) {
-    if (r.scene != scene || r.role != "run" || r.member != 0) continue;
+    if (r.scene != scene || r.role != CaseRole::Run || r.member != 0) continue;
     auto it = std::find_if(out.begin(), out.end(), [&](const Route& x) { return x.method == r.method && x.integrator == r.integrator; });
     if (it == out.end()) it = out.insert(out.end(), Route{routeOwner(r.method), r.method, r.integrator, {}});
     it->runs.push_back(&r);
@@ -113,7 +113,7 @@ std::optional<double> dynamicsFloor(const std::vector<Route>& routes, const std:
     schemes.push_back(x.integrator);
   }
   for (const Route& x : routes)
-    if (x.owner == "eigenmass" && std::find(schemes.begin(), schemes.end(), x.integrator) != schemes.end())
+    if (x.owner == kInHouseOwner && std::find(schemes.begin(), schemes.end(), x.integrator) != schemes.end())
       if (const std::optional<double> e = smallestError(x)) inhouse = std::min(inhouse.value_or(INFINITY), *e);
   if (!floor || (inhouse && *floor <= kFloorFactor * *inhouse)) return std::nullopt;
   return floor;
@@ -151,7 +151,7 @@ struct Conditioning {
 
 Conditioning conditioningOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   Conditioning c;
-  const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == "reference"; });
+  const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == CaseRole::Reference; });
   if (ref == rs.end() || !ref->sensitivity_rad) return c;
   c.twin_rad = ref->sensitivity_rad, c.twin_failed_at = ref->sensitivity_failed_at;
   const Sensitivity twin{kSensitivitySigma, *ref->sensitivity_rad, ref->sensitivity_failed_at};
@@ -257,7 +257,7 @@ std::string routeTable(const std::vector<Route>& routes, double t_end, const Con
 // Whether eigenmass's fastest route is cheaper than every other owner's, per accuracy, said in one line each.
 std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end, const Conditioning& c) {
   std::ostringstream o;
-  const auto self = std::find_if(by_owner.begin(), by_owner.end(), [](const auto& p) { return p.first == "eigenmass"; });
+  const auto self = std::find_if(by_owner.begin(), by_owner.end(), [](const auto& p) { return p.first == kInHouseOwner; });
   if (self == by_owner.end()) return "";
   for (int a = 0; a < 2; ++a) {
     if (c.ill[a]) {
@@ -267,7 +267,7 @@ std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_own
     const CaseRecord* mine = self->second.run[a];
     std::vector<std::string> cheaper;
     for (const auto& [owner, f] : by_owner)
-      if (owner != "eigenmass" && f.run[a] && (!mine || perSimulatedSecond(*f.run[a], t_end) < perSimulatedSecond(*mine, t_end)))
+      if (owner != kInHouseOwner && f.run[a] && (!mine || perSimulatedSecond(*f.run[a], t_end) < perSimulatedSecond(*mine, t_end)))
         cheaper.push_back(owner + (mine ? " (" + gnum(perSimulatedSecond(*mine, t_end) / perSimulatedSecond(*f.run[a], t_end), 3) + "x cheaper)" : ""));
     o << "- To " << sci(kAccuracies[a]) << " rad: eigenmass's fastest route is "
       << (!mine ? "none (not reached)" : cheaper.empty() ? "the cheapest of all: goal met" : "beaten by " + joined(cheaper) + ": goal missed")
@@ -290,7 +290,7 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
       const bool none = r->status != Outcome::Ok && r->failure_time.value_or(1) <= 0;
       auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
       o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
-        << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : r->failure_kind + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
+        << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : std::string(failureName(r->failure_kind)) + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
         << cell(r->max_pose) << " | " << when(r->pose_beyond[0]) << " | " << when(r->pose_beyond[1]) << " | " << cell(r->max_energy) << " |";
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
       if (H) o << " " << cell(r->momentum_H.value_or(NAN)) << " |";
@@ -348,6 +348,13 @@ std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<s
 std::string routeOwner(const std::string& method) {
   Method m;
   return findMethod(method, m) ? methodOwner(m) : method;
+}
+
+bool routeOwningIntegrator(const IntegratorInfo& i) { return i.dae; }
+
+std::string benchmarkOwner(const std::string& method, const std::string& integrator) {
+  Integrator i;
+  return findIntegrator(integrator, i) && routeOwningIntegrator(info(i)) ? integrator : routeOwner(method);
 }
 
 std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::string& scene, double t_end, double output_dt,

@@ -54,8 +54,8 @@ std::vector<EnsembleRow> ensembleRows(const std::vector<CaseRecord>& records) {
   std::map<GroupKey, std::vector<const CaseRecord*>> groups;
   std::vector<GroupKey> order;  // first appearance: plan order
   for (const CaseRecord& r : records) {
-    if (r.role == "reference" || !r.has_error) continue;
-    const GroupKey key{r.scene, r.role == "check" ? "reference-horizon" : r.method, r.integrator, r.setting_kind, r.setting};
+    if (r.role == CaseRole::Reference || !r.has_error) continue;
+    const GroupKey key{r.scene, r.role == CaseRole::Check ? "reference-horizon" : r.method, r.integrator, r.setting_kind, r.setting};
     auto& g = groups[key];
     if (g.empty()) order.push_back(key);
     g.push_back(&r);
@@ -128,7 +128,7 @@ namespace {
 std::map<std::pair<std::string, int>, double> exponents(const std::vector<CaseRecord>& records) {
   std::map<std::pair<std::string, int>, double> out;
   for (const CaseRecord& r : records)
-    if (r.role == "reference" && r.lyapunov_per_s) out[{r.scene, r.member}] = *r.lyapunov_per_s;
+    if (r.role == CaseRole::Reference && r.lyapunov_per_s) out[{r.scene, r.member}] = *r.lyapunov_per_s;
   return out;
 }
 
@@ -138,7 +138,7 @@ std::vector<Prediction> predictions(const std::vector<CaseRecord>& records) {
   const auto chi = exponents(records);
   std::vector<Prediction> out;
   for (const CaseRecord& r : records) {
-    if (r.role != "run" || !r.has_error || !r.t0 || !r.pose_by_t0) continue;
+    if (r.role != CaseRole::Run || !r.has_error || !r.t0 || !r.pose_by_t0) continue;
     const auto l = chi.find({r.scene, r.member});
     if (l == chi.end()) continue;
     for (size_t i = 0; i < kCaseThresholds.size(); ++i) {

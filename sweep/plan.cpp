@@ -393,6 +393,29 @@ void checkPlanRuns(const Plan& p) {
 
 }  // namespace
 
+// Every case role and its name in the files, in CaseRole's order.
+struct RoleRow {
+  CaseRole id;
+  const char* name;
+};
+constexpr RoleRow kRoles[] = {{CaseRole::Reference, "reference"}, {CaseRole::Check, "check"}, {CaseRole::Run, "run"}};
+static_assert(std::size(kRoles) == static_cast<size_t>(CaseRole::Run) + 1, "a row per case role");
+
+const char* caseRoleName(CaseRole r) {
+  for (const RoleRow& row : kRoles)
+    if (row.id == r) return row.name;
+  return "?";
+}
+
+bool findCaseRole(const std::string& name, CaseRole& out) {
+  for (const RoleRow& row : kRoles)
+    if (name == row.name) {
+      out = row.id;
+      return true;
+    }
+  return false;
+}
+
 const char* planTableName(PlanTable t) {
   for (const TableRow& r : kTables)
     if (r.id == t) return r.name;

@@ -82,8 +82,12 @@ Plan loadPlan(const std::string& path);
 /// resolve from there), its errors prefixed by `named` instead of the path.
 Plan parsePlan(const std::string& text, const std::string& path, const std::string& named);
 
-/// What a case is.
+/// What a case is: its case file's and the merged CSV's "role" (caseRoleName).
 enum class CaseRole { Reference, Check, Run };
+/// "reference", "check", "run": the name every file writes.
+const char* caseRoleName(CaseRole r);
+/// The role of that name; false for none.
+bool findCaseRole(const std::string& name, CaseRole& out);
 
 /// One case: a scene and a run of one method, or the scene's reference or its check.
 struct SweepCase {

@@ -114,10 +114,9 @@ Trajectory loadReference(const Plan& plan, const SweepCase& c, const Scene& scen
 }
 
 CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
-  static const char* kRoles[] = {"reference", "check", "run"};
   CaseRecord rec;
   rec.name = c.name;
-  rec.role = kRoles[static_cast<int>(c.role)];
+  rec.role = c.role;
   rec.scene = c.scene_name;
   rec.method = methodName(c.spec->method);
   rec.integrator = integratorName(c.spec->integrator);
@@ -135,7 +134,7 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
              const std::optional<BenchmarkSpec>& benchmark) {
   rec.status = run.status();
   rec.failure = run.failure;
-  rec.failure_kind = failureName(run.failure_kind);
+  rec.failure_kind = run.failure_kind;
   if (run.failed()) rec.failure_time = run.failure_time;
   rec.steps = run.steps;
   rec.rhs_evals = run.rhs_evals;
@@ -326,7 +325,7 @@ std::string failureNote(const SweepCase& c, const std::string& dir, int wstatus)
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) return c.name + " could not be run (its error above)";
   const CaseRecord r = readCaseRecord(readCaseFile(caseFile(dir, c)).at("result"), caseFile(dir, c));
   if (r.status == Outcome::Ok) return "";
-  return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + r.failure_kind + ")";
+  return c.name + " failed at " + gnum(r.failure_time.value_or(0), 4) + " s (" + failureName(r.failure_kind) + ")";
 }
 
 // Run `todo` on `jobs` worker processes; returns how many could not be run.

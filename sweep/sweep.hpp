@@ -22,14 +22,17 @@ using FirstTimes = std::array<std::optional<double>, kCaseThresholds.size()>;  /
 
 /// What one case's result file says (`eigenmass-sweep-case/1`).
 struct CaseRecord {
-  std::string name, role, scene, method, integrator;
+  std::string name;
+  CaseRole role = CaseRole::Run;  ///< written as caseRoleName
+  std::string scene, method, integrator;
   std::string formulation;   ///< a line's formulation that names the case (empty: the plan's, or a tree)
   int member = 0;            ///< ensemble member (0: the scene itself)
   SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;
   int nu = 0;
   Outcome status = Outcome::Ok;  ///< Ok or Failed
-  std::string failure_kind, failure;
+  Failure failure_kind = Failure::None;  ///< written as failureName
+  std::string failure;
   std::optional<double> failure_time;
   bool has_error = false;  ///< errors against the plan's reference
   double max_pose = 0, max_coord = 0, max_energy = 0;
@@ -151,9 +154,15 @@ std::string sciCell(double x, int digits = 2);
 /// A run's CPU per simulated second (up to its failure when it failed).
 double cpuPerSimulatedSecond(const CaseRecord& r, double t_end);
 
-/// Who a route belongs to: an engine's name, "eigenmass" for the in-house
+/// Who a route belongs to: an engine's name, kInHouseOwner for the in-house
 /// methods, else the method's own name (a plugin, an engine's u' under our integrators).
 std::string routeOwner(const std::string& method);
+/// Who a route belongs to in the benchmark: an integrator whose row owns its
+/// routes (routeOwningIntegrator: IDA), else routeOwner(method).
+std::string benchmarkOwner(const std::string& method, const std::string& integrator);
+/// Whether the integrator's routes are its own in the benchmark: a DAE
+/// solver (IDA) integrates our formation but is not ours (the goal is to beat it).
+bool routeOwningIntegrator(const IntegratorInfo& i);
 /// The engine study's tables of one scene (sweep/engine_study.cpp): each
 /// route's cheapest run within 1e-3 and 1e-6 rad, each owner's fastest route
 /// and whether eigenmass's is the cheapest, every run's errors, drifts and cost.

@@ -63,12 +63,12 @@ double CaseRecord::cpuMin() const { return cpu_s.empty() ? NAN : *std::min_eleme
 double CaseRecord::cpuMax() const { return cpu_s.empty() ? NAN : *std::max_element(cpu_s.begin(), cpu_s.end()); }
 
 json caseRecordJson(const CaseRecord& r) {
-  json j = {{"name", r.name},         {"role", r.role},         {"member", r.member},
+  json j = {{"name", r.name},         {"role", caseRoleName(r.role)},         {"member", r.member},
           {"scene", r.scene},       {"nu", r.nu},
           {"method", r.method},     {"integrator", r.integrator},
           {settingKindName(r.setting_kind), r.setting},
           {"status", outcomeName(r.status)},
-          {"failure", r.status == Outcome::Ok ? json() : json{{"t", orNull(r.failure_time)}, {"kind", r.failure_kind}, {"cause", r.failure}}},
+          {"failure", r.status == Outcome::Ok ? json() : json{{"t", orNull(r.failure_time)}, {"kind", failureName(r.failure_kind)}, {"cause", r.failure}}},
           {"errors_against_reference", r.has_error},
           {"max_pose_error_rad", finiteOrNull(r.max_pose)},
           {"max_coord_error_rad", finiteOrNull(r.max_coord)},
@@ -105,7 +105,8 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
   CaseRecord r;
   try {
     r.name = j.at("name").get<std::string>();
-    r.role = j.at("role").get<std::string>();
+    const std::string role = j.at("role").get<std::string>();
+    if (!findCaseRole(role, r.role)) throw std::invalid_argument("role '" + role + "'");
     r.member = j.value("member", 0);
     r.scene = j.at("scene").get<std::string>();
     r.nu = j.at("nu").get<int>();
@@ -115,10 +116,10 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.setting = j.at(settingKindName(r.setting_kind)).get<double>();
     const std::string status = j.at("status").get<std::string>();
     if (!findOutcome(status, r.status) || r.status == Outcome::Wrong) throw std::invalid_argument("status '" + status + "'");
-    r.failure_kind = failureName(Failure::None);
     if (r.status != Outcome::Ok) {
       const json& f = j.at("failure");
-      r.failure_kind = f.at("kind").get<std::string>();
+      const std::string kind = f.at("kind").get<std::string>();
+      if (!findFailure(kind, r.failure_kind)) throw std::invalid_argument("failure kind '" + kind + "'");
       r.failure = f.at("cause").get<std::string>();
       r.failure_time = optionalFrom(f.at("t"));
     }
@@ -186,8 +187,8 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   for (const CaseRecord& r : records) {
     o << r.scene << ',';
     if (with_member) o << r.member << ',';
-    o << r.nu << ',' << r.role << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ','
-      << gnum(r.setting, 17) << ',' << outcomeName(r.status) << ',' << r.failure_kind << ',' << opt(r.failure_time) << ','
+    o << r.nu << ',' << caseRoleName(r.role) << ',' << r.method << ',' << r.integrator << ',' << settingKindName(r.setting_kind) << ','
+      << gnum(r.setting, 17) << ',' << outcomeName(r.status) << ',' << failureName(r.failure_kind) << ',' << opt(r.failure_time) << ','
       << num(r.has_error ? r.max_pose : NAN) << ',' << num(r.has_error ? r.max_coord : NAN) << ',' << num(r.max_energy)
       << ',';
     for (const FirstTimes* times : {&r.pose_beyond, &r.coord_beyond})

@@ -17,7 +17,7 @@ namespace {
 // The headings name the case thresholds as "1e-3 rad" and "0.1 rad" (pose_beyond[0], [1]).
 static_assert(kCaseThresholds[0] == 1e-3 && kCaseThresholds[1] == 1e-1, "the tables' headings name these thresholds");
 
-const CaseRecord* findRole(const std::vector<CaseRecord>& rs, const std::string& scene, const std::string& role) {
+const CaseRecord* findRole(const std::vector<CaseRecord>& rs, const std::string& scene, CaseRole role) {
   for (const CaseRecord& r : rs)
     if (r.scene == scene && r.role == role) return &r;
   return nullptr;
@@ -40,7 +40,7 @@ struct Line {
 std::vector<Line> linesOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   std::vector<Line> out;
   for (const CaseRecord& r : rs) {
-    if (r.scene != scene || r.role != "run") continue;
+    if (r.scene != scene || r.role != CaseRole::Run) continue;
     auto it = std::find_if(out.begin(), out.end(), [&](const Line& l) { return l.method == r.method && l.integrator == r.integrator; });
     if (it == out.end()) it = out.insert(out.end(), Line{r.method, r.integrator, {}});
     it->points.push_back(&r);
@@ -55,11 +55,11 @@ std::string sci(double x, int digits = 2) { return sciCell(x, digits); }
 std::string referenceLine(const std::vector<CaseRecord>& rs, const std::string& scene, double& floor) {
   std::ostringstream o;
   floor = 0;
-  const CaseRecord* ref = findRole(rs, scene, "reference");
+  const CaseRecord* ref = findRole(rs, scene, CaseRole::Reference);
   if (!ref) return "";
   o << "Reference: " << ref->method << " " << ref->integrator << " " << settingKindName(ref->setting_kind) << " " << gnum(ref->setting) << ", "
     << outcomeName(ref->status) << (ref->status == Outcome::Ok ? "" : " (" + ref->failure + ")") << ", " << ref->steps << " steps.";
-  if (const CaseRecord* chk = findRole(rs, scene, "check")) {
+  if (const CaseRecord* chk = findRole(rs, scene, CaseRole::Check)) {
     floor = std::max(chk->max_pose, std::isfinite(chk->max_coord) ? chk->max_coord : 0.0);
     o << " Its check, " << chk->method << " " << chk->integrator << " " << settingKindName(chk->setting_kind) << " " << gnum(chk->setting)
       << ": max pose difference " << sci(chk->max_pose) << " rad, max coordinate difference " << sci(chk->max_coord)
@@ -124,7 +124,7 @@ struct CostColumn {
 std::vector<CostColumn> costColumns(const std::vector<CaseRecord>& rs) {
   std::vector<CostColumn> out;
   for (const CaseRecord& r : rs) {
-    if (r.role != "run") continue;
+    if (r.role != CaseRole::Run) continue;
     const std::string label = r.method + " " + r.integrator + " " + gnum(r.setting);
     auto it = std::find_if(out.begin(), out.end(), [&](const CostColumn& c) { return c.label == label; });
     if (it == out.end()) it = out.insert(out.end(), CostColumn{label, {}});
@@ -186,9 +186,9 @@ std::string runsTable(const std::vector<CaseRecord>& rs) {
     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto when = [](const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); };
   for (const CaseRecord& r : rs) {
-    if (r.role != "run") continue;
+    if (r.role != CaseRole::Run) continue;
     o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
-      << (r.status == Outcome::Ok ? std::string(outcomeName(r.status)) : r.failure_kind + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
+      << (r.status == Outcome::Ok ? std::string(outcomeName(r.status)) : std::string(failureName(r.failure_kind)) + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
       << when(r.pose_beyond[0]) << " | " << when(r.pose_beyond[1]) << " | " << when(r.coord_beyond[1]) << " | " << sci(r.max_pose) << " | "
       << sci(r.max_energy) << " | " << gnum(r.steps ? r.cpuMedian() / r.steps * 1e6 : NAN, 3) << " | "
       << (r.eigen ? sci(r.eigen->min_gap) + " | " + sci(r.eigen->max_abs_Omega) + " | " +

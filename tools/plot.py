@@ -47,9 +47,16 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 matplotlib.rcParams.update({"svg.hashsalt": "eigenmass", "svg.fonttype": "none", "pdf.fonttype": 42})
 
 # One colour per method and one marker per integrator: the registry's, given by
-# `eigenmass plot` as --style (solver/registry.cpp, reference/table.cpp).
+# `eigenmass plot` as --style (solver/registry.cpp, reference/table.cpp); so are
+# whose route each method is (an engine's name, the in-house owner's, else its
+# own) and the integrators that own their routes in the benchmark (IDA): no
+# engine or owner is named here (sweep/engine_study.cpp's routeOwner,
+# sweep/benchmark_tables.cpp's benchmarkOwner).
 MARKERS = {}
 COLORS = {}
+OWNERS = {}
+INTEGRATOR_OWNERS = {}
+IN_HOUSE_OWNER = [None]
 OUTCOME_COLORS = {"ok": "#4daf4a", "wrong": "#ff7f00", "failed": "#e41a1c"}
 FLOOR = 1e-17  # zero errors drawn here on log axes
 FORMAT = ["png"]
@@ -359,14 +366,11 @@ def work_precision(rows, out):
                         "failure); dotted: the reference vs its check" % scene, out, "work-precision-" + scene)
 
 
-ENGINES = ("simbody", "mujoco", "dart", "bullet", "ode")
-
-
 def benchmark_owner(r):
-    """The benchmark's owners (sweep/benchmark_tables.cpp): an engine, IDA apart, else eigenmass."""
-    if r["integrator"] == "ida":
-        return "ida"
-    return r["method"] if r["method"] in ENGINES else "eigenmass"
+    """The benchmark's owners, as the style table gives them (sweep/benchmark_tables.cpp's benchmarkOwner): an
+    integrator that owns its routes (IDA), else the method's owner (an engine, the in-house owner), else the
+    method itself (a method this eigenmass does not know: a plugin's)."""
+    return INTEGRATOR_OWNERS.get(r["integrator"]) or OWNERS.get(r["method"], r["method"])
 
 
 def benchmark_levels(results):
@@ -393,7 +397,7 @@ def benchmark(rows, results, out):
 
     def label(line):
         owner, method, formulation, integrator = line
-        return " ".join(x for x in (method if owner == "eigenmass" else "", formulation, integrator) if x)
+        return " ".join(x for x in (method if owner == IN_HOUSE_OWNER[0] else "", formulation, integrator) if x)
     for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
         small_multiples(rows, scene, "benchmark_error_m",
                         lambda r: (benchmark_owner(r), r["method"], r["formulation"], r["integrator"]), "owner", label,
@@ -728,7 +732,8 @@ def main():
     ap.add_argument("out")
     ap.add_argument("format", choices=["png", "svg", "pdf"])
     ap.add_argument("--csv-dir")
-    ap.add_argument("--style", default="{}", help="JSON {colours: {method: colour}, markers: {integrator: marker}}")
+    ap.add_argument("--style", default="{}", help="JSON {colours: {method: colour}, markers: {integrator: marker}, "
+                    "owners: {method: owner}, integrator_owners: {integrator: owner}, in_house_owner: name}")
     a = ap.parse_args()
     # Ended with eigenmass (SIGTERM on its death, SIGINT from the terminal):
     # the scratch folder goes with it.
@@ -738,6 +743,9 @@ def main():
     style = json.loads(a.style)
     COLORS.update(style.get("colours", {}))
     MARKERS.update(style.get("markers", {}))
+    OWNERS.update(style.get("owners", {}))
+    INTEGRATOR_OWNERS.update(style.get("integrator_owners", {}))
+    IN_HOUSE_OWNER[0] = style.get("in_house_owner")
     try:
         draw(a)
     except Exception as e:  # noqa: BLE001 - every failure is one line for eigenmass to print (exit 2)

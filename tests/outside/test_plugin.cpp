@@ -4,6 +4,7 @@
 // must agree with it; the hostile plugins must each end in one line.
 #include <catch2/catch.hpp>
 
+#include "compare/crosscheck.hpp"
 #include "compare/engines.hpp"
 #include "outside/plugin.hpp"
 #include "solver/formation.hpp"
@@ -147,21 +148,6 @@ TEST_CASE("a plugin that fails during a run ends that run with its time and caus
   setPluginTimeout(timeout);
 }
 
-namespace {
-
-// A consistent state of a mechanism: a random one projected onto its loops
-// (positions, then speeds), as crosscheck draws them.
-bool consistent(const Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  Workspace ws(m);
-  LoopProjector project(m);
-  randomState(m, rng, q, u);
-  if (!project.positions(m, ws, q.data(), u.data(), 1e-12, 50).converged) return false;
-  project.velocities(u.data());
-  return true;
-}
-
-}  // namespace
-
 TEST_CASE("on a mechanism the example plugin's constrained u' equals the in-house one at 20 consistent states", "[outside][plugin][mechanism]") {
   // The oracle: the in-house tree (A, B with the drives and point springs)
   // and its multipliers by Cholesky (constrainedAt, eq. (M7)); the plugin's
@@ -174,9 +160,10 @@ TEST_CASE("on a mechanism the example plugin's constrained u' equals the in-hous
     const Model m = test::loadData(scene);
     std::mt19937 rng(3);
     std::vector<Eigen::VectorXd> qs, us;
-    while (qs.size() < 20) {
+    while (qs.size() < 20) {  // consistent states, as crosscheck draws them
       Eigen::VectorXd q, u;
-      if (consistent(m, rng, q, u)) qs.push_back(q), us.push_back(u);
+      consistentState(m, rng, q, u);
+      qs.push_back(q), us.push_back(u);
     }
     const std::vector<Eigen::VectorXd> got = pluginUdots(rnea, m, qs, us);
     REQUIRE(got.size() == qs.size());

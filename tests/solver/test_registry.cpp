@@ -89,6 +89,10 @@ TEST_CASE("another engine is added at run time: its method, its schemes, a share
   CHECK(info(Integrator::RK4).runs(toy));
   CHECK(integratorNames(toy) == std::vector<std::string>{"rk4", "toy-sdirk"});
   CHECK(defaultIntegrator(toy) == Integrator::RK4);
+  // Its code tells its schemes apart by id, their place in its row (shared tableau or not), never by name.
+  CHECK(schemeIndex(toy, Integrator::RK4) == 0);
+  CHECK(schemeIndex(toy, adaptiveIntegrator(toy)) == 1);
+  CHECK_THROWS_AS(schemeIndex(toy, Integrator::RK8PD), std::logic_error);
   CHECK_FALSE(info(adaptiveIntegrator(toy)).fixed_step);
   CHECK(hasAdaptiveScheme(toy));
   CHECK(otherEngines() == std::vector<Engine>{toy});

@@ -52,9 +52,9 @@ Trajectory turning(double rate, double dt, double t_end) {
 CaseRecord run(const std::string& method, const std::string& formulation, const std::string& integrator, double dt,
                std::optional<double> err, double cpu, Outcome status = Outcome::Ok) {
   CaseRecord r;
-  r.role = "run", r.scene = "s", r.method = method, r.formulation = formulation, r.integrator = integrator;
+  r.role = CaseRole::Run, r.scene = "s", r.method = method, r.formulation = formulation, r.integrator = integrator;
   r.setting_kind = SettingKind::Dt, r.setting = dt, r.status = status;
-  if (status != Outcome::Ok) r.failure_kind = "loops-open", r.failure_time = 0.5;
+  if (status != Outcome::Ok) r.failure_kind = Failure::LoopsOpen, r.failure_time = 0.5;
   r.has_error = true, r.benchmark_error = err, r.cpu_s = {cpu, cpu, cpu};
   r.loop_position_m = 1e-9;
   return r;
@@ -189,7 +189,7 @@ TEST_CASE("the benchmark table: each route's cheapest run within a level, why ot
   // A check that failed before the horizon, or lies within ten times a level, leaves the level unjudged.
   std::vector<CaseRecord> checked = rs;
   CaseRecord chk = run("simbody", "", "rkmerson", 1e-12, 5e-4, 1.0, Outcome::Failed);
-  chk.role = "check";
+  chk.role = CaseRole::Check;
   checked.push_back(chk);
   CHECK(lineOf(benchmarkSummary({{"s", b, checked, true}}), "| T | 0.1 |").find("not judged: the reference's check failed at 0.5 s") != std::string::npos);
   CHECK(lineOf(benchmarkScene(checked, "s", b, 1.0), "- Within 0.1 m") == "- Within 0.1 m: not judged: the reference's check failed at 0.5 s.");

@@ -20,9 +20,9 @@ namespace {
 CaseRecord run(const std::string& method, const std::string& integrator, double dt, double err, double cpu,
                Outcome status = Outcome::Ok) {
   CaseRecord r;
-  r.role = "run", r.scene = "s", r.method = method, r.integrator = integrator;
+  r.role = CaseRole::Run, r.scene = "s", r.method = method, r.integrator = integrator;
   r.setting_kind = SettingKind::Dt, r.setting = dt, r.status = status;
-  if (status != Outcome::Ok) r.failure_kind = "blow-up", r.failure_time = 1.0;
+  if (status != Outcome::Ok) r.failure_kind = Failure::BlowUp, r.failure_time = 1.0;
   r.has_error = true, r.max_pose = err, r.cpu_s = {cpu, cpu, cpu};
   return r;
 }
@@ -122,7 +122,7 @@ TEST_CASE("an engine whose own dynamics stay beyond an accuracy is said to be at
 TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-conditioned and no route is ranked there", "[sweep][engine-study]") {
   useEngines();
   CaseRecord ref;
-  ref.role = "reference", ref.scene = "s", ref.method = "classical", ref.integrator = "rk8pd";
+  ref.role = CaseRole::Reference, ref.scene = "s", ref.method = "classical", ref.integrator = "rk8pd";
   ref.setting_kind = SettingKind::Tolerance, ref.setting = 1e-12, ref.sensitivity_rad = 1e-5;
   std::vector<CaseRecord> rs = {ref, run("classical", "rk4", 1e-3, 1e-4, 0.1), run("classical", "rk4", 1e-4, 1e-7, 1.0),
                                 run("mujoco", "rk4", 1e-4, 1e-7, 0.5)};
@@ -169,6 +169,33 @@ TEST_CASE("a route's owner: an engine, eigenmass for the in-house methods, else 
   CHECK(routeOwner("simbody") == "simbody");
   CHECK(routeOwner("dart-udot") == "dart-udot");
   CHECK(routeOwner("someone's plugin") == "someone's plugin");
+  CHECK(routeOwner("eigen-block") == kInHouseOwner);
+  // The benchmark's: a DAE solver's routes are its own (by its row, not its name), else the method's owner.
+  CHECK(benchmarkOwner("classical", "ida") == "ida");
+  CHECK(benchmarkOwner("classical", "cvode") == kInHouseOwner);
+  CHECK(benchmarkOwner("mujoco", "rk4") == "mujoco");
+  CHECK(benchmarkOwner("someone's plugin", "someone's scheme") == "someone's plugin");
+}
+
+TEST_CASE("a case file's role and failure kind are written by name and read back as the same types", "[sweep]") {
+  for (const CaseRole role : {CaseRole::Reference, CaseRole::Check, CaseRole::Run}) {
+    CaseRecord r = run("classical", "rk4", 1e-2, 1e-3, 0.1, Outcome::Failed);
+    r.name = "s.classical.rk4.0.01", r.role = role, r.failure = "a cause";
+    const nlohmann::json j = caseRecordJson(r);
+    CHECK(j["role"] == caseRoleName(role));
+    CHECK(j["failure"]["kind"] == "blow-up");
+    const CaseRecord back = readCaseRecord(j, "x.json");
+    CHECK(back.role == role);
+    CHECK(back.failure_kind == Failure::BlowUp);
+    CHECK(mergedCsv({back}).find(std::string(",") + caseRoleName(role) + ",classical,rk4,dt,") != std::string::npos);
+  }
+  CHECK(std::string(caseRoleName(CaseRole::Check)) == "check");
+  CaseRecord r = run("classical", "rk4", 1e-2, 1e-3, 0.1);
+  r.name = "s.classical.rk4.0.01";
+  nlohmann::json j = caseRecordJson(r);
+  CHECK(readCaseRecord(j, "x.json").failure_kind == Failure::None);
+  j["role"] = "runner";
+  CHECK_THROWS_WITH(readCaseRecord(j, "x.json"), Catch::Contains("x.json") && Catch::Contains("role 'runner'"));
 }
 
 TEST_CASE("engine-study runs every engine on a scene as a sweep, with the momenta of a free robot", "[sweep][cli][engine-study]") {

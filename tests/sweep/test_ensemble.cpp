@@ -90,7 +90,7 @@ TEST_CASE("a member that never crosses is censored: later than t_end in every st
   for (int k = 0; k < 12; ++k) {
     CaseRecord r;
     r.name = "s.m" + std::to_string(k) + ".classical.rk4.0.01";
-    r.role = "run", r.scene = "s", r.method = "classical", r.integrator = "rk4", r.member = k, r.setting = 0.01, r.nu = 1;
+    r.role = CaseRole::Run, r.scene = "s", r.method = "classical", r.integrator = "rk4", r.member = k, r.setting = 0.01, r.nu = 1;
     r.has_error = true, r.max_coord = 0.5;
     if (k < 7) r.pose_beyond = {times[k], times[k] + 0.5}, r.coord_beyond = {times[k] * 0.9, std::nullopt};
     records.push_back(r);
