@@ -44,27 +44,12 @@ nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
   j["baumgarte_alpha"] = o.alpha;
   j["baumgarte_beta"] = o.beta;
   j["loop_tol"] = o.loop_tol;
-  if (o.formulation == Formulation::Projection) {
-    j["projections"] = l.projections;
-    j["projection_iterations"] = l.projection_iterations;
-    j["projections_unconverged"] = l.projections_unconverged;
-    j["projection_tol"] = o.projection_tol;
-  }
-  // Coordinate partitioning's Newton runs per evaluation, the augmented Lagrangian's per step.
-  const auto newton = [&](const char* solves, double tol) {
-    j[solves] = l.newton_solves;
-    j["newton_iterations"] = l.newton_iterations;
-    j["newton_unconverged"] = l.newton_unconverged;
-    j["newton_tol"] = tol;
-  };
-  if (o.formulation == Formulation::CoordinatePartitioning) {
-    newton("newton_solves", o.projection_tol);
-    j["repartitions"] = l.repartitions;
-    j["repartition_times"] = l.repartition_times;  // the first kRepartitionTimesKept
-  }
-  if (o.formulation == Formulation::AugmentedLagrangian) {
-    newton("newton_steps", o.al_tol);
-    j["penalty_ratio"] = o.penalty_ratio;
+  std::vector<FormulationFigure> figures;  // the formulation's own, from its row
+  if (const FormulationInfo& f = formulationRow(o.formulation); f.figures) f.figures(l, o, figures);
+  for (const FormulationFigure& f : figures) {
+    if (f.list) j[f.key] = *f.list;
+    else if (f.integer) j[f.key] = static_cast<long>(f.value);
+    else j[f.key] = f.value;
   }
   return j;
 }

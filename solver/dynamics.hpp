@@ -8,7 +8,7 @@
 /// dissipated work W_diss (1), with W_diss' = sum c u^2].
 #include <memory>
 
-#include "solver/mechanism/projection.hpp"
+#include "solver/mechanism/formulation.hpp"
 #include "solver/trajectory.hpp"
 #include "solver/method.hpp"
 
@@ -23,15 +23,10 @@ class Dynamics {
   Method method() const { return method_; }
   /// Whether the method carries eigenfactor drift diagnostics.
   bool eigenfactor() const { return f_->hasDiagnostics(); }
-  bool correctsAfterStep() const { return f_->correctsAfterStep() || projects(); }
-  /// Whether afterStep projects onto the loops (the projection formulation on a model with loops).
-  bool projects() const {
-    return !model_.loops.empty() &&
-           (opt_.loops.formulation == Formulation::Projection || opt_.loops.formulation == Formulation::CoordinatePartitioning);
-  }
-  /// Whether the dependent coordinates follow the independent ones (coordinate partitioning on a model with loops).
-  bool partitions() const { return !model_.loops.empty() && opt_.loops.formulation == Formulation::CoordinatePartitioning; }
-  const LoopStats& loopStats() const { return loop_stats_; }
+  /// Whether a step's state is changed after it: the method's correction, or
+  /// a formulation that moves q and u onto the loops (its row's corrects_state).
+  bool correctsAfterStep() const { return f_->correctsAfterStep() || (form_ && formulationRow(opt_.loops.formulation).corrects_state); }
+  const LoopStats& loopStats() const { return form_ ? form_->stats() : no_loops_; }
   /// Form the loops at y and count their violation in loopStats() (an output sample).
   void recordLoopsAt(const double* y);
   int size() const { return size_; }
@@ -58,15 +53,18 @@ class Dynamics {
   Workspace& workspace() { return ws_; }
 
  private:
-  Status closeLoops(double t, const double* y, double* udot);
-  Status solveFailed(double t, const char* otherwise) const;
-  Status projectOntoLoops(double t, double* y);
-  // Coordinate partitioning: y's dependent coordinates from its independent ones
-  // (eq. (M12)), counted; `accepted`: after a step, where the partition may change.
-  Status partitionOntoLoops(double t, double* y, bool accepted);
+  // A^-1 G^T and A^(-1/2) from the method's own factors, else a Cholesky of the formed A.
+  class Factors : public MethodFactors {
+   public:
+    Factors(Dynamics& d) : d_(d) {}
+    const Eigen::MatrixXd& inverseATimesGt(const double* extra, const LoopState& ls) override;
+    const Eigen::MatrixXd& inverseSquareRoot(const double* extra) override;
+    Status solveFailed(double t, const char* otherwise) const override;
+
+   private:
+    Dynamics& d_;
+  };
   void recordLoops();
-  const Eigen::MatrixXd& inverseATimesGt(const double* x);  // A^-1 G^T at the formed A (the method's factors, else Cholesky)
-  const Eigen::MatrixXd& inverseSquareRoot(const double* x);  // M M^T = A^-1 at the formed A (the same)
 
   const Model& model_;
   Method method_;
@@ -75,16 +73,14 @@ class Dynamics {
   int size_;
   Workspace ws_;
   Eigen::VectorXd scratch_;  // (size) derivative scratch of diagnosticsAt
-  // A mechanism's loops (docs/theory.md §15), sized once; 0 rows for a tree.
-  LoopState loops_;
-  ConstrainedSolve solve_;
-  LoopProjector project_;
-  CoordinatePartition partition_;
-  Eigen::VectorXd consistent_;  // (size) coordinate partitioning: the evaluated state, its dependent coordinates solved
+  // A mechanism's loops (docs/theory.md §15): its formulation (none on a model
+  // without loops), and the method's factors it asks for, sized once.
+  std::unique_ptr<LoopFormulation> form_;
+  Factors factors_;
+  LoopStats no_loops_;
   Eigen::MatrixXd Gt_, AinvGt_;  // (nu x m)
   Eigen::MatrixXd M_;            // (nu x nu): M M^T = A^-1 (Udwadia-Kalaba)
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  LoopStats loop_stats_;
 };
 
 /// " (gimbal lock: body 'arm' q1 = 1.5708 rad)" for every gimbal whose middle

@@ -327,14 +327,22 @@ namespace {
 // A multistep scheme's history is of its own states: a method that corrects
 // the state after a step (a Jacobi correction, eigen-block's re-clustering)
 // or a formulation that projects it onto the loops would break it.
+// The formulations that leave q and u as the integrator made them, from the table: "baumgarte or udwadia-kalaba".
+std::string stateKeepingFormulations() {
+  std::string out;
+  for (const FormulationInfo& f : formulationTable())
+    if (!f.corrects_state && !f.brings_integrator) out += (out.empty() ? "" : " or ") + std::string(f.name);
+  return out;
+}
+
 void refuseCorrections(const Model& m, const RunSpec& spec, const IntegratorInfo& scheme) {
   const MethodInfo& method = info(spec.method);
   const std::string why = std::string("integrator ") + scheme.name + " is multistep: it cannot take a state corrected between its steps; ";
   if (method.correction != Correction::None || method.extra == ExtraState::CD)
     throw std::invalid_argument(why + "method " + method.name + " corrects its state after every step (run eigen, classical or articulated)");
-  const Formulation f = spec.options.loops.formulation;
-  if (!m.loops.empty() && (f == Formulation::Projection || f == Formulation::CoordinatePartitioning))
-    throw std::invalid_argument(why + "formulation " + formulationName(f) + " corrects q and u after every step (run udwadia-kalaba or baumgarte)");
+  const FormulationInfo& f = formulationRow(spec.options.loops.formulation);
+  if (!m.loops.empty() && f.corrects_state)
+    throw std::invalid_argument(why + "formulation " + f.name + " corrects q and u after every step (run " + stateKeepingFormulations() + ")");
 }
 
 }  // namespace
@@ -352,12 +360,14 @@ void refuseUnrunnable(const Model& m, const RunSpec& spec) {
                                   jointRow(m.bodies[b].joint.type).name + " joint (a quaternion)");
   if (scheme.multistep) refuseCorrections(m, spec, scheme);
   if (m.loops.empty() || scheme.dae) return;
-  const bool al = spec.options.loops.formulation == Formulation::AugmentedLagrangian;
-  if (al && !scheme.augmented_lagrangian)
-    throw std::invalid_argument(std::string("formulation augmented-lagrangian runs under its own integrator trapezoidal, not ") + scheme.name);
-  if (!al && scheme.augmented_lagrangian)
-    throw std::invalid_argument(std::string("integrator trapezoidal on a mechanism runs the formulation augmented-lagrangian, not ") +
-                                formulationName(spec.options.loops.formulation));
+  // A formulation that brings its own integrator runs under no other, and that integrator runs no other formulation.
+  const FormulationInfo& f = formulationRow(spec.options.loops.formulation);
+  if (f.brings_integrator && f.own_integrator != spec.integrator)
+    throw std::invalid_argument(std::string("formulation ") + f.name + " runs under its own integrator " + info(f.own_integrator).name +
+                                ", not " + scheme.name);
+  if (const FormulationInfo* brings = formulationBringing(spec.integrator); brings && brings != &f)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + " on a mechanism runs the formulation " + brings->name +
+                                ", not " + f.name);
 }
 
 Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const SampleObserver& observe) {
