@@ -67,6 +67,8 @@ void requireMethodTakes(Method method, const Model& m) {
 Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
   const RunSpec& spec = checked_spec;
   requireMethodTakes(spec.method, m);
+  // Code from outside runs in a child process: what the in-house loop would refuse is refused here first, in one line.
+  if (info(spec.method).isolated && spec.engine() == Engine::InHouse) refuseUnrunnable(m, spec);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);
   const SampleObserver observe = [&meter](double t) { meter(t); };
   Trajectory tr = recordedRun(spec.method)       ? recordedTrajectory(m, checked_spec)  // a run made elsewhere: nothing runs

@@ -349,6 +349,10 @@ void refuseCorrections(const Model& m, const RunSpec& spec, const IntegratorInfo
 
 void refuseUnrunnable(const Model& m, const RunSpec& spec) {
   const IntegratorInfo& scheme = info(spec.integrator);
+  if (scheme.stepsItself() && !info(spec.method).formation_udot)
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself, never a method's u': " +
+                                "method " + methodName(spec.method) + "'s u' comes from outside the formation, so it would run as " +
+                                "classical (run it under an integrator that steps its u': rk4, rk8pd, cvode, ...)");
   if (scheme.stepsItself() && info(spec.method).extra != ExtraState::None)
     throw std::invalid_argument(std::string("integrator ") + scheme.name + " integrates the formation's A and B itself: method " +
                                 methodName(spec.method) + " carries its own state (run it with classical)");

@@ -54,6 +54,7 @@ MethodInfo inHouse(Method id, const char* name, MethodFactory* make, const char*
   r.colour = colour;
   r.summary = summary;
   r.owner = kInHouseOwner;
+  r.formation_udot = true;
   return r;
 }
 

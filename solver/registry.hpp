@@ -140,6 +140,12 @@ struct MethodInfo {
   /// methods, an engine's name for its method; nullptr: its own name (an
   /// engine's u' under the in-house integrators, a plugin).
   const char* owner = nullptr;
+  /// Its u' is the formation's A^-1 B (a built-in method): an integrator that
+  /// integrates A and B itself (ida, trapezoidal) runs what this method
+  /// would. False for a u' from outside (a plugin's, a Python function's, an
+  /// engine's): such an integrator would silently run classical in its place,
+  /// so the pair is refused (refuseUnrunnable).
+  bool formation_udot = false;
   /// Its u' comes from outside the formation (an engine's under the in-house
   /// integrators, a plugin's, a Python function's, a recorded run): a tree's,
   /// so a mechanism is refused for it (compare/engines.hpp's methodRefusal).

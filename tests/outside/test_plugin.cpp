@@ -127,6 +127,24 @@ TEST_CASE("a plugin written from the header names every joint kind it receives, 
   CHECK_THROWS_WITH(probePlugin(plugin("hostile_kinds"), m), Catch::Contains("em_plugin_create returned NULL: kinds:" + kinds));
 }
 
+// ida and the trapezoidal rule integrate the formation's A and B themselves:
+// a plugin's u' under them was never called, and the run was classical's under
+// the plugin's name (judged "ok" with classical's error). Refused before any run.
+TEST_CASE("a plugin's u' is never replaced by the formation's: ida and the trapezoidal rule refuse it", "[outside][plugin]") {
+  const Method ok = plugin("hostile_ok");
+  for (const char* scene : {"pendulum5.json", "mechanisms/iftomm_a02_n2.json"}) {
+    const Model m = test::loadData(scene);
+    for (Integrator i : {Integrator::IDA, Integrator::Trapezoidal}) {
+      INFO(scene << " " << info(i).name);
+      RunSpec s = test::runSpec(ok, i, 0.5, i == Integrator::IDA ? 1e-8 : 1e-3);
+      if (i == Integrator::Trapezoidal) s.options.loops.formulation = Formulation::AugmentedLagrangian;
+      CHECK_THROWS_WITH(refuseUnrunnable(m, s), Catch::Contains("method hostile_ok's u' comes from outside the formation"));
+    }
+  }
+  for (Method builtin : {Method::Classical, Method::Articulated}) CHECK_NOTHROW(refuseUnrunnable(test::loadData("pendulum5.json"),
+                                                                                                  test::runSpec(builtin, Integrator::IDA, 0.5, 1e-8)));
+}
+
 TEST_CASE("a plugin that fails during a run ends that run with its time and cause, its samples before kept", "[outside][plugin]") {
   const Model m = test::loadData("pendulum5.json");
   const double timeout = pluginTimeout();

@@ -106,6 +106,21 @@ def test_a_numpy_method_equals_classical_under_the_same_integrator():
     assert abs(rep["methods"][1]["max_pose_error_rad"] - rep["methods"][0]["max_pose_error_rad"]) < 1e-11
 
 
+@pytest.mark.parametrize("integrator", ["ida", "trapezoidal"])
+def test_a_python_method_is_never_run_as_classical_by_an_integrator_of_the_formation(integrator):
+    # ida and the trapezoidal rule integrate the formation's A and B: they would never call f.
+    s = em.load(scene("pendulum5.json"))
+    calls = []
+
+    def mine(t, q, u):
+        calls.append(t)
+        return -q[: len(u)]
+
+    with pytest.raises(ValueError, match="comes from outside the formation"):
+        em.simulate(s, method=("mine", mine), integrator=integrator, t_end=0.5)
+    assert not calls
+
+
 def test_a_python_method_that_raises_fails_its_run_not_the_interpreter():
     s = em.load(scene("pendulum5.json"))
 
