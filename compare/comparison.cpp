@@ -109,7 +109,9 @@ ComparisonResult compareTrajectories(const Trajectory& reference, const Trajecto
   r.reference = reference;
   r.tight = tight;
   r.horizon = referenceHorizon(reference, tight, opt.thresholds);
-  r.energy_scale = energyScale(reference);
+  const EnergyScale scale = energyScaleOf(reference);
+  r.energy_scale = scale.joules;
+  r.energy_scale_definition = scale.definition;
   r.reference_metrics = measureRun(reference, reference, opt.thresholds, r.horizon, r.energy_scale);
   r.runs = std::move(runs);
   for (const Trajectory& t : r.runs) r.metrics.push_back(measureRun(t, reference, opt.thresholds, r.horizon, r.energy_scale));
@@ -429,7 +431,9 @@ std::string summaryTable(const ComparisonResult& r) {
   o << "pose>x / joint>x: first time (s) the largest body rotation error / joint-angle error against the reference\n"
        "exceeds x rad (- never; * at or beyond the reference horizon, not meaningful).\n"
        "dE/Escl = |E(t) + W_diss(t) - E(0)| / "
-    << gnum(r.energy_scale) << " J (the reference's largest kinetic energy; W_diss: work the dampers dissipated).\n";
+    << gnum(r.energy_scale) << " J ("
+    << (r.energy_scale_definition == kKineticScale ? "the reference's largest kinetic energy" : r.energy_scale_definition)
+    << "; W_diss: work the dampers dissipated).\n";
   return o.str();
 }
 

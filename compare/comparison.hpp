@@ -102,6 +102,7 @@ struct ComparisonResult {
   Trajectory reference, tight;
   std::vector<std::optional<double>> horizon;  ///< per threshold
   double energy_scale = 1;
+  std::string energy_scale_definition;  ///< what energy_scale is (energyScaleOf)
   MethodMetrics reference_metrics;             ///< the reference's own energy error and cost
   std::vector<Trajectory> runs;                ///< per method, in options.methods order
   std::vector<MethodMetrics> metrics;

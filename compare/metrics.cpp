@@ -1,18 +1,31 @@
 #include "compare/metrics.hpp"
 
+#include "solver/text.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace em {
 
-double energyScale(const Trajectory& ref) {
-  double T = 0;  // non-finite samples (a blown-up reference) carry no scale
-  for (double k : ref.kinetic)
-    if (std::isfinite(k)) T = std::max(T, k);
-  if (T > 0) return T;
-  if (!ref.energy.empty() && std::isfinite(ref.energy[0]) && ref.energy[0] != 0) return std::abs(ref.energy[0]);
-  return 1.0;
+EnergyScale energyScaleOf(const Trajectory& ref) {
+  double T = 0, Vlo = INFINITY, Vhi = -INFINITY;  // non-finite samples (a blown-up reference) carry no scale
+  for (size_t k = 0; k < ref.kinetic.size(); ++k) {
+    if (std::isfinite(ref.kinetic[k])) T = std::max(T, ref.kinetic[k]);
+    if (k < ref.energy.size() && std::isfinite(ref.energy[k]) && std::isfinite(ref.kinetic[k])) {
+      const double V = ref.energy[k] - ref.kinetic[k];
+      Vlo = std::min(Vlo, V), Vhi = std::max(Vhi, V);
+    }
+  }
+  const double E0 = !ref.energy.empty() && std::isfinite(ref.energy[0]) ? std::abs(ref.energy[0]) : 0.0;
+  const double V_range = Vhi > Vlo ? Vhi - Vlo : 0.0;
+  if (T > 0 && T > kRestKinetic * std::max(E0, V_range)) return {T, kKineticScale};
+  const std::string rest = T > 0 ? "the reference's kinetic energy, at most " + gnum(T, 3) + " J, is round-off: the scene rests; " : "";
+  if (E0 > 0) return {E0, rest + "|E(0)|"};
+  if (V_range > 0) return {V_range, rest + "the range of the reference's potential energy"};
+  return {1.0, rest + "1 J: the reference's energies are all 0"};
 }
+
+double energyScale(const Trajectory& ref) { return energyScaleOf(ref).joules; }
 
 namespace {
 

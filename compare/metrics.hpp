@@ -56,6 +56,18 @@ struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajec
 /// reference run (datum-free, never zero for a moving system); |E(0)| if the
 /// reference never moves; 1 J if both vanish.
 double energyScale(const Trajectory& ref);
+/// The same with what it is: the reference's largest kinetic energy; where
+/// that is round-off (below kRestKinetic of the energies' scale: a scene at
+/// rest, whose reference's kinetic energy is ~1e-32 J), |E(0)|; else the
+/// range of its potential energy; else 1 J.
+struct EnergyScale {
+  double joules = 1;
+  std::string definition;
+};
+EnergyScale energyScaleOf(const Trajectory& ref);
+inline constexpr const char* kKineticScale = "largest kinetic energy of the reference run";  ///< its usual definition
+/// A kinetic energy below this share of |E(0)| or of the potential's range is round-off.
+inline constexpr double kRestKinetic = 1e-12;
 
 /// Per-sample errors of `run` against `ref`.
 ErrorSeries errorSeries(const Trajectory& run, const Trajectory& ref, double energy_scale);

@@ -251,7 +251,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
                   {"output_dt", r.output_dt},
                   {"thresholds_rad", o.thresholds},
                   {"energy_scale_J", r.energy_scale},
-                  {"energy_scale_definition", "largest kinetic energy of the reference run"}};
+                  {"energy_scale_definition", r.energy_scale_definition}};
   for (const auto& entry : o.engines)  // one spec per engine, as its runs resolve it
     options[engineName(entry.first)] = runSpecJson(o.specFor(info(entry.first).method));
   if (!o.left_out.empty()) {  // engines that cannot take the scene, left out of the default methods

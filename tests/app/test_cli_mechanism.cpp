@@ -252,3 +252,35 @@ TEST_CASE("mechanisms the project had not run: every engine runs them or is name
     CHECK(std::max(A, B) < 1e-14);
   }
 }
+
+// A mechanism at rest (a four-bar hanging at its stable equilibrium): the IDA
+// reference's kinetic energy is round-off (~1e-32 J), which as the energy
+// scale made every method's energy error 1e20 or more (issue 73, item 3). The
+// scale falls back to |E(0)| and says so; the errors are then round-off.
+TEST_CASE("a mechanism at rest: the energy scale is |E(0)|, said, and every energy error is finite and small", "[cli][mechanism]") {
+  const std::string file = tempDir() + "/rest_fourbar.json", out = tempDir() + "/rest_fourbar.report.json";
+  std::ofstream(file) << R"({"format": "eigenmass-scene/1", "name": "rest_fourbar", "gravity": [0, -9.81, 0],
+    "bodies": [
+      {"name": "crank", "parent": "ground", "mass": 1, "inertia": [0.001, 0.01, 0.01],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0, 0, 0], "in_body": [-0.2, 0, 0], "q0": [-1.5707963267948966]}},
+      {"name": "coupler", "parent": "crank", "mass": 1, "inertia": [0.001, 0.02, 0.02],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0.2, 0, 0], "in_body": [-0.3, 0, 0], "q0": [1.5707963267948966]}},
+      {"name": "rocker", "parent": "ground", "mass": 1, "inertia": [0.001, 0.01, 0.01],
+       "joint": {"type": "revolute", "axis": [0, 0, 1], "in_parent": [0.6, 0, 0], "in_body": [-0.2, 0, 0], "q0": [-1.5707963267948966]}}],
+    "loops": [{"name": "pin", "type": "ball", "body_a": "coupler", "point_a": [0.3, 0, 0], "body_b": "rocker", "point_b": [0.2, 0, 0]}],
+    "simulate": {"t_end": 0.5, "output_dt": 0.01}})";
+  std::remove(out.c_str());
+  const Run r = eigenmass("compare " + file + " --methods classical,articulated,eigen --out " + out, true);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("is round-off: the scene rests; |E(0)|"));
+  nlohmann::json report;
+  std::ifstream(out) >> report;
+  const std::string definition = report["options"]["energy_scale_definition"];
+  CHECK_THAT(definition, Catch::Contains("|E(0)|"));
+  CHECK(report["options"]["energy_scale_J"].get<double>() > 1);  // |E(0)|: the potential, some joules
+  for (const auto& m : report["methods"]) {
+    INFO(m["name"]);
+    REQUIRE(m["energy_error_max"].is_number());
+    CHECK(m["energy_error_max"].get<double>() < 1e-9);  // a rest state's round-off, relative to |E(0)|
+  }
+}
