@@ -151,6 +151,19 @@ CLI::Validator positiveFinite() {
       "> 0");
 }
 
+CLI::Validator finiteRange(double lo, double hi) {
+  // CLI::Range lets NaN through (every comparison with it is false).
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "expected a number, got '" + text + "'";
+        if (!std::isfinite(x) || x < lo || x > hi) return "must be a finite number in [" + gnum(lo) + ", " + gnum(hi) + "], got " + text;
+        return "";
+      },
+      "in [" + gnum(lo) + ", " + gnum(hi) + "]");
+}
+
 void refuseEmptyPaths(CLI::App& app) {
   static const char* const kPathOptions[] = {"--out", "--csv-dir", "--out-dir", "--doc", "--results",
                                              "--merge", "--gate", "--expect", "--run", "--plugin"};
@@ -250,9 +263,9 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
       }()))
       ->capture_default_str();
   cmd->add_option("--baumgarte-alpha", g.loops.alpha, "A mechanism's Baumgarte alpha (1/s): G u' = -c - 2 alpha G u - beta^2 g")
-      ->check(CLI::Range(0.0, 1e12))
+      ->check(finiteRange(0.0, 1e12))
       ->capture_default_str();
-  cmd->add_option("--baumgarte-beta", g.loops.beta, "A mechanism's Baumgarte beta (1/s)")->check(CLI::Range(0.0, 1e12))->capture_default_str();
+  cmd->add_option("--baumgarte-beta", g.loops.beta, "A mechanism's Baumgarte beta (1/s)")->check(finiteRange(0.0, 1e12))->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
   auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },
@@ -352,7 +365,7 @@ void addOutsideOptions(CLI::App* cmd, OutsideArgs& o, bool with_runs) {
   cmd->add_option("--plugin-timeout", o.plugin_timeout,
                   "Seconds a plugin's call may take before its run counts as hung (default " + gnum(kPluginTimeout) + ", from " +
                       gnum(kPluginWatch) + ", the watch's period, to " + gnum(kPluginTimeoutMax) + "); with --plugin only")
-      ->check(CLI::Range(kPluginWatch, kPluginTimeoutMax))
+      ->check(finiteRange(kPluginWatch, kPluginTimeoutMax))
       ->needs(plugin);
   if (with_runs)
     cmd->add_option("--run", o.runs,

@@ -108,6 +108,8 @@ void refuseDuplicates(const std::string& option, const std::vector<T>& values) {
 
 /// A finite number > 0 (every step, tolerance, time and threshold option).
 CLI::Validator positiveFinite();
+/// A finite number in [lo, hi] (CLI::Range lets NaN through).
+CLI::Validator finiteRange(double lo, double hi);
 
 /// One rule for an empty path (issue 42): every option that names a file or
 /// a folder to write or read (--out, --csv-dir, --out-dir, --doc, --results,
