@@ -144,7 +144,7 @@ class OdeSystem {
     }
     setBodies(zeroConfiguration(m), Eigen::VectorXd::Zero(m.nu));
     for (int i = 0; i < m.n(); ++i) joint_[i] = makeJoint(i);
-    setBodies(m.q0(), m.u0());  // assembled: every loop's points meet (finishMechanism)
+    setBodies(m.q0(), m.u0());  // assembled: every loop's points meet (io/, assembleStart)
     for (const Loop& l : m.loops) makeLoopJoint(l);
     g_message.clear();
   }
