@@ -139,29 +139,28 @@ void refuseUnreadSetting(const CLI::App& cmd, Integrator integrator, const std::
     throw std::invalid_argument(dt_option + ": " + integratorName(integrator) + " is adaptive (" + tol_option + ")");
 }
 
-CLI::Validator positiveFinite() {
+namespace {
+// A finite number for which ok(x) holds, else "expected a number, got ..." or "must be <what>, got ...".
+template <class Ok>
+CLI::Validator finiteNumber(Ok ok, const std::string& what, const std::string& description) {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [ok, what](std::string& text) -> std::string {
         char* end = nullptr;
         const double x = std::strtod(text.c_str(), &end);
         if (end == text.c_str() || *end != '\0') return "expected a number, got '" + text + "'";
-        if (!std::isfinite(x) || !(x > 0)) return "must be a finite number > 0, got " + text;
+        if (!std::isfinite(x) || !ok(x)) return "must be " + what + ", got " + text;
         return "";
       },
-      "> 0");
+      description);
 }
+}  // namespace
 
+CLI::Validator positiveFinite() { return finiteNumber([](double x) { return x > 0; }, "a finite number > 0", "> 0"); }
+
+// CLI::Range lets NaN through (every comparison with it is false).
 CLI::Validator finiteRange(double lo, double hi) {
-  // CLI::Range lets NaN through (every comparison with it is false).
-  return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double x = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0') return "expected a number, got '" + text + "'";
-        if (!std::isfinite(x) || x < lo || x > hi) return "must be a finite number in [" + gnum(lo) + ", " + gnum(hi) + "], got " + text;
-        return "";
-      },
-      "in [" + gnum(lo) + ", " + gnum(hi) + "]");
+  const std::string range = "[" + gnum(lo) + ", " + gnum(hi) + "]";
+  return finiteNumber([lo, hi](double x) { return x >= lo && x <= hi; }, "a finite number in " + range, "in " + range);
 }
 
 void refuseEmptyPaths(CLI::App& app) {

@@ -433,6 +433,10 @@ std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
       if (!b.mb) out.push_back(std::make_unique<btMultiBodyPoint2Point>(a.mb, a.link, nullptr, pivot(a, pa), bt(pb)));
       else out.push_back(std::make_unique<btMultiBodyPoint2Point>(a.mb, a.link, b.mb, b.link, pivot(a, pa), pivot(b, pb)));
     };
+    const auto relativeFrame = [&] {  // b's link frame in a's, as it is now (assembled: rel)
+      const Mat3 rel = linkFrame(a).transpose() * linkFrame(b);
+      return btMatrix3x3(rel(0, 0), rel(0, 1), rel(0, 2), rel(1, 0), rel(1, 1), rel(1, 2), rel(2, 0), rel(2, 1), rel(2, 2));
+    };
     switch (loop.type) {
       case LoopType::Ball: connect(xa, xb); break;
       case LoopType::Hinge:
@@ -440,9 +444,7 @@ std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
         connect(xa + kLever * da, xb + kLever * db);
         break;
       case LoopType::Weld: {  // the link frames' relative rotation as it is now (assembled: rel)
-        btMatrix3x3 frame_a, identity = btMatrix3x3::getIdentity();
-        const Mat3 rel = linkFrame(a).transpose() * linkFrame(b);
-        frame_a.setValue(rel(0, 0), rel(0, 1), rel(0, 2), rel(1, 0), rel(1, 1), rel(1, 2), rel(2, 0), rel(2, 1), rel(2, 2));
+        const btMatrix3x3 frame_a = relativeFrame(), identity = btMatrix3x3::getIdentity();
         if (!b.mb)
           out.push_back(std::make_unique<btMultiBodyFixedConstraint>(a.mb, a.link, nullptr, pivot(a, xa), bt(xb), frame_a, identity));
         else
@@ -451,9 +453,7 @@ std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
         break;
       }
       case LoopType::Slider: {  // the pivots on one line along axis_a (in A's link frame), the frames' turn as it is now
-        const Mat3 rel = linkFrame(a).transpose() * linkFrame(b);
-        const btMatrix3x3 frame_a(rel(0, 0), rel(0, 1), rel(0, 2), rel(1, 0), rel(1, 1), rel(1, 2), rel(2, 0), rel(2, 1), rel(2, 2));
-        const btMatrix3x3 identity = btMatrix3x3::getIdentity();
+        const btMatrix3x3 frame_a = relativeFrame(), identity = btMatrix3x3::getIdentity();
         const btVector3 axis = bt(Vec3(linkFrame(a).transpose() * line));
         if (!b.mb)
           out.push_back(std::make_unique<btMultiBodySliderConstraint>(a.mb, a.link, nullptr, pivot(a, xa), bt(xb), frame_a, identity, axis));
