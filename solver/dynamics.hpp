@@ -18,6 +18,9 @@ class Dynamics {
  public:
   /// Throws std::invalid_argument for a method another engine runs.
   Dynamics(const Model& m, Method method, const MethodOptions& opt = {});
+  /// Built in place: factors_ refers to this object (neither copied nor moved).
+  Dynamics(const Dynamics&) = delete;
+  Dynamics& operator=(const Dynamics&) = delete;
 
   const Model& model() const { return model_; }
   Method method() const { return method_; }
