@@ -166,6 +166,7 @@ class PluginMethod final : public MethodImpl {
   // makes s A^-1 x about as large as u' itself, so the difference keeps its
   // digits; the size of A^-1 x is judged from the diagonal of the A that
   // Dynamics formed (only the scale, never the value, comes from it).
+  bool hasOwnInverse() const override { return true; }
   bool solveWithA(const double*, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) override {
     failure_.clear();
     const double size = std::max(base_.cwiseAbs().maxCoeff(), 1.0);

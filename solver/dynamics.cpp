@@ -28,7 +28,9 @@ Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
       size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)),
       form_(m.loops.empty() ? nullptr : formulationRow(opt.loops.formulation).make(m, opt.loops)), factors_(*this),
-      Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows), M_(m.loops.empty() ? 0 : m.nu, m.loops.empty() ? 0 : m.nu), llt_(m.nu) {}
+      Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows), M_(m.loops.empty() ? 0 : m.nu, m.loops.empty() ? 0 : m.nu), llt_(m.nu),
+      tree_(!m.loops.empty() && !f_->treeFactor() && !f_->hasOwnInverse() && TreeCholesky::pays(m) ? std::make_unique<TreeCholesky>(m)
+                                                                                                   : nullptr) {}
 
 Eigen::VectorXd Dynamics::initialState(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(size_);
@@ -110,6 +112,12 @@ const Eigen::MatrixXd& Dynamics::Factors::inverseATimesGt(const double* extra, c
   d_.llt_.compute(d_.ws_.A);
   d_.AinvGt_ = d_.llt_.solve(d_.Gt_);
   return d_.AinvGt_;
+}
+
+const TreeCholesky* Dynamics::Factors::treeFactor(const double*) {
+  if (const TreeCholesky* own = d_.f_->treeFactor()) return own;
+  if (!d_.tree_ || !d_.tree_->factor(d_.ws_.A)) return nullptr;  // not positive definite: the dense path says so
+  return d_.tree_.get();
 }
 
 const Eigen::MatrixXd& Dynamics::Factors::inverseSquareRoot(const double* extra) {

@@ -62,6 +62,7 @@ class Dynamics {
     Factors(Dynamics& d) : d_(d) {}
     const Eigen::MatrixXd& inverseATimesGt(const double* extra, const LoopState& ls) override;
     const Eigen::MatrixXd& inverseSquareRoot(const double* extra) override;
+    const TreeCholesky* treeFactor(const double* extra) override;
     Status solveFailed(double t, const char* otherwise) const override;
 
    private:
@@ -84,6 +85,9 @@ class Dynamics {
   Eigen::MatrixXd Gt_, AinvGt_;  // (nu x m)
   Eigen::MatrixXd M_;            // (nu x nu): M M^T = A^-1 (Udwadia-Kalaba)
   Eigen::LLT<Eigen::MatrixXd> llt_;
+  // A's tree-sparse factors for a method whose A^-1 is A's own but which has
+  // none (articulated, eigen-block), where the pattern pays; else null.
+  std::unique_ptr<TreeCholesky> tree_;
 };
 
 /// " (gimbal lock: body 'arm' q1 = 1.5708 rad)" for every gimbal whose middle

@@ -129,8 +129,15 @@ ColumnMomentum columnMomentum(const Workspace& ws, int k, const Vec3& p_b, bool 
 template <bool kSliding>
 void formAImpl(const Model& m, Workspace& ws) {
   // The lever r_jk = o_k - o_j is formed from the joint points, so j = k is
-  // free of cancellation. Rows a <= b only, written down column b (contiguous); then mirrored.
+  // free of cancellation. Rows a <= b only, written down column b (contiguous)
+  // and mirrored into row b: only the tree's pattern is touched (O(nu depth),
+  // not O(nu^2)); the rest of A stays zero from the Workspace's construction.
   const int N = m.nu;
+  const auto set = [&ws, N](double* A_b, int a, int b, double value) {
+    if (a > b) return;  // the same body's later speed: its own column writes it
+    A_b[a] = value;
+    ws.A.data()[static_cast<size_t>(a) * N + b] = value;
+  };
   for (int k = 0; k < m.n(); ++k) {
     const int b0 = m.body_iu[k];
     for (int b = b0; b < b0 + m.body_nu[k]; ++b) {
@@ -138,13 +145,12 @@ void formAImpl(const Model& m, Workspace& ws) {
       double* A_b = ws.A.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
         const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
-        for (int a = a0; a < a_rot; ++a) A_b[a] = ws.P.col(a).dot(c.pi);
+        for (int a = a0; a < a_rot; ++a) set(A_b, a, b, ws.P.col(a).dot(c.pi));
         const Vec3 w = c.sigma + (ws.o[k] - ws.o[j]).cross(c.pi);
-        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) A_b[a] = ws.P.col(a).dot(w);
+        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) set(A_b, a, b, ws.P.col(a).dot(w));
       }
     }
   }
-  ws.A.triangularView<Eigen::StrictlyLower>() = ws.A.transpose();
 }
 
 }  // namespace
@@ -286,8 +292,13 @@ void columnMomentumRate(const Workspace& ws, int k, const Vec3& p_b, const Vec3&
 template <bool kSliding>
 void formAdotImpl(const Model& m, Workspace& ws) {
   // The time derivative of formA's A_ab = p_a . w, w = sigma + r_jk x pi
-  // (t_a . pi for a slide): A'_ab = p_a' . w + p_a . w', column by column as in formA.
+  // (t_a . pi for a slide): A'_ab = p_a' . w + p_a . w', column by column and mirrored as in formA.
   const int N = m.nu;
+  const auto set = [&ws, N](double* Ad_b, int a, int b, double value) {
+    if (a > b) return;
+    Ad_b[a] = value;
+    ws.Adot.data()[static_cast<size_t>(a) * N + b] = value;
+  };
   for (int k = 0; k < m.n(); ++k) {
     const int b0 = m.body_iu[k];
     for (int b = b0; b < b0 + m.body_nu[k]; ++b) {
@@ -296,15 +307,14 @@ void formAdotImpl(const Model& m, Workspace& ws) {
       double* Ad_b = ws.Adot.data() + static_cast<size_t>(b) * N;  // column b
       for (int j = k; j >= 0; j = m.body_parent[j]) {
         const int a0 = m.body_iu[j], a_rot = kSliding ? a0 + m.body_nt[j] : a0;
-        for (int a = a0; a < a_rot; ++a) Ad_b[a] = ws.Pdot.col(a).dot(c.pi) + ws.P.col(a).dot(c_dot.pi);
+        for (int a = a0; a < a_rot; ++a) set(Ad_b, a, b, ws.Pdot.col(a).dot(c.pi) + ws.P.col(a).dot(c_dot.pi));
         const Vec3 r = ws.o[k] - ws.o[j], r_dot = ws.vo[k] - ws.vo[j];
         const Vec3 w = c.sigma + r.cross(c.pi);
         const Vec3 w_dot = c_dot.sigma + r_dot.cross(c.pi) + r.cross(c_dot.pi);
-        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) Ad_b[a] = ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot);
+        for (int a = a_rot; a < a0 + m.body_nu[j]; ++a) set(Ad_b, a, b, ws.Pdot.col(a).dot(w) + ws.P.col(a).dot(w_dot));
       }
     }
   }
-  ws.Adot.triangularView<Eigen::StrictlyLower>() = ws.Adot.transpose();
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "solver/formation.hpp"
 #include "solver/method_options.hpp"
 #include "solver/registry.hpp"
+#include "solver/tree_cholesky.hpp"
 
 namespace em {
 
@@ -63,6 +64,13 @@ class MethodImpl {
   /// had (classical: its Cholesky; the eigenfactor methods: C^T Lambda^-1 C
   /// from x), for a mechanism's multipliers; false: Dynamics factors A itself.  // X, out: (nu x m)
   virtual bool solveWithA(const double* /*x*/, const Eigen::MatrixXd& /*X*/, Eigen::MatrixXd& /*out*/) { return false; }
+  /// Whether solveWithA answers (its A^-1 is the method's own: the eigenfactors',
+  /// a plugin's); false: Dynamics factors the formed A itself.
+  virtual bool hasOwnInverse() const { return false; }
+  /// A's tree-sparse factors from its last rates() (classical where the tree's
+  /// pattern pays: TreeCholesky::pays), for a mechanism's multipliers at linear
+  /// cost (docs/theory.md §16); nullptr: none.
+  virtual const TreeCholesky* treeFactor() const { return nullptr; }
   /// M with M M^T = A^-1 from the same factors (classical: L^-T; the
   /// eigenfactor methods: C^T Lambda^(-1/2)), for Udwadia-Kalaba's constrained
   /// acceleration; false: Dynamics factors A itself.  // M: (nu x nu)

@@ -57,6 +57,7 @@ class EigenMethod final : public MethodImpl {
 
   // A^-1 X = C^T Lambda^-1 C X (paper eq. (17)): the multipliers of a
   // mechanism through the eigenfactors, A^(-1/2) = C^T Lambda^(-1/2) C.
+  bool hasOwnInverse() const override { return true; }
   bool solveWithA(const double* x, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) override {
     Eigen::Map<const RowMatrix> C(x, N_, N_);
     Eigen::Map<const Eigen::VectorXd> lambda(x + N_ * N_, N_);

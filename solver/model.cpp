@@ -163,6 +163,20 @@ void holdStartTurns(Model& m) {
     if (loopRow(l.type).holds_turn) l.rel = at(l.a.body).transpose() * at(l.b.body);
 }
 
+// Each loop's speeds: the union of its two bodies' paths to the ground (Model::loop_speeds).
+void loopSpeeds(Model& m) {
+  m.loop_speeds.clear();
+  for (const Loop& l : m.loops) {
+    std::vector<char> on(m.nu, 0);
+    for (int body : {l.a.body, l.b.body})
+      for (int k = body; k >= 0; k = m.body_parent[k])
+        for (int j = 0; j < m.body_nu[k]; ++j) on[m.body_iu[k] + j] = 1;
+    std::vector<int>& speeds = m.loop_speeds.emplace_back();
+    for (int j = 0; j < m.nu; ++j)
+      if (on[j]) speeds.push_back(j);
+  }
+}
+
 }  // namespace
 
 Model buildModel(const std::string& name, const Vec3& gravity, const std::vector<BodyDef>& defs, const MechanismDef& mechanism) {
@@ -174,6 +188,7 @@ Model buildModel(const std::string& name, const Vec3& gravity, const std::vector
   placeBodies(defs, regularOrder(defs), m);
   placeMechanism(mechanism, m);
   holdStartTurns(m);
+  loopSpeeds(m);
   // §2: T(j,i) = 1 when joint j lies on the path from the ground to body i.
   const int n = m.n();
   m.T = Eigen::MatrixXi::Zero(n, n);

@@ -201,6 +201,9 @@ struct Model {
   std::vector<Loop> loops;     ///< closures, bodies in internal numbering (theory.md §15)
   std::vector<PointSpring> point_springs;  ///< point-to-point spring-dampers, internal numbering
   int loop_rows = 0;           ///< sum of the loops' equations: the rows of g and G
+  /// Per loop, the speeds its rows can touch (G's nonzero columns): those of
+  /// both bodies' paths to the ground, ascending (docs/theory.md §16).
+  std::vector<std::vector<int>> loop_speeds;
   Eigen::MatrixXi T;           ///< structure matrix: T(j,i) = 1 if j is i or an ancestor of i  (n x n)
   std::vector<int> file_to_internal;  ///< body index map
   /// Compact copies of bodies[i].parent, .iu and .nu() for the O(n depth)

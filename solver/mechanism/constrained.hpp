@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 
 #include "solver/mechanism/loops.hpp"
+#include "solver/tree_cholesky.hpp"
 
 namespace em {
 
@@ -33,15 +34,40 @@ class ConstrainedSolve {
   /// out = A^-1 G^T (G A^-1 G^T)^+ r: the least change in A's metric that
   /// takes G's rows by r (a projection's step).  // r: (m), out: (nu)
   void correction(const LoopState& ls, const Eigen::MatrixXd& AinvGt, const Eigen::VectorXd& r, Eigen::VectorXd& out);
+  /// The same two, at linear cost, from A's tree-sparse factors (docs/theory.md
+  /// §16, eqs. (S1)-(S3)): Y = L^-T G^T on each loop's speeds, G A^-1 G^T =
+  /// Y^T D^-1 Y over the pairs of loops that share speeds, factored by an
+  /// envelope LDL^T whose pivots below kLoopRankTol of the largest diagonal
+  /// drop their rows (redundant: lambda 0 there, which leaves u' as the least-norm
+  /// lambda does on consistent rows; the lambda itself is then not the least-norm one).
+  int solve(const LoopState& ls, const TreeCholesky& A, double alpha, double beta, Eigen::Ref<Eigen::VectorXd> udot);
+  void correction(const LoopState& ls, const TreeCholesky& A, const Eigen::VectorXd& r, Eigen::VectorXd& out);
   const Eigen::VectorXd& lambda() const { return lambda_; }
   int rank() const { return rank_; }
 
  private:
   void residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a);
+  // The tree-sparse path: G A^-1 G^T's envelope factored (eq. (S2)); lambda_ = its solution at r.
+  void factorSparse(const LoopState& ls, const TreeCholesky& A);
+  void solveSparse(const Eigen::VectorXd& r);
+  void addInverseAGt(const TreeCholesky& A, double* out);  // out += A^-1 G^T lambda_ (eq. (S3))
+  const Model& m_;
   Eigen::MatrixXd S_, GM_;
   Eigen::VectorXd r_, lambda_, w_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_, cod_gm_;
   int rank_ = 0;
+  // The sparse path's pattern, fixed by the model: each row's loop, each loop's
+  // first row, the pairs of loops (a >= b) that share speeds and those speeds,
+  // and each row's first column in the envelope of G A^-1 G^T.
+  struct SharedSpeeds {
+    int a, b;
+    std::vector<int> speeds;
+  };
+  std::vector<int> row_loop_, loop_row_, first_;
+  std::vector<SharedSpeeds> pairs_;
+  Eigen::MatrixXd Y_;                                                   // (nu x m) L^-T G^T, on each row's loop speeds
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> E_;  // (m x m) the envelope: S, then L below its diagonal
+  Eigen::VectorXd d_, v_;                                               // (m) pivots (0: dropped), (nu) scratch
 };
 
 /// A mechanism's equations at one state (theory.md eq. (M7), solved by
@@ -56,12 +82,6 @@ struct ConstrainedEquations {
 };
 /// From a Workspace whose A and B are formed at (q, u) (formEquations).  // u: (nu)
 ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u);
-
-/// tr.loop_samples and tr.lambda_names at every sample of a run on `m` (a
-/// model with loops; nothing otherwise): the violation by our g(q) and G u,
-/// and (M7)'s lambda at the sampled state, whoever made the run (an engine's
-/// samples are measured the same way). Bookkeeping after the run: it allocates.
-void recordLoopSamples(const Model& m, Trajectory& tr);
 
 /// tr.loop_samples and tr.lambda_names at every sample of a run on `m` (a
 /// model with loops; nothing otherwise): the violation by our g(q) and G u,

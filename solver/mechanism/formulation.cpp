@@ -76,9 +76,13 @@ void LoopFormulation::countRank(int rank) {
 Status LoopFormulation::accelerations(double t, Workspace& ws, const double* y, const double* extra, MethodFactors& f,
                                       double* udot) {
   formLoops(m_, ws, y + m_.nq, loops_);
+  Eigen::Map<Eigen::VectorXd> a(udot, m_.nu);
+  if (const TreeCholesky* tree = f.treeFactor(extra)) {
+    countRank(solve_.solve(loops_, *tree, o_.alpha, o_.beta, a));
+    return {};
+  }
   const Eigen::MatrixXd& AinvGt = f.inverseATimesGt(extra, loops_);
   if (!AinvGt.allFinite()) return f.solveFailed(t, "A^-1 G^T not finite (A not positive definite)");
-  Eigen::Map<Eigen::VectorXd> a(udot, m_.nu);
   countRank(solve_.solve(loops_, AinvGt, o_.alpha, o_.beta, a));
   return {};
 }

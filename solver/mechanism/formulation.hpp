@@ -23,6 +23,10 @@ class MethodFactors {
   virtual const Eigen::MatrixXd& inverseATimesGt(const double* extra, const LoopState& ls) = 0;
   /// M with M M^T = A^-1 at the formed A.
   virtual const Eigen::MatrixXd& inverseSquareRoot(const double* extra) = 0;
+  /// A's tree-sparse factors at the formed A where the method's A^-1 is A's
+  /// own and the tree's pattern pays (docs/theory.md §16): the multipliers then
+  /// cost O(rows x depth); nullptr: take inverseATimesGt.
+  virtual const TreeCholesky* treeFactor(const double* extra) = 0;
   /// A non-finite A^-1 G^T or M as a failure at t: the method's own cause where it has one.
   virtual Status solveFailed(double t, const char* otherwise) const = 0;
 };

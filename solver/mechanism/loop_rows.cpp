@@ -56,7 +56,7 @@ void lineRows(const LoopContext& x, int r, LoopState& ls) {
   const Vec3 bias_b = l.b.body < 0 ? Vec3::Zero() : pointBias(x.m, x.ws, x.u, l.b.body, pb.x, pb.v);
   const Vec3 bias_a = l.a.body < 0 ? Vec3::Zero() : pointBias(x.m, x.ws, x.u, l.a.body, pa.x, pa.v);
   const Vec3 alpha_a = l.a.body < 0 ? Vec3::Zero() : angularBias(x.m, x.ws, x.u, l.a.body);
-  ls.Jw.setZero();
+  for (int j : x.speeds) ls.Jw.col(j).setZero();
   if (l.a.body >= 0) addAngularJacobian(x.m, x.ws, l.a.body, 1.0, ls.Jw);
   for (int k = 0; k < 2; ++k) {
     const Vec3 t = Ra * t0[k], tdot = wa.cross(t);
@@ -64,25 +64,27 @@ void lineRows(const LoopContext& x, int r, LoopState& ls) {
     auto row = ls.G.row(r + k);
     if (l.b.body >= 0) forPointColumns(x.m, x.ws, l.b.body, pb.x, [&](int j, const Vec3& col) { row[j] += t.dot(col); });
     if (l.a.body >= 0) forPointColumns(x.m, x.ws, l.a.body, pa.x, [&](int j, const Vec3& col) { row[j] -= t.dot(col); });
-    row.noalias() += t.cross(d).transpose() * ls.Jw;
+    const Vec3 txd = t.cross(d);
+    for (int j : x.speeds) row[j] += txd.dot(ls.Jw.col(j));
     ls.c[r + k] = t.dot(bias_b - bias_a) + (alpha_a.cross(t) + wa.cross(tdot)).dot(d) + 2.0 * tdot.dot(ddot);
   }
 }
 
 RelativeTurn relativeTurn(const LoopContext& x, LoopState& ls) {
   const Loop& l = x.loop;
-  ls.Jw.setZero();
+  for (int j : x.speeds) ls.Jw.col(j).setZero();
   if (l.a.body >= 0) addAngularJacobian(x.m, x.ws, l.a.body, 1.0, ls.Jw);
   if (l.b.body >= 0) addAngularJacobian(x.m, x.ws, l.b.body, -1.0, ls.Jw);
   return {omegaOf(x.ws, l.a.body), omegaOf(x.ws, l.b.body),
           Vec3((l.a.body < 0 ? Vec3::Zero() : angularBias(x.m, x.ws, x.u, l.a.body)) -
-               (l.b.body < 0 ? Vec3::Zero() : angularBias(x.m, x.ws, x.u, l.b.body)))};
+               (l.b.body < 0 ? Vec3::Zero() : angularBias(x.m, x.ws, x.u, l.b.body))),
+          &x.speeds};
 }
 
 void pairRow(const RelativeTurn& turn, const Vec3& e, const Vec3& f, int r, LoopState& ls) {
   const Vec3 n = e.cross(f);
   ls.g[r] = e.dot(f);
-  ls.G.row(r).noalias() = n.transpose() * ls.Jw;
+  for (int j : *turn.speeds) ls.G(r, j) = n.dot(ls.Jw.col(j));
   const Vec3 ndot = turn.wa.cross(e).cross(f) + e.cross(turn.wb.cross(f));
   ls.c[r] = n.dot(turn.alpha) + ndot.dot(turn.wa - turn.wb);
 }

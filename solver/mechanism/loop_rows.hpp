@@ -18,6 +18,7 @@ void lineRows(const LoopContext& x, int r, LoopState& ls);
 /// omega_a, omega_b and alpha_a - alpha_b at u' = 0, shared by its direction rows.
 struct RelativeTurn {
   Vec3 wa, wb, alpha;
+  const std::vector<int>* speeds;  ///< the loop's (Model::loop_speeds): ls.Jw's only nonzero columns
 };
 RelativeTurn relativeTurn(const LoopContext& x, LoopState& ls);
 /// Row r: unit e (turning with a) stays square to unit f (turning with b):

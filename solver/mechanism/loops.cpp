@@ -21,14 +21,20 @@ double worst(const Eigen::VectorXd& v, int from, int n) { return n > 0 ? v.segme
 }  // namespace
 
 void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& ls) {
-  ls.G.setZero();
+  // G's rows touch only their loop's speeds (Model::loop_speeds): those are
+  // cleared and summed, never the rest, which stays zero (O(rows x depth), not O(rows x nu)).
   int r = 0;
   for (size_t i = 0; i < m.loops.size(); ++i) {
     const LoopTypeInfo& kind = loopRow(m.loops[i].type);
-    ls.turn[i] = kind.equations_of->form({m, ws, u, m.loops[i]}, r, ls);
+    for (int j : m.loop_speeds[i]) ls.G.col(j).segment(r, kind.equations).setZero();
+    ls.turn[i] = kind.equations_of->form({m, ws, u, m.loops[i], m.loop_speeds[i]}, r, ls);
+    for (int k = r; k < r + kind.equations; ++k) {
+      double gu = 0;
+      for (int j : m.loop_speeds[i]) gu += ls.G(k, j) * u[j];
+      ls.Gu[k] = gu;
+    }
     r += kind.equations;
   }
-  ls.Gu.noalias() = ls.G * Eigen::Map<const Eigen::VectorXd>(u, m.nu);
   ls.position_m = ls.position_rad = ls.velocity_m = ls.velocity_rad = 0;
   r = 0;
   for (size_t i = 0; i < m.loops.size(); ++i) {

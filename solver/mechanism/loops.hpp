@@ -37,6 +37,7 @@ struct LoopContext {
   const Workspace& ws;
   const double* u;  // (nu)
   const Loop& loop;
+  const std::vector<int>& speeds;  ///< the loop's (Model::loop_speeds): its rows' only nonzero columns
 };
 
 /// A closure kind's equations (one file each, solver/mechanism/kinds/): rows

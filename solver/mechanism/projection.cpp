@@ -9,7 +9,13 @@
 namespace em {
 
 LoopProjector::LoopProjector(const Model& m)
-    : loops_(m), solve_(m), llt_(m.nu), AinvGt_(m.nu, m.loop_rows), dv_(m.nu), dq_(m.nq) {}
+    : loops_(m), solve_(m), llt_(m.nu), tree_(TreeCholesky::pays(m) ? std::make_unique<TreeCholesky>(m) : nullptr),
+      AinvGt_(tree_ ? 0 : m.nu, tree_ ? 0 : m.loop_rows), dv_(m.nu), dq_(m.nq) {}
+
+void LoopProjector::correction(const Eigen::VectorXd& r) {
+  if (tree_) solve_.correction(loops_, *tree_, r, dv_);
+  else solve_.correction(loops_, AinvGt_, r, dv_);
+}
 
 LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, double* q, const double* u, double tol,
                                                int iterations) {
@@ -19,8 +25,15 @@ LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, do
     formLoops(m, ws, u, loops_);
     formSubtrees(m, ws);
     formA(m, ws);
-    llt_.compute(ws.A);
-    AinvGt_.noalias() = llt_.solve(loops_.G.transpose());
+    if (tree_) {
+      if (!tree_->factor(ws.A)) {  // A not positive definite: as the dense path's NaN would say
+        r.finite = false;
+        return r;
+      }
+    } else {
+      llt_.compute(ws.A);
+      AinvGt_.noalias() = llt_.solve(loops_.G.transpose());
+    }
     // The true gap: g's direction rows also vanish at turns that are not the closure's (formLoops' turn).
     const double gap = std::max(loops_.position_m, loops_.position_rad);
     if (gap <= tol) {
@@ -33,7 +46,7 @@ LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, do
     }
     if (r.iterations == iterations) return r;
     // dv = -A^-1 G^T (G A^-1 G^T)^+ g, q <- q + qdot(q, dv) (eq. (M8)).
-    solve_.correction(loops_, AinvGt_, loops_.g, dv_);
+    correction(loops_.g);
     dv_ = -dv_;
     formQdot(m, q, dv_.data(), dq_.data());
     Eigen::Map<Eigen::VectorXd>(q, m.nq) += dq_;
@@ -43,7 +56,7 @@ LoopProjector::Result LoopProjector::positions(const Model& m, Workspace& ws, do
 }
 
 void LoopProjector::velocities(double* u) {
-  solve_.correction(loops_, AinvGt_, loops_.Gu, dv_);  // eq. (M9)
+  correction(loops_.Gu);  // eq. (M9)
   Eigen::Map<Eigen::VectorXd>(u, dv_.size()) -= dv_;
 }
 

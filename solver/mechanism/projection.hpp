@@ -2,6 +2,8 @@
 /// Onto the loops (docs/theory.md §15, eqs. (M8), (M9), (M12)): the projection
 /// of q and u in A's metric, and coordinate partitioning's dependent
 /// coordinates from the independent ones.
+#include <memory>
+
 #include "solver/mechanism/constrained.hpp"
 
 namespace em {
@@ -26,10 +28,14 @@ class LoopProjector {
   const LoopState& loops() const { return loops_; }
 
  private:
+  // dv = A^-1 G^T (G A^-1 G^T)^+ r at the last iterate: by A's tree-sparse
+  // factors where the tree's pattern pays (TreeCholesky::pays), else densely.
+  void correction(const Eigen::VectorXd& r);
   LoopState loops_;
   ConstrainedSolve solve_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::MatrixXd AinvGt_;     // (nu x m)
+  std::unique_ptr<TreeCholesky> tree_;  // null: the dense path
+  Eigen::MatrixXd AinvGt_;     // (nu x m), the dense path's
   Eigen::VectorXd dv_, dq_;    // (nu), (nq)
 };
 
