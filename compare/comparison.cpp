@@ -54,6 +54,7 @@ void CompareOptions::useMechanismReference(const Model& m) {
   reference = defaultReferenceSpec(Method::Classical);
   reference.tol = tol;
   reference.integrator = Integrator::IDA;
+  mechanism_reference = true;
 }
 
 void refuseUnreadInHouseSettings(const CompareOptions& o, const AskedInHouse& asked) {
@@ -219,11 +220,35 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
   }
 }
 
+// A mechanism's default reference, IDA, stops at the first singular position
+// (its index-2 rows lose rank there): the reference and its twin then run
+// again as classical with the projection under rk8pd at the same tolerances,
+// which passes singular positions (docs/theory.md §15), and IDA's run is kept
+// as its check over IDA's span. Where the replacement also stops, the
+// comparison says so as for any failed reference.
+void replaceStoppedReference(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
+                             ReferenceRuns& out, void (*progress)(const std::string&)) {
+  if (!opt.mechanism_reference || !out.reference.failed() || !scene.model.isMechanism() || scene.model.loops.empty()) return;
+  const auto rerun = [&](const RunSpec& s, const std::string& label) {
+    RunSpec r = s;
+    r.integrator = Integrator::RK8PD;
+    r.options.loops.formulation = Formulation::Projection;
+    return runLabelled(scene, checked(r), label, progress);
+  };
+  out.reference_note = "IDA stopped at t = " + gnum(out.reference.failure_time) + " s (" + out.reference.failure +
+                       "); the reference is classical/rk8pd with the projection at the same tolerance, which passes "
+                       "singular positions, checked against IDA over IDA's span";
+  out.stopped = std::move(out.reference);
+  out.reference = rerun(specs[0].spec(), "reference classical/rk8pd (projection): IDA stopped");
+  out.tight = rerun(specs[1].spec(), "horizon run classical/rk8pd (projection)");
+}
+
 // The reference runs of checked specs (reference, its twin: specs[0], specs[1]).
 ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
                           void (*progress)(const std::string&)) {
   ReferenceRuns out{runLabelled(scene, specs[0], std::string("reference ") + methodName(specs[0]->method), progress),
-                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}, {}, {}};
+                    runLabelled(scene, specs[1], "horizon run (tolerance / " + gnum(opt.tight_factor) + ")", progress), {}, {}, {}, {}, {}, {}, {}, {}};
+  replaceStoppedReference(scene, opt, specs, out, progress);
   LyapunovOptions lo;
   lo.t_end = specs[0]->t_end;  // the grid's horizon
   out.lyapunov = lyapunovExponent(scene.model, lo);
@@ -259,6 +284,11 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   r.sensitivity = reference.sensitivity;
   r.second_engine = reference.second_engine;
   r.second_engine_skipped = reference.second_engine_skipped;
+  r.reference_note = reference.reference_note;
+  if (reference.stopped) {
+    r.stopped_reference = reference.stopped;
+    r.stopped_reference_metrics = measureRun(*reference.stopped, r.reference, opt.thresholds, r.horizon, r.energy_scale);
+  }
   if (r.second_engine)
     r.second_engine_metrics = measureRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
   std::vector<Engine> ran = {r.reference.run.engine()};
@@ -357,6 +387,9 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
   for (size_t i = 0; i < r.horizon.size(); ++i)
     o << " " << gnum(r.options.thresholds[i]) << " rad " << (r.horizon[i] ? gnum(*r.horizon[i]) + " s" : "not within t_end");
   o << "\n";
+  if (r.stopped_reference_metrics)
+    o << "reference: " << r.reference_note << ": IDA against it over [0, " << gnum(r.stopped_reference->failure_time)
+      << "] s: max pose " << gnum(r.stopped_reference_metrics->pose.value, 3) << " rad\n";
   if (r.second_engine_metrics) {
     const MethodMetrics& m = *r.second_engine_metrics;
     const RunSpec& run = r.second_engine->run;

@@ -66,6 +66,11 @@ struct CompareOptions {
   /// "--reference-tol"), or, with `keywords`, the Python module's keyword
   /// arguments ("dt", "t_end").
   bool keywords = false;
+  /// Set by useMechanismReference: the reference is the mechanism's default
+  /// (IDA), which, where it stops before t_end (a singular position: its
+  /// index-2 rows lose rank), is replaced by a route that passes singular
+  /// positions and checked against IDA's span (ReferenceRuns::stopped).
+  bool mechanism_reference = false;
 
   CompareOptions();
   /// A mechanism's reference is in-house, as no engine's is exact on loops
@@ -119,6 +124,12 @@ struct ComparisonResult {
   std::optional<Trajectory> second_engine;
   std::optional<MethodMetrics> second_engine_metrics;
   std::string second_engine_skipped;
+  /// A mechanism's default reference that stopped before t_end (IDA at a
+  /// singular position), measured against the reference that replaced it
+  /// over its own span, and what was done (ReferenceRuns::stopped).
+  std::optional<Trajectory> stopped_reference;
+  std::optional<MethodMetrics> stopped_reference_metrics;
+  std::string reference_note;
   /// Per engine that ran (the reference's, the second engine, a method's): what it does to this scene
   /// that bounds its agreement (engineSceneNote), where it says something.
   std::vector<std::pair<std::string, std::string>> engine_notes;
@@ -140,6 +151,11 @@ struct ReferenceRuns {
   std::optional<Sensitivity> sensitivity;   ///< the reference's sensitivity twin (CompareOptions::sensitivity_twin; none with loops)
   std::optional<Trajectory> second_engine;  ///< the second engine's run (CompareOptions::second_engine; its row's roles)
   std::string second_engine_skipped;        ///< why it did not run, when asked
+  /// A mechanism's default reference (IDA) where it stopped before t_end:
+  /// that run, kept as the check of the reference that replaced it over its
+  /// span, and what was done (CompareOptions::mechanism_reference).
+  std::optional<Trajectory> stopped;
+  std::string reference_note;
 };
 /// Run them as `opt` says (after checkComparisonOptions).
 ReferenceRuns runReference(const Scene& scene, const CompareOptions& opt, void (*progress)(const std::string&) = nullptr);

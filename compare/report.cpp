@@ -220,6 +220,18 @@ json sensitivityJson(const ComparisonResult& r) {
           {"ill_conditioned_at_rad", ill}};
 }
 
+// A mechanism's default reference that stopped before t_end (IDA at a
+// singular position): why it was replaced, and its distance from the
+// replacement over its own span (null where the reference ran as asked).
+json stoppedReferenceJson(const ComparisonResult& r) {
+  if (!r.stopped_reference_metrics) return nullptr;
+  const Trajectory& ida = *r.stopped_reference;
+  return {{"why", r.reference_note},
+          {"checked_by", {{"method", ida.method()}, {"integrator", ida.integrator()}, {"tolerance", ida.run.tol},
+                          {"until_s", ida.failure_time}, {"failure", ida.failure},
+                          {"max_pose_rad", finiteOrNull(r.stopped_reference_metrics->pose.value)}}}};
+}
+
 // MuJoCo at a small step against the reference: the two independent engines' distance.
 json secondEngineJson(const ComparisonResult& r) {
   if (!r.second_engine_metrics) return r.second_engine_skipped.empty() ? json(nullptr) : json({{"skipped", r.second_engine_skipped}});
@@ -282,7 +294,8 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
                                       "windows_std_per_s their spread")},
             {"lyapunov_long", lyapunovLongJson(r)},
             {"sensitivity_twin", sensitivityJson(r)},
-            {"second_engine", secondEngineJson(r)}}},
+            {"second_engine", secondEngineJson(r)},
+            {"replaced", stoppedReferenceJson(r)}}},
           {"engine_notes", engineNotesJson(r)},
           {"methods", methods},
           {"series", series},
