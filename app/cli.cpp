@@ -265,6 +265,11 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
       ->check(finiteRange(0.0, 1e12))
       ->capture_default_str();
   cmd->add_option("--baumgarte-beta", g.loops.beta, "A mechanism's Baumgarte beta (1/s)")->check(finiteRange(0.0, 1e12))->capture_default_str();
+  cmd->add_option("--al-penalty-ratio", g.loops.penalty_ratio,
+                  "The augmented Lagrangian's penalty: its iteration matrix weighs the loops this many times the inertia "
+                  "(docs/theory.md (M13)); with --formulation augmented-lagrangian only")
+      ->check(finiteRange(1.0, 1e10))
+      ->capture_default_str();
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
   auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },
@@ -273,8 +278,10 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
 }
 
 void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m) {
+  if (cmd.count("--al-penalty-ratio") && cmd.get_option("--formulation")->as<std::string>() != formulationName(Formulation::AugmentedLagrangian))
+    throw std::invalid_argument("--al-penalty-ratio: read by --formulation augmented-lagrangian only");
   if (!m.loops.empty()) return;
-  for (const char* option : {"--formulation", "--baumgarte-alpha", "--baumgarte-beta"})
+  for (const char* option : {"--formulation", "--baumgarte-alpha", "--baumgarte-beta", "--al-penalty-ratio"})
     if (cmd.count(option)) throw std::invalid_argument(std::string(option) + ": scene '" + m.name + "' has no loops");
   for (const MethodParam& p : methodParams())  // an engine's closures' own
     if (p.loops_only && cmd.count(optionName(p)))

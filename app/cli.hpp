@@ -137,8 +137,9 @@ struct RunArgs {
 /// --t-end, --output-dt (help `output_dt_help`), --allow-long-run, --no-step-retry, one option per
 /// method option of the registry (methodParams()), --progress, --no-progress.
 void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help);
-/// --formulation, --baumgarte-alpha and --baumgarte-beta given on a scene
-/// without loops are refused in one line, not ignored.
+/// --formulation, --baumgarte-alpha, --baumgarte-beta and --al-penalty-ratio
+/// given on a scene without loops are refused in one line, not ignored; so is
+/// --al-penalty-ratio under another formulation.
 void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m);
 
 /// What a user brings on the command line (docs/plugins.md): --plugin

@@ -86,11 +86,22 @@ TEST_CASE("simulate a mechanism: the loops line and sidecar, loop options on a t
   CHECK_FALSE(meta["loops"].contains("projections"));
   const Run ida = eigenmass("simulate " + scene("mechanisms/andrews.json") + " --integrator ida --tol 1e-10 --out " + tempDir() + "/ida.csv --t-end 0.01");
   CHECK(ida.status == 0);
-  for (const char* option : {"--formulation baumgarte", "--baumgarte-alpha 5", "--baumgarte-beta 5"}) {
+  for (const char* option : {"--formulation baumgarte", "--baumgarte-alpha 5", "--baumgarte-beta 5",
+                             "--formulation augmented-lagrangian --al-penalty-ratio 1e5"}) {
     const Run tree = eigenmass("simulate " + scene("pendulum5.json") + " " + option + " --out " + tempDir() + "/p.csv", true);
     CHECK(tree.status == 2);
     CHECK_THAT(tree.out, Catch::Contains("scene 'pendulum5' has no loops"));
   }
+  // The penalty is the augmented Lagrangian's alone: under another formulation it is refused, not ignored.
+  const Run unread = eigenmass("simulate " + scene("mechanisms/andrews.json") + " --al-penalty-ratio 1e5 --out " + tempDir() + "/u.csv", true);
+  CHECK(unread.status == 2);
+  CHECK_THAT(unread.out, Catch::Contains("--al-penalty-ratio: read by --formulation augmented-lagrangian only"));
+  const Run al = eigenmass("simulate " + scene("mechanisms/andrews.json") + " --formulation augmented-lagrangian --integrator trapezoidal "
+                           "--dt 1e-5 --al-penalty-ratio 1e5 --t-end 0.001 --out " + tempDir() + "/al.csv");
+  REQUIRE(al.status == 0);
+  nlohmann::json al_meta;
+  std::ifstream(tempDir() + "/al.csv.json") >> al_meta;
+  CHECK(al_meta["loops"]["penalty_ratio"] == 1e5);  // the value asked, in the report
   const Run bad = eigenmass("simulate " + scene("mechanisms/andrews.json") + " --formulation lagrange --out " + tempDir() + "/b.csv", true);
   CHECK(bad.status == 2);
   CHECK_THAT(bad.out, Catch::Contains("--formulation"));
