@@ -40,7 +40,7 @@ int residualFn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void* data) {
 }  // namespace
 
 DaeSolver::DaeSolver(int n, Residual residual, const std::vector<bool>& differential, const double* y0, const double* yp0,
-                     double tol, double max_step)
+                     double tol, double max_step, double t_stop)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.residual = std::move(residual);
@@ -70,6 +70,7 @@ DaeSolver::DaeSolver(int n, Residual residual, const std::vector<bool>& differen
   require(flag == IDA_SUCCESS, "bad tolerance");
   IDASetId(s.mem, s.id);
   IDASetSuppressAlg(s.mem, SUNTRUE);
+  IDASetStopTime(s.mem, t_stop);
   s.sun.finish(s.mem, s.yy, n, max_step);
 }
 
@@ -77,7 +78,6 @@ DaeSolver::~DaeSolver() = default;
 
 bool DaeSolver::advance(double t_out) {
   Impl& s = *impl_;
-  IDASetStopTime(s.mem, t_out);
   double t = s.t;
   const int flag = IDASolve(s.mem, t_out, &t, s.yy, s.yp, IDA_NORMAL);
   s.t = t;

@@ -67,7 +67,7 @@ std::vector<int> independentRows(const Eigen::MatrixXd& G) {
 
 }  // namespace
 
-IdaRun::IdaRun(const Model& m, double tol, double max_step) : impl_(std::make_unique<Impl>(m)) {
+IdaRun::IdaRun(const Model& m, double tol, double max_step, double t_stop) : impl_(std::make_unique<Impl>(m)) {
   Impl& s = *impl_;
   const Eigen::VectorXd q0 = m.q0(), u0 = m.u0();
   formKinematics(m, q0.data(), u0.data(), s.ws);
@@ -98,7 +98,7 @@ IdaRun::IdaRun(const Model& m, double tol, double max_step) : impl_(std::make_un
   for (int i = m.nq + m.nu; i < m.nq + m.nu + 2 * s.r; ++i) differential[i] = false;  // lambda, mu
   dae_ = std::make_unique<DaeSolver>(
       n, [&s](double, const double* y, const double* yp, double* F) { return s.residual(y, yp, F); }, differential, Y.data(),
-      Yp.data(), tol, max_step);
+      Yp.data(), tol, max_step, t_stop);
 }
 
 IdaRun::~IdaRun() = default;

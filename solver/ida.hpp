@@ -22,12 +22,12 @@ class IdaRun {
  public:
   /// At the model's consistent initial state (q0, u0); u'(0) and lambda(0)
   /// from the constrained equations. rtol = atol = tol.
-  IdaRun(const Model& m, double tol, double max_step);
+  IdaRun(const Model& m, double tol, double max_step, double t_stop);
   ~IdaRun();
   IdaRun(const IdaRun&) = delete;
   IdaRun& operator=(const IdaRun&) = delete;
 
-  /// Integrate to t_out; a failure carries IDA's own message.
+  /// The state at t_out, from IDA's interpolant (DaeSolver::advance); a failure carries IDA's own message.
   Status advance(double t_out);
   /// q, u (internal order) and W_diss at the last time reached, into y laid
   /// out as Dynamics does for a method without extra state.

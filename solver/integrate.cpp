@@ -252,11 +252,12 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
 }
 
 // A DAE run: IDA integrates the formation and the loops itself (solver/ida.hpp);
-// each output sample is its state there, sampled as every run's is.
+// each output sample is its interpolant at the output time (it steps past
+// outputs, not stopped at each), sampled as every run's is.
 // Returns the rank of G it integrated (-1 without loops).
 int runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y, Trajectory& tr) {
   const Model& m = run.dynamics().model();
-  IdaRun ida(m, spec.tol, spec.output_dt);
+  IdaRun ida(m, spec.tol, spec.output_dt, n_out * spec.output_dt);
   for (long k = 1; k <= n_out; ++k) {
     const Status s = ida.advance(k * spec.output_dt);
     ida.state(y.data());

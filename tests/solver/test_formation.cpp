@@ -343,4 +343,20 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
       }
     }
   }
+  // A mechanism over A's tree-sparse factors (docs/theory.md §16): the
+  // multipliers at every evaluation and the projection after a step.
+  const Model m = test::loadData("mechanisms/iftomm_a02_n40.json");
+  for (Method method : {Method::Classical, Method::Articulated}) {
+    Dynamics dyn(m, method);
+    Eigen::VectorXd y = dyn.initialState(m.q0(), m.u0()), dy(dyn.size());
+    REQUIRE(dyn.rhs(0, y.data(), dy.data()));
+    StepInfo step;
+    REQUIRE(dyn.afterStep(0, y.data(), step));
+    const long before = g_allocations.load();
+    for (int k = 0; k < 10; ++k) dyn.rhs(0, y.data(), dy.data());
+    dyn.afterStep(0, y.data(), step);
+    const long allocations = g_allocations.load() - before;
+    INFO("A02 (N = 40) " << methodName(method));
+    CHECK(allocations == 0);
+  }
 }
