@@ -288,6 +288,31 @@ void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m) {
       throw std::invalid_argument(optionName(p) + ": scene '" + m.name + "' has no loops");
 }
 
+void refuseUnreadFormulationOptions(const CLI::App& cmd, const std::vector<Method>& methods, Integrator inhouse,
+                                    Formulation f, const Model& m) {
+  if (m.loops.empty()) return;  // refuseUnreadLoopOptions said it
+  static const char* const kAll[] = {"--formulation", "--baumgarte-alpha", "--baumgarte-beta", "--al-penalty-ratio"};
+  const bool any_inhouse = std::any_of(methods.begin(), methods.end(), [](Method x) { return info(x).engine == Engine::InHouse; });
+  for (const char* option : kAll) {
+    if (!cmd.count(option)) continue;
+    if (!any_inhouse)
+      throw std::invalid_argument(std::string(option) + ": no in-house method runs (" + methodName(methods.front()) +
+                                  " closes the loops its own way)");
+    if (info(inhouse).dae)
+      throw std::invalid_argument(std::string(option) + ": integrator " + integratorName(inhouse) +
+                                  " integrates the loops as its own index-2 DAE, no formulation of ours");
+  }
+  const FormulationInfo& row = formulationRow(f);
+  if (row.brings_integrator)
+    for (const char* option : {"--baumgarte-alpha", "--baumgarte-beta"})
+      if (cmd.count(option))
+        throw std::invalid_argument(std::string(option) + ": the formulation " + row.name + " reads no Baumgarte values");
+  if (cmd.count("--formulation") && row.brings_integrator && row.own_integrator != inhouse)
+    throw std::invalid_argument(std::string("--formulation ") + row.name + ": it runs under its own integrator " +
+                                integratorName(row.own_integrator) + ", not " + integratorName(inhouse) + " (--integrator " +
+                                integratorName(row.own_integrator) + ")");
+}
+
 void addSceneArg(CLI::App* cmd, SceneArg& s) {
   cmd->add_option("scene", s.path, "Scene file: eigenmass-scene/1 JSON, or a URDF robot (.urdf; docs/urdf.md)")->required();
   cmd->add_flag("--balance-inertia", s.urdf.balance_inertia,

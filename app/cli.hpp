@@ -141,6 +141,14 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
 /// given on a scene without loops are refused in one line, not ignored; so is
 /// --al-penalty-ratio under another formulation.
 void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m);
+/// On a scene with loops, a formulation option the run would not read is
+/// refused in one line (issue 73, item 7): --formulation, --baumgarte-alpha,
+/// --baumgarte-beta and --al-penalty-ratio where no method is in-house (an
+/// engine closes its loops its own way) or the in-house integrator is ida
+/// (its own index-2 formulation); Baumgarte's values under the augmented
+/// Lagrangian; a formulation that brings its own integrator under another.
+void refuseUnreadFormulationOptions(const CLI::App& cmd, const std::vector<Method>& methods, Integrator inhouse,
+                                    Formulation f, const Model& m);
 
 /// What a user brings on the command line (docs/plugins.md): --plugin
 /// NAME=path/libx.so (repeatable), --plugin-timeout, and where a command

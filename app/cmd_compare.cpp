@@ -86,6 +86,7 @@ CompareOptions resolve(const CompareArgs& a, const CLI::App& cmd, const Model& m
   refuseUnreadLoopOptions(cmd, model);
   o.grid = a.run.asked(cmd);
   for (RunSpec* s : o.allSpecs()) a.run.applyTo(*s);
+  refuseUnreadFormulationOptions(cmd, o.methods, o.inhouse.integrator, o.inhouse.options.loops.formulation, model);
   o.leaveOutUnrunnable(model, cmd.count("--methods") > 0);
   return o;
 }

@@ -84,6 +84,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
   // A setting the chosen integrator does not read is refused, not ignored (mujoco has no adaptive scheme).
   refuseUnreadSetting(cmd, s.integrator, "--dt", "--tol");
   refuseUnreadRunOptions(cmd, {s.method}, s.engine() == Engine::InHouse && !s.fixedStep());
+  refuseUnreadFormulationOptions(cmd, {s.method}, s.integrator, s.options.loops.formulation, scene.model);
   const Trajectory tr = runTrajectory(scene.model, checkedOption(onGrid(s, scene, a.run.asked(cmd))));
   writeTrajectory(tr, path, &scene.source);
   if (const auto& a = scene.source.assembly)

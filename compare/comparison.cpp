@@ -235,11 +235,11 @@ void replaceStoppedReference(const Scene& scene, const CompareOptions& opt, cons
     r.options.loops.formulation = Formulation::Projection;
     return runLabelled(scene, checked(r), label, progress);
   };
-  out.reference_note = "IDA stopped at t = " + gnum(out.reference.failure_time) + " s (" + out.reference.failure +
+  out.reference_note = "IDA ended at t = " + gnum(out.reference.failure_time) + " s (" + out.reference.failure +
                        "); the reference is classical/rk8pd with the projection at the same tolerance, which passes "
                        "singular positions, checked against IDA over IDA's span";
   out.stopped = std::move(out.reference);
-  out.reference = rerun(specs[0].spec(), "reference classical/rk8pd (projection): IDA stopped");
+  out.reference = rerun(specs[0].spec(), "reference classical/rk8pd (projection): IDA ended early");
   out.tight = rerun(specs[1].spec(), "horizon run classical/rk8pd (projection)");
 }
 

@@ -287,6 +287,7 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"steps", r.reference.steps},
             {"rhs_evals", r.reference.rhs_evals},
             {"energy_error_max", finiteOrNull(r.reference_metrics.energy.value)},
+            {"loops", r.reference_metrics.has_loops ? loopsJson(r.reference_metrics, r.reference.run) : json(nullptr)},
             {"lyapunov_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->per_s) : json(nullptr)},
             {"lyapunov_uncertainty_per_s", r.lyapunov ? finiteOrNull(r.lyapunov->uncertainty_per_s) : json(nullptr)},
             {"lyapunov", lyapunovJson(r.lyapunov, LyapunovOptions(),

@@ -92,11 +92,7 @@ Status Dynamics::afterStep(double t, double* y, StepInfo& info) {
     formKinematics(model_, y, y + nq, ws_);
     formLoops(model_, ws_, y + nq, form_->loops());
     recordLoops();
-    const LoopState& loops = form_->loops();
-    const double gap = std::max(loops.position_m, loops.position_rad);
-    if (!(gap <= opt_.loops.loop_tol))
-      return Status::failure(t, Failure::LoopsOpen, "the loops are open by " + gnum(gap, 3) + " (m or rad), beyond the loop tolerance " +
-                                                        gnum(opt_.loops.loop_tol));
+    if (Status s = loopsOpen(t); !s) return s;
   }
   if (f_->needsAAfterStep()) {  // the correction needs A at the accepted state
     formKinematics(model_, y, y + nq, ws_);
@@ -132,6 +128,15 @@ const Eigen::MatrixXd& Dynamics::Factors::inverseSquareRoot(const double* extra)
 Status Dynamics::Factors::solveFailed(double t, const char* otherwise) const {
   const std::string why = d_.f_->solveFailure();
   return why.empty() ? Status::failure(t, Failure::NotPositiveDefinite, otherwise) : Status::failure(t, Failure::Plugin, why);
+}
+
+Status Dynamics::loopsOpen(double t) const {
+  if (!form_) return {};
+  const LoopState& loops = form_->loops();
+  const double gap = std::max(loops.position_m, loops.position_rad);
+  if (gap <= opt_.loops.loop_tol) return {};
+  return Status::failure(t, Failure::LoopsOpen, "the loops are open by " + gnum(gap, 3) + " (m or rad), beyond the loop tolerance " +
+                                                    gnum(opt_.loops.loop_tol));
 }
 
 void Dynamics::recordLoops() { recordViolation(form_->loops(), form_->stats()); }

@@ -32,6 +32,9 @@ class Dynamics {
   const LoopStats& loopStats() const { return form_ ? form_->stats() : no_loops_; }
   /// Form the loops at y and count their violation in loopStats() (an output sample).
   void recordLoopsAt(const double* y);
+  /// A failure (loops-open, at t) where the loops last formed are open beyond
+  /// the loop tolerance (m or rad), else ok: every run's check, IDA's at its samples.
+  Status loopsOpen(double t) const;
   int size() const { return size_; }
   /// Where the extra state starts in y (laid out as info(method()).extra says).
   int offsetExtra() const { return model_.nq + model_.nu; }

@@ -266,6 +266,13 @@ int runIda(Integration& run, const RunSpec& spec, long n_out, Eigen::VectorXd& y
       break;
     }
     run.sample(k * spec.output_dt, y.data());
+    // IDA holds the rows it chose at the start; where they stop describing
+    // the loops (a singular start), its state leaves them: a failure, as
+    // every in-house run's after its steps (Dynamics::afterStep).
+    if (const Status open = run.dynamics().loopsOpen(k * spec.output_dt); !open) {
+      run.fail(open);
+      break;
+    }
   }
   tr.steps = ida.steps();
   run.countEvaluations(ida.residualEvaluations());

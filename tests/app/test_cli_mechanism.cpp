@@ -295,3 +295,32 @@ TEST_CASE("a mechanism at rest: the energy scale is |E(0)|, said, and every ener
     CHECK(m["energy_error_max"].get<double>() < 1e-9);  // a rest state's round-off, relative to |E(0)|
   }
 }
+
+TEST_CASE("formulation options a run would not read are refused in one line, never recorded as if used (issue 73, item 7)", "[cli][mechanism]") {
+  const std::string andrews = scene("mechanisms/andrews.json") + " --t-end 0.001 --out " + tempDir() + "/x.csv ";
+  const struct {
+    const char* args;
+    const char* says;
+  } cases[] = {
+      {"--integrator ida --formulation udwadia-kalaba", "--formulation: integrator ida integrates the loops as its own index-2 DAE"},
+      {"--integrator ida --baumgarte-alpha 3", "--baumgarte-alpha: integrator ida integrates the loops as its own index-2 DAE"},
+      {"--method dart --formulation udwadia-kalaba", "--formulation: no in-house method runs (dart closes the loops its own way)"},
+      {"--formulation augmented-lagrangian --integrator trapezoidal --dt 1e-5 --baumgarte-beta 2",
+       "--baumgarte-beta: the formulation augmented-lagrangian reads no Baumgarte values"},
+      {"--formulation augmented-lagrangian", "--formulation augmented-lagrangian: it runs under its own integrator trapezoidal, not rk4"},
+  };
+  for (const auto& c : cases) {
+    const Run r = eigenmass("simulate " + andrews + c.args, true);
+    INFO(c.args);
+    CHECK(r.status == 2);
+    CHECK_THAT(r.out, Catch::Contains(c.says));
+  }
+  // compare under rk4 used to drop every in-house method and exit 0.
+  const Run cmp = eigenmass("compare " + scene("mechanisms/andrews.json") + " --formulation augmented-lagrangian --t-end 0.001 --out " +
+                                tempDir() + "/c.json",
+                            true);
+  CHECK(cmp.status == 2);
+  CHECK_THAT(cmp.out, Catch::Contains("runs under its own integrator trapezoidal, not rk4"));
+  // What the run reads is taken: Baumgarte's values under the projection.
+  CHECK(eigenmass("simulate " + andrews + "--formulation projection --baumgarte-alpha 3").status == 0);
+}

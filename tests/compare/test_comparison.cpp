@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "compare/comparison.hpp"
+#include "compare/report.hpp"
+#include "solver/integrate.hpp"
 #include "engines.hpp"
 #include "support.hpp"
 
@@ -96,4 +98,33 @@ TEST_CASE("a four-bar turning through singular positions is judged over the whol
   // Judged past 0.7 s, MuJoCo's soft closures show (measured 1.55e-2 rad over 2 s, 1.2e-3 over IDA's 0.7 s).
   CHECK(r.metrics[1].pose.value > 5e-3);
   CHECK_THAT(summaryTable(r), Catch::Contains("IDA against it over [0, 0.71"));
+}
+
+TEST_CASE("a reference whose loops open is a failure, replaced, and its loops are in the report", "[comparison][mechanism]") {
+  // A parallelogram started at a singular position (issue 73, item 2): IDA
+  // keeps the rows it chose at the start, which stop describing the loop; it
+  // said "ok, rank 1" with the loop open. Now its run fails loops-open at the
+  // sample where the gap passes loop_tol (measured 1.42e-6 m at 0.11 s).
+  const Scene scene = loadScene(test::sourcePath("tests/scenes/mechanisms/parallelogram_singular_start.json"));
+  RunSpec ida = test::runSpec(Method::Classical, Integrator::IDA, 1.0, 1e-10);
+  const Trajectory alone = simulate(scene.model, checked(ida));
+  REQUIRE(alone.failed());
+  CHECK(alone.failure_kind == Failure::LoopsOpen);
+  CHECK(alone.failure_time < 0.5);
+  CompareOptions o;
+  o.grid.t_end = 1.0;
+  o.methods = {Method::Classical};
+  o.sensitivity_twin = false;
+  o.second_engine = false;
+  o.useMechanismReference(scene.model);
+  const ComparisonResult r = runComparison(scene, o);
+  REQUIRE_FALSE(r.reference.failed());
+  REQUIRE(r.stopped_reference);
+  CHECK(r.stopped_reference->failure_kind == Failure::LoopsOpen);
+  CHECK(r.reference.loops.position_m < 1e-9);  // the replacement keeps the loop shut
+  CHECK(r.metrics[0].pose.value < 1e-6);       // classical rk4 dt 1e-3 agrees with it (measured 2.4e-12 rad)
+  const nlohmann::json j = makeReport(r);
+  REQUIRE(j["reference"]["loops"].is_object());
+  CHECK(j["reference"]["loops"]["max_position_violation_m"].get<double>() < 1e-9);
+  CHECK(j["reference"]["replaced"]["checked_by"]["integrator"] == "ida");
 }
