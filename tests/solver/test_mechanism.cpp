@@ -57,7 +57,7 @@ Eigen::VectorXd moved(const Model& m, const Eigen::VectorXd& q, const Eigen::Vec
 // ball, a hinge, a weld, a universal and two sliders (one on a moving line,
 // one on the ground's). Its state is random (the loops need not be closed
 // for G and c to be g's derivatives).
-Model everyLoopKind() {
+Model everyLoopKind(const Eigen::Vector4d& a_turn = Eigen::Vector4d(1, 0, 0, 0)) {
   const std::string text = R"({"format": "eigenmass-scene/1", "name": "loops3d", "gravity": [0, 0, -9.81],
     "bodies": [
       {"name": "a", "parent": "ground", "mass": 1.2, "inertia": [0.02, 0.03, 0.025, 0.001, 0, 0.002],
@@ -92,6 +92,7 @@ Model everyLoopKind() {
   for (const LoopSpec& l : spec.loops)
     mech.loops.push_back({l.name, l.type, {index(l.body_a), l.point_a}, {index(l.body_b), l.point_b}, l.axis_a, l.axis_b,
                           Mat3(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()))});
+  spec.bodies[0].joint.q0 = a_turn.normalized();  // body a's ball: its start turn (the weld holds a's turn against d's)
   std::vector<BodyDef> defs;
   for (const BodySpec& b : spec.bodies) defs.push_back({b.name, index(b.parent) == -2 ? -1 : index(b.parent), b.mass, b.inertia, b.joint});
   return buildModel(spec.name, spec.gravity, defs, mech);
@@ -123,6 +124,63 @@ TEST_CASE("G is the derivative of g, and c of G u, for every closure kind", "[me
     INFO("trial " << trial);
     CHECK(((plus.g - minus.g) / (2 * h) - at.G * u).cwiseAbs().maxCoeff() < tol);  // g' = G u
     CHECK(((plus.Gu - minus.Gu) / (2 * h) - at.c).cwiseAbs().maxCoeff() < tol);   // (G u)' at u' = 0 is c
+  }
+}
+
+TEST_CASE("a hinge's two direction rows against the hinge's own constraint, a weld's turn against the one it was built with", "[mechanism]") {
+  // Oracles apart from the rows (issue 76's surviving mutations): a hinge
+  // holds axis_a along axis_b, so h = e_a x e_b vanishes on it and, where the
+  // axes are parallel, |d/dt h| = |G_dir u| (the two rows measure e_a's turn
+  // off e_b in two perpendicular directions; one row dropped or repeated
+  // leaves part of it unseen). A weld holds R_a^T R_b at its start turn Q:
+  // its reported turn is the angle of (R_a Q)^T R_b, with Q read here from
+  // the start's rotations, not from the model.
+  const Model m = loadScene(test::sourcePath("tests/scenes/mechanisms/door_and_plate.json")).model;
+  REQUIRE(m.loops[0].type == LoopType::Hinge);
+  const int door = m.loops[0].a.body;
+  REQUIRE(m.loops[0].b.body < 0);  // held to the ground: e_b = axis_b
+  std::mt19937 rng(21);
+  const Eigen::VectorXd q0 = m.q0();
+  const auto h = [&](const Eigen::VectorXd& q) {
+    Workspace ws(m);
+    const Eigen::VectorXd u = Eigen::VectorXd::Zero(m.nu);
+    formKinematics(m, q.data(), u.data(), ws);
+    return Vec3((ws.R[door] * m.loops[0].axis_a).cross(m.loops[0].axis_b));
+  };
+  REQUIRE(h(q0).norm() < 1e-12);  // the start holds the hinge
+  const double step = 1e-6;
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd qr, u;
+    randomState(m, rng, qr, u);
+    const LoopState at = loopsAt(m, q0, u);
+    const double rows = at.G.middleRows(3, 2).operator*(u).norm();
+    const double rate = ((h(moved(m, q0, u, step)) - h(moved(m, q0, u, -step))) / (2 * step)).norm();
+    INFO("trial " << trial << ": |G_dir u| " << rows << ", |h'| " << rate);
+    CHECK(rate > 1e-2);  // the door turns off its axis at these speeds
+    CHECK(std::abs(rows - rate) < 1e-6 * rate);  // central differences at 1e-6: ~1e-12 truncation, ~1e-10 round-off
+  }
+  // The weld of everyLoopKind: body d (free, unturned at the start) on body a (a ball turned by Q).
+  const Model w = everyLoopKind(Eigen::Vector4d(0.9, 0.3, -0.2, 0.25));
+  int weld = -1;
+  for (size_t l = 0; l < w.loops.size(); ++l)
+    if (w.loops[l].type == LoopType::Weld) weld = static_cast<int>(l);
+  REQUIRE(weld >= 0);
+  const Loop& L = w.loops[weld];
+  Workspace ws(w);
+  const Eigen::VectorXd wq0 = w.q0(), zero = Eigen::VectorXd::Zero(w.nu);
+  formKinematics(w, wq0.data(), zero.data(), ws);
+  const auto R = [&](int body) { return body < 0 ? Mat3(Mat3::Identity()) : Mat3(ws.R[body]); };
+  const Mat3 Q = R(L.a.body).transpose() * R(L.b.body);
+  REQUIRE((Q - Q.transpose()).norm() > 0.1);  // not symmetric: a transposed Q would show
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd q, u;
+    randomState(w, rng, q, u);
+    formKinematics(w, q.data(), u.data(), ws);
+    LoopState ls(w);
+    formLoops(w, ws, u.data(), ls);
+    const Eigen::AngleAxisd off((R(L.a.body) * Q).transpose() * R(L.b.body));
+    INFO("trial " << trial);
+    CHECK(std::abs(ls.turn[weld] - std::abs(off.angle())) < 1e-12);
   }
 }
 
