@@ -103,3 +103,23 @@ TEST_CASE("a malformed tolerance file names the file and the key", "[gate]") {
   j["scenes"]["synthetic"]["horizon"] = 2;
   CHECK_THROWS_WITH(loadTolerances(writeTemp("tol_bad7.json", j)), Catch::Contains("scenes.synthetic.horizon: unknown key (horizon_s, inhouse, methods)"));
 }
+
+TEST_CASE("a mechanism's loops are gated: a run whose loops open beyond the bound breaks it, a tree's is no measure", "[gate]") {
+  json t = tolerances(1.0);
+  t["scenes"]["synthetic"]["methods"]["classical"]["max_loop_violation"] = {{"value", 1e-9}, {"reason", "test bound"}};
+  const Tolerances tol = loadTolerances(writeTemp("tol_loops.json", t));
+  ComparisonResult r = synthetic(test::turning(Method::Classical, 1e-4, 0));
+  r.metrics[0].has_loops = true;
+  r.metrics[0].loops.position_m = 4e-10;
+  r.metrics[0].loops.position_rad = 2e-10;
+  const GateResult shut = evaluateGate(r, tol);
+  CHECK(shut.passed);
+  r.metrics[0].loops.position_rad = 3e-9;  // the angular rows open: m or rad, the larger
+  const GateResult open = evaluateGate(r, tol);
+  CHECK_FALSE(open.passed);
+  CHECK_THAT(brokenChecks(open), Catch::Contains("classical max_loop_violation"));
+  r.metrics[0].has_loops = false;  // a bound on loops for a run without them is not silently met
+  const GateResult none = evaluateGate(r, tol);
+  CHECK_FALSE(none.passed);
+  CHECK_THAT(brokenChecks(none), Catch::Contains("no loops measured"));
+}
