@@ -91,6 +91,7 @@ int runSimulate(const SimulateArgs& a, const CLI::App& cmd) {
     std::printf("assembled: the written start was open by %.3g (m or rad) and %.3g (m/s or rad/s); q0 moved by at most %.3g, "
                 "u0 by %.3g, in %d Gauss-Newton steps\n", a->gap, a->velocity_gap, a->moved_q, a->moved_u, a->iterations);
   printSummary(tr, path);
+  if (const std::string note = gridSetStepsNote(tr, tr.run); !note.empty()) std::printf("steps: %s\n", note.c_str());
   return tr.failed() ? 1 : 0;
 }
 

@@ -458,6 +458,10 @@ std::string summaryTable(const ComparisonResult& r) {
   for (const MethodMetrics& m : r.metrics)
     if (m.failed())
       o << m.name() << " failed at t = " << gnum(m.failure_time) << " s: " << m.failure << "\n";
+  // An adaptive run whose every step the output grid cut: its tolerance set nothing (issue 76).
+  if (const std::string note = gridSetStepsNote(r.reference, r.reference.run); !note.empty()) o << "reference: " << note << "\n";
+  for (const MethodMetrics& m : r.metrics)
+    if (const std::string note = gridSetStepsNote(m, m.run); !note.empty()) o << m.name() << ": " << note << "\n";
   for (const auto& [method, why] : r.options.left_out) o << methodName(method) << ": not run: " << why << "\n";
   o << "outcome: ok; wrong = completed but beyond " << gnum(kWrongRad)
     << " rad of the reference before the reference horizon (only the comparison shows it); failed = stopped.\n";

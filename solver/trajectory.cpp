@@ -1,6 +1,7 @@
 #include "solver/trajectory.hpp"
 
 #include "solver/formation.hpp"
+#include "solver/text.hpp"
 
 namespace em {
 
@@ -46,6 +47,19 @@ void markFailed(Trajectory& tr, double t, Failure kind, const std::string& cause
   tr.failure = cause;
   tr.failure_kind = kind == Failure::None ? Failure::Engine : kind;  // a failure always has a kind
   tr.failure_time = t;
+}
+
+std::optional<long> gridCutSteps(const RunEnd& r, const RunSpec& spec) {
+  if (spec.engine() != Engine::InHouse || spec.fixedStep() || !info(spec.integrator).gsl) return std::nullopt;
+  return r.grid_cut_steps;
+}
+
+std::string gridSetStepsNote(const RunEnd& r, const RunSpec& spec) {
+  const std::optional<long> cut = gridCutSteps(r, spec);
+  // The first steps grow from the controller's start before the grid cuts them: nine in ten is the grid's run.
+  if (!cut || r.steps == 0 || 10 * *cut < 9 * r.steps) return "";
+  return std::to_string(*cut) + " of its " + std::to_string(r.steps) + " steps ended on the " + gnum(spec.output_dt) +
+         "-s output grid: the grid, not the tolerance " + gnum(spec.tol) + ", set them";
 }
 
 }  // namespace em

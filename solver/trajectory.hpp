@@ -122,6 +122,14 @@ struct Trajectory : RunEnd {
   std::string integrator() const { return integratorName(run.integrator); }
 };
 
+/// The steps the output grid cut short (RunEnd::grid_cut_steps) of a run made
+/// with `spec`: counted for the in-house adaptive GSL steppers only (rk8pd,
+/// rkf45, bsimp), nothing for other schemes.
+std::optional<long> gridCutSteps(const RunEnd& r, const RunSpec& spec);
+/// "98 of its 102 steps ended on the 0.01-s output grid: the grid, not the
+/// tolerance, set them" where nine in ten steps of such a run were cut short, else "".
+std::string gridSetStepsNote(const RunEnd& r, const RunSpec& spec);
+
 /// Empty trajectory of `run` on `m`, with names taken from the model.
 Trajectory makeTrajectory(const Model& m, const RunSpec& run);
 

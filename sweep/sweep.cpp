@@ -138,7 +138,7 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
   if (run.failed()) rec.failure_time = run.failure_time;
   rec.steps = run.steps;
   rec.rhs_evals = run.rhs_evals;
-  if (run.run.engine() == Engine::InHouse && !run.run.fixedStep() && info(run.run.integrator).gsl) rec.grid_cut_steps = run.grid_cut_steps;
+  rec.grid_cut_steps = gridCutSteps(run, run.run);
   if (info(run.run.method).eigenfactor) rec.eigen = run.eigen;
   const Trajectory& against = ref ? *ref : run;
   const MethodMetrics m = measureRun(run, against, {kCaseThresholds.begin(), kCaseThresholds.end()},

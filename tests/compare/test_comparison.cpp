@@ -128,3 +128,36 @@ TEST_CASE("a reference whose loops open is a failure, replaced, and its loops ar
   CHECK(j["reference"]["loops"]["max_position_violation_m"].get<double>() < 1e-9);
   CHECK(j["reference"]["replaced"]["checked_by"]["integrator"] == "ida");
 }
+
+TEST_CASE("compare says when the output grid, not the tolerance, set an adaptive run's steps (issue 76, item 6)", "[comparison]") {
+  // chain03 over 1 s: rk8pd at 1e-4 wants steps longer than 0.01 s, so 100 of
+  // its 102 steps end on a 0.01-s grid (measured; at 1e-12 still 100 of 108);
+  // on a 0.1-s grid at 1e-12 its own steps are shorter and few are cut.
+  for (const double tol : {1e-4, 1e-12}) {
+    CompareOptions o;
+    o.grid.t_end = 1.0;
+    o.grid.output_dt = tol > 1e-6 ? 0.01 : 0.1;
+    o.methods = {Method::Classical};
+    o.inhouse.integrator = Integrator::RK8PD;
+    o.inhouse.tol = tol;
+    o.sensitivity_twin = false;
+    o.second_engine = false;
+    const ComparisonResult r = runComparison(test::sceneData("chain03.json"), o);
+    const nlohmann::json j = makeReport(r);
+    INFO("tol " << tol);
+    const nlohmann::json& m = j["methods"][0];
+    REQUIRE(m["name"] == "classical");
+    REQUIRE(m["grid_cut_steps"].is_number());
+    const long cut = m["grid_cut_steps"], steps = m["steps"];
+    const bool said = summaryTable(r).find("classical: " + std::to_string(cut) + " of its " + std::to_string(steps) +
+                                           " steps ended on the ") != std::string::npos;
+    if (tol > 1e-6) {
+      CHECK(cut >= 0.9 * steps);
+      CHECK(said);
+    } else {
+      CHECK(cut < 0.9 * steps);
+      CHECK_FALSE(said);
+    }
+    CHECK(j["reference"]["grid_cut_steps"].is_null());  // Simbody's RK-Merson: not counted
+  }
+}
