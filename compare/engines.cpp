@@ -64,9 +64,17 @@ void requireMethodTakes(Method method, const Model& m) {
   if (const std::string why = methodRefusal(method, m); !why.empty()) throw std::invalid_argument(std::string(methodName(method)) + ": " + why);
 }
 
+void requireSettingsTaken(const RunSpec& spec, const Model& m) {
+  if (spec.engine() == Engine::InHouse) return;
+  const EngineCode& code = engineCode(spec.engine());
+  if (!code.settings_refusal) return;
+  if (const std::string why = code.settings_refusal(m, spec); !why.empty()) throw std::invalid_argument(why);
+}
+
 Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
   const RunSpec& spec = checked_spec;
   requireMethodTakes(spec.method, m);
+  requireSettingsTaken(spec, m);
   // Code from outside runs in a child process: what the in-house loop would refuse is refused here first, in one line.
   if (info(spec.method).isolated && spec.engine() == Engine::InHouse) refuseUnrunnable(m, spec);
   ProgressMeter meter(m.name + " " + methodName(spec.method) + "/" + integratorName(spec.integrator), spec.t_end);

@@ -54,6 +54,9 @@ std::string methodRefusal(Method method, const Model& m);
 std::string mechanismRefusal(Engine e, const Model& m);
 /// Throws std::invalid_argument "method: why" when `method` cannot take `m`.
 void requireMethodTakes(Method method, const Model& m);
+/// Throws std::invalid_argument where the engine of `spec` would not run it
+/// as asked on `m` (EngineCode::settings_refusal), naming the option.
+void requireSettingsTaken(const RunSpec& spec, const Model& m);
 
 /// Equations at the initial state, in the source's order. For a mechanism,
 /// udot is the constrained u' and the closures come with it (theory.md eq. (M7)).

@@ -114,6 +114,10 @@ struct EngineCode {
   /// named with the loop), or "" when it maps every loop, point spring and
   /// drive of `m`; nullptr: it maps no mechanism yet, and every one is refused.
   std::string (*mechanism_refusal)(const Model& m) = nullptr;
+  /// Why it would not run `spec` on `m` as asked (MuJoCo: a closure's solref
+  /// time below two steps, which it raises to two), or "" (also when nullptr):
+  /// refused in one line, naming the option, before any run starts.
+  std::string (*settings_refusal)(const Model& m, const RunSpec& spec) = nullptr;
   /// One line on why its equations at a state are the tree's alone on a
   /// mechanism (DART, Bullet: closures, point springs and drives act only
   /// inside its step), or nullptr: crosscheck then judges its A alone, and

@@ -10,6 +10,7 @@
 #include "reference/fixed_step.hpp"
 #include "reference/mujoco_system.hpp"
 #include "solver/method.hpp"
+#include "solver/text.hpp"
 
 namespace em {
 
@@ -25,6 +26,17 @@ int scheme(const RunSpec& spec) { return kMujocoIntegrator[schemeIndex(spec.engi
 // pass, a stage of its integrators included (rk4: four per step).
 thread_local long g_evaluations = 0;
 void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
+
+// MuJoCo raises a closure's solref time constant below two steps to two
+// steps (its refsafe rule): such a run would not be the one asked for, and
+// the report would record the value asked (issue 73, item 5).
+std::string settingsRefusal(const Model& m, const RunSpec& spec) {
+  if (m.loops.empty()) return "";
+  const double tc = info(spec.method).param("mujoco_solref_time", spec.options);
+  if (tc >= 2 * spec.dt) return "";
+  return "--mujoco-solref-time " + gnum(tc) + ": below two steps (2 dt = " + gnum(2 * spec.dt) +
+         " s), which MuJoCo raises to 2 dt: give at least " + gnum(2 * spec.dt) + " or a smaller --dt";
+}
 
 // MuJoCo stepped by the one fixed-step loop (reference/fixed_step.hpp).
 class MujocoStepper : public FixedStepEngine {
@@ -198,6 +210,7 @@ EngineRow mujocoEngine() {
                                        "the in-house integrators: MuJoCo's dynamics apart from its integrator", "#8c1c13",
                         makeMujocoUdot};
   r.code.mechanism_refusal = mechanismRefusal;
+  r.code.settings_refusal = settingsRefusal;
   r.code.soft_closures =
       "MuJoCo closes loops by soft equality constraints (connects; its default solref 0.02 1, solimp 0.9 0.95 0.001): "
       "its u' of a mechanism is the regularized one, not the exact constrained u', and is printed, not judged";
