@@ -6,6 +6,7 @@
 
 #include "app/cli.hpp"
 #include "compare/engines.hpp"
+#include "reference/engine.hpp"
 
 namespace em::cli {
 
@@ -54,6 +55,13 @@ int printEquations(const SceneArg& file, Engine engine) {
   j["energy"] = {{"kinetic", e.kinetic}, {"potential", e.potential}, {"total", e.kinetic + e.potential}};
   j["eigenvalues"] = toJson(e.eigenvalues);
   if (e.has_loops) j["loops"] = loopsJson(m, e);
+  // An engine whose u' of a mechanism is not the exact constrained one says so
+  // beside it (issue 73, item 13: MuJoCo's soft closures were 21 % off on a Watt six-bar).
+  if (engine != Engine::InHouse && !m.loops.empty()) {
+    const EngineCode& code = engineCode(engine);
+    if (code.soft_closures) j["udot_note"] = std::string("not the constrained u': ") + code.soft_closures;
+    else if (code.mechanism_state) j["udot_note"] = std::string("the tree's alone: ") + code.mechanism_state;
+  }
   std::cout << j.dump(2) << "\n";
   return 0;
 }
@@ -62,7 +70,7 @@ int printEquations(const SceneArg& file, Engine engine) {
 
 void addEquations(CLI::App& app) {
   auto* cmd = app.add_subcommand("equations", "Print A, B, u', energy and eigenvalues of A at the scene's initial state (JSON); for a mechanism also G, its rank "
-                                               "and the multipliers lambda, and u' is the constrained one");
+                                               "and the multipliers lambda, and u' is the constrained one (an engine whose u' is not says so in udot_note)");
   auto scene = std::make_shared<SceneArg>();
   auto engine = std::make_shared<std::string>(engineName(Engine::InHouse));
   addSceneArg(cmd, *scene);
