@@ -38,6 +38,10 @@ void printSummary(const Trajectory& tr, const std::string& path) {
                 l.velocity_rad);
     if (l.rank_max >= 0) std::printf("; rank %d", l.rank_max);
     else std::printf(" (at the samples, by eigenmass's g(q); the engine closes the loops its own way)");
+    if (!l.rank_drop_times.empty()) {  // singular positions: where the route may change branch
+      std::printf("; rank fell below %d (a singular position) %zu time%s, first at t = %.6g s", l.rank_start, l.rank_drop_times.size(),
+                  l.rank_drop_times.size() == 1 ? "" : "s", l.rank_drop_times.front());
+    }
     if (l.projections)
       std::printf("; %ld projections, %ld Gauss-Newton iterations, %ld unconverged", l.projections, l.projection_iterations,
                   l.projections_unconverged);

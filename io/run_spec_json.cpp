@@ -30,6 +30,7 @@ nlohmann::json loopsJson(const RunEnd& r, const RunSpec& s) {
                       {"max_velocity_violation_m_per_s", l.velocity_m}, {"max_velocity_violation_rad_per_s", l.velocity_rad},
                       {"rank", l.rank_max < 0 ? nlohmann::json(nullptr) : nlohmann::json(l.rank_max)},
                       {"rank_min", l.rank_min < 0 ? nlohmann::json(nullptr) : nlohmann::json(l.rank_min)}};  // null: an engine's run
+  if (!l.rank_drop_times.empty()) j["rank_drop_times_s"] = l.rank_drop_times;  // where the multipliers' rank fell (singular positions)
   if (info(s.integrator).dae) {
     j["formulation"] = "ida-ggl-index2";  // the DAE solver's own: no multipliers formulation of ours
     return j;

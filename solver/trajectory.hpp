@@ -64,6 +64,13 @@ struct LoopStats {
   long newton_solves = 0, newton_iterations = 0, newton_unconverged = 0;
   long repartitions = 0;                   ///< coordinate partitioning: partitions chosen anew after the first
   std::vector<double> repartition_times;   ///< when (s): the first kRepartitionTimesKept of them
+  /// Where the multipliers' rank fell below the rank of the first evaluation
+  /// (a singular position: docs/theory.md §15), once per pass (falls within
+  /// 1 ms of the last are one; the evaluations' times, trial stages
+  /// included): the first kRepartitionTimesKept of them.
+  std::vector<double> rank_drop_times;
+  int rank_start = -1;      ///< the first evaluation's rank (-1: none)
+  bool rank_below = false;  ///< the last evaluation's rank was below rank_start
 };
 inline constexpr size_t kRepartitionTimesKept = 20;
 

@@ -4,6 +4,7 @@
 #include "solver/mechanism/formulation.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace em {
 
@@ -67,7 +68,16 @@ const FormulationInfo* formulationBringing(Integrator i) {
   return nullptr;
 }
 
-void LoopFormulation::countRank(int rank) {
+void LoopFormulation::countRank(int rank, double t) {
+  if (stats_.rank_start < 0) stats_.rank_start = rank;
+  // A fall within 1 ms of the last one recorded is the same pass (the stages of
+  // the steps around a singular position fall and rise several times there).
+  constexpr double kSamePass = 1e-3;
+  const bool below = rank < stats_.rank_start;
+  const std::vector<double>& drops = stats_.rank_drop_times;
+  if (below && !stats_.rank_below && drops.size() < kRepartitionTimesKept && (drops.empty() || std::abs(t - drops.back()) > kSamePass))
+    stats_.rank_drop_times.push_back(t);
+  stats_.rank_below = below;
   stats_.rank_min = stats_.rank_min < 0 ? rank : std::min(stats_.rank_min, rank);
   stats_.rank_max = std::max(stats_.rank_max, rank);
 }
@@ -78,12 +88,12 @@ Status LoopFormulation::accelerations(double t, Workspace& ws, const double* y, 
   formLoops(m_, ws, y + m_.nq, loops_);
   Eigen::Map<Eigen::VectorXd> a(udot, m_.nu);
   if (const TreeCholesky* tree = f.treeFactor(extra)) {
-    countRank(solve_.solve(loops_, *tree, o_.alpha, o_.beta, a));
+    countRank(solve_.solve(loops_, *tree, o_.alpha, o_.beta, a), t);
     return {};
   }
   const Eigen::MatrixXd& AinvGt = f.inverseATimesGt(extra, loops_);
   if (!AinvGt.allFinite()) return f.solveFailed(t, "A^-1 G^T not finite (A not positive definite)");
-  countRank(solve_.solve(loops_, AinvGt, o_.alpha, o_.beta, a));
+  countRank(solve_.solve(loops_, AinvGt, o_.alpha, o_.beta, a), t);
   return {};
 }
 

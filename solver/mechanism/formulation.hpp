@@ -59,7 +59,7 @@ class LoopFormulation {
   const LoopStats& stats() const { return stats_; }
 
  protected:
-  void countRank(int rank);
+  void countRank(int rank, double t);
   const Model& m_;
   const LoopOptions o_;
   LoopState loops_;

@@ -331,6 +331,29 @@ TEST_CASE("IFToMM A02 with N = 2 passes its singular positions under the project
   for (const Eigen::VectorXd& q : ida.q) CHECK(q.allFinite());
 }
 
+TEST_CASE("A02 (N = 2): the run says where the multipliers' rank fell, each time at a singular position", "[mechanism]") {
+  // Issue 72: a route that may change branch says where. rk8pd at 1e-9 over
+  // 8 s lands stages within reach of the singular positions (the cranks along
+  // the ground line) several times (measured: at 2.657, 3.171, 4.599, 5.113,
+  // 6.542, 7.056 s); every recorded fall lies at one of them.
+  const Model m = test::loadData("mechanisms/iftomm_a02_n2.json");
+  const int N = 2;
+  const FourBars fb{(N + 1) / 3.0 + N, 9.81 * ((N + 1) / 2.0 + N), 0};
+  const FourBars oracle{fb.I, fb.Mgl, 0.5 * fb.I * 1.0 + fb.Mgl};
+  std::vector<double> singular;
+  for (int j = 0; j < 12; ++j) singular.push_back(timeToTurn(oracle, M_PI / 2, M_PI / 2 + j * M_PI));
+  const Trajectory tr = run(m, Method::Classical, Integrator::RK8PD, 1e-9, 8.0, 0.05);
+  REQUIRE_FALSE(tr.failed());
+  CHECK(tr.loops.rank_start == 4);
+  REQUIRE(tr.loops.rank_drop_times.size() >= 2);
+  for (double t : tr.loops.rank_drop_times) {
+    double nearest = 1e9;
+    for (double ts : singular) nearest = std::min(nearest, std::abs(t - ts));
+    INFO("fall at " << t << " s");
+    CHECK(nearest < 1e-3);
+  }
+}
+
 TEST_CASE("a slider-crank keeps its kinematics: the slider where the crank angle puts it, at the speed it gives", "[mechanism]") {
   // Crank r from the origin, rod l from its tip to a slider on the x axis:
   // x = r cos(theta) + sqrt(l^2 - r^2 sin^2(theta)), and x' its derivative.

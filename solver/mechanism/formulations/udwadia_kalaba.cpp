@@ -15,7 +15,7 @@ class UdwadiaKalaba : public LoopFormulation {
     const Eigen::MatrixXd& M = f.inverseSquareRoot(extra);
     if (!M.allFinite()) return f.solveFailed(t, "A^(-1/2) not finite (A not positive definite)");
     Eigen::Map<Eigen::VectorXd> a(udot, m_.nu);
-    countRank(solve_.solveUdwadiaKalaba(loops_, M, o_.alpha, o_.beta, a));
+    countRank(solve_.solveUdwadiaKalaba(loops_, M, o_.alpha, o_.beta, a), t);
     return {};
   }
 };
