@@ -214,3 +214,27 @@ TEST_CASE("a row of 20 four-bars of other lengths and masses stays on its parall
   }
   CHECK(tr.loops.position_m < 1e-10);
 }
+
+TEST_CASE("a run's sampled multipliers by the tree-sparse factors give the dense ones' closure forces", "[mechanism]") {
+  // recordLoopSamples takes lambda from the sparse path where it pays (A02, N = 40):
+  // G^T lambda equals the dense least-norm one's; the balls' rows out of the plane are 0 in both.
+  const Model m = test::loadData("mechanisms/iftomm_a02_n40.json");
+  REQUIRE(TreeCholesky::pays(m));
+  Trajectory tr = simulate(m, checked(test::runSpec(Method::Classical, Integrator::RK4, 0.2, 1e-3, 0.1)));
+  REQUIRE_FALSE(tr.failed());
+  recordLoopSamples(m, tr);  // as runTrajectory does after every run
+  REQUIRE(tr.loop_samples.size() == tr.size());
+  const std::vector<int> pq = m.qFilePermutation(), pu = m.uFilePermutation();
+  Workspace ws(m);
+  for (size_t s = 0; s < tr.size(); ++s) {
+    Eigen::VectorXd q(m.nq), u(m.nu);
+    for (int k = 0; k < m.nq; ++k) q[pq[k]] = tr.q[s][k];
+    for (int k = 0; k < m.nu; ++k) u[pu[k]] = tr.u[s][k];
+    formEquations(m, q.data(), u.data(), ws);
+    const ConstrainedEquations dense = constrainedAt(m, ws, u.data());
+    const Eigen::VectorXd& lambda = tr.loop_samples[s].lambda;
+    INFO("sample " << s);
+    CHECK(relGap(dense.loops.G.transpose() * lambda, dense.loops.G.transpose() * dense.lambda) < kRoundOff);
+    CHECK(relGap(lambda, dense.lambda) < kRoundOff);  // no redundant row but the zero ones: lambda itself agrees
+  }
+}
