@@ -65,6 +65,33 @@ void addMechanismForces(const Model& m, const Workspace& ws, Eigen::VectorXd& Q)
   }
 }
 
+void addForceTangent(const Model& m, const Workspace& ws, Eigen::MatrixXd& C, Eigen::MatrixXd& K, Eigen::MatrixXd& J) {
+  if (m.has_springs)
+    for (const Body& b : m.bodies) {
+      if (!b.joint.has_spring) continue;
+      const Spring& sp = b.joint.spring;
+      for (int j = 0; j < b.nu(); ++j) {
+        C(b.iu + j, b.iu + j) += sp.c[j];
+        K(b.iu + j, b.iu + j) += sp.k[j];
+      }
+    }
+  for (const PointSpring& s : m.point_springs) {
+    const SpringLine L = springLine(ws, s);
+    if (L.l == 0) continue;  // no direction, no force
+    J.setZero();
+    addPointJacobian(m, ws, s.b.body, L.b.x, 1.0, J);  // J_d = J_b - J_a (the ground's rows stay 0)
+    addPointJacobian(m, ws, s.a.body, L.a.x, -1.0, J);
+    const double tension = s.k * (L.l - s.length) + s.c * L.ldot;
+    const Mat3 nn = L.n * L.n.transpose();
+    const Mat3 stiffness = s.k * nn + (tension / L.l) * (Mat3::Identity() - nn);
+    for (int a = 0; a < 3; ++a)  // J^T S J as nine outer products: no temporary
+      for (int b = 0; b < 3; ++b) {
+        K.noalias() += stiffness(a, b) * J.row(a).transpose() * J.row(b);
+        if (s.c != 0) C.noalias() += (s.c * nn(a, b)) * J.row(a).transpose() * J.row(b);
+      }
+  }
+}
+
 Vec3 pointSpringForce(const PointSpring& s, const Vec3& pa, const Vec3& va, const Vec3& pb, const Vec3& vb) {
   const Vec3 d = pb - pa;
   const double l = d.norm();

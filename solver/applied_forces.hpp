@@ -18,6 +18,14 @@ void addAppliedForces(const Model& m, const Workspace& ws, const double* q, cons
 /// Q += the drives' and the point spring-dampers' generalized forces alone
 /// (what a tree's u' from outside lacks: a plugin's tau).  // Q: (nu)
 void addMechanismForces(const Model& m, const Workspace& ws, Eigen::VectorXd& Q);
+/// The applied forces' damping and stiffness matrices, C += -dQ/du and
+/// K += -dQ/dq (theory.md eq. (M13a)): the joints' c and k on the diagonal, and
+/// for a point spring-damper of tension T along n between its points, d = x_b - x_a
+/// moving as d' = J_d u,  C += c J_d^T n n^T J_d  and
+/// K += J_d^T (k n n^T + (T/l)(I - n n^T)) J_d, the derivatives of J_d itself
+/// left out (the augmented Lagrangian's tangent; q' = u, no quaternion). The
+/// drives are constant: nothing. J: scratch (3 x nu).
+void addForceTangent(const Model& m, const Workspace& ws, Eigen::MatrixXd& C, Eigen::MatrixXd& K, Eigen::MatrixXd& J);
 /// The force on a's point of point spring-damper `s` whose points are at pa
 /// and pb, moving at va and vb (world): tension k (l - length) + c l' along
 /// the line from a's point to b's; -f acts on b's; zero where the points

@@ -13,11 +13,6 @@
 
 namespace em {
 
-namespace {
-// Newton iterations beyond which the step's C and K are formed anew for the next.
-constexpr int kFreshTangentIterations = 4;
-}  // namespace
-
 int firstQuaternionBody(const Model& m) {
   for (int i = 0; i < m.n(); ++i)
     if (jointQuat(m.bodies[i].joint.type) >= 0) return i;
@@ -26,9 +21,8 @@ int firstQuaternionBody(const Model& m) {
 
 AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions& o, double dt, const double* y)
     : m_(m), o_(o), dt_(dt), ws_(m), loops_(m), qn_(Eigen::Map<const Eigen::VectorXd>(y, m.nq)),
-      un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq),
-      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), r0_(m.nu),
-      r1_(m.nu), x_(m.nu), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
+      un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq), delta_(m.nu),
+      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), J_(3, m.nu), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
   if (firstQuaternionBody(m) >= 0) throw std::invalid_argument("integrator trapezoidal integrates q' = u: not on quaternion joints");
   rank_qr_.setThreshold(kLoopRankTol);
   // u'(0) and the multipliers of eq. (M7): A u' = B + G^T lambda, so the residual's lambda* is -lambda.
@@ -38,7 +32,7 @@ AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions
   if (m.loop_rows) {
     lambda_ = -start.lambda;
     // alpha weighs the loops penalty_ratio times the inertia in T (largest diagonals).
-    const double GtG = (start.loops.G.transpose() * start.loops.G).diagonal().maxCoeff();
+    const double GtG = start.loops.G.colwise().squaredNorm().maxCoeff();  // max diag G^T G
     if (GtG > 0) alpha_ = o.penalty_ratio * 4.0 * ws_.A.diagonal().maxCoeff() / (dt * dt * GtG);
   }
   if (m.has_dampers) power_n_ = nonConservativePower(m, ws_, un_.data());
@@ -50,67 +44,54 @@ void AugmentedLagrangianRun::form(const double* q, const double* u) {
   ++evaluations_;
 }
 
-void AugmentedLagrangianRun::trial(const Eigen::VectorXd& q) {
-  u_ = (2.0 / dt_) * (q - qn_) - un_;
-  ud_ = (4.0 / (dt_ * dt_)) * (q - qn_) - (4.0 / dt_) * un_ - udn_;
+// The increment delta_ = q - q_n is Newton's unknown, kept apart from q: formed
+// as a difference of q's, the (4/dt^2)(q - q_n) of u'* would carry q's round-off
+// (1e-14 rad once a crank has turned 100 rad) times 4/dt^2, and below dt 2e-4 on
+// IFToMM A02 the error grew as dt fell (docs/results.md, "A02 through its
+// singular positions").
+void AugmentedLagrangianRun::trial() {
+  q_ = qn_ + delta_;
+  u_ = (2.0 / dt_) * delta_ - un_;
+  ud_ = (4.0 / (dt_ * dt_)) * delta_ - (4.0 / dt_) * un_ - udn_;
 }
 
-void AugmentedLagrangianRun::residual(const double* q, const double* u, Eigen::VectorXd& r) {
-  formEquations(m_, q, u, ws_);
-  ++evaluations_;
-  r.noalias() = ws_.A * ud_;
-  r -= ws_.B;
-}
-
-// C = d(A u' - B)/du and K = d(A u' - B)/dq at (q_, u_, ud_): the damping and
-// the stiffness (springs, point spring-dampers, the velocity terms), which the
-// tangent needs on stiff scenes (IFToMM A05: without them Newton diverged at
-// dt 1e-2 and 1e-3).
-void AugmentedLagrangianRun::refreshDamping() {
-  constexpr double kRelStep = 1.4901161193847656e-08;  // sqrt(eps)
-  residual(q_.data(), u_.data(), r0_);
-  for (int j = 0; j < m_.nu; ++j) {
-    x_ = u_;
-    const double hu = kRelStep * std::max(1.0, std::abs(u_[j]));
-    x_[j] += hu;
-    residual(q_.data(), x_.data(), r1_);
-    C_.col(j) = (r1_ - r0_) / hu;
-    x_ = q_;
-    const double hq = kRelStep * std::max(1.0, std::abs(q_[j]));
-    x_[j] += hq;
-    residual(x_.data(), u_.data(), r1_);
-    K_.col(j) = (r1_ - r0_) / hq;
+// T = A + (dt/2) C + (dt^2/4)(K + alpha G^T G) at the formed q_, u_: C and K the
+// applied forces' damping and stiffness (eq. (M13a)), which the tangent needs on
+// stiff scenes (IFToMM A05: without them Newton diverged at dt 1e-2 and 1e-3).
+// A's and the velocity terms' derivatives are left out, as in ALI3-P: they slow
+// Newton, they do not move its root.
+void AugmentedLagrangianRun::tangent() {
+  T_ = ws_.A;
+  if (m_.hasAppliedForces()) {
+    C_.setZero();
+    K_.setZero();
+    addForceTangent(m_, ws_, C_, K_, J_);
+    T_ += (dt_ / 2) * C_ + (dt_ * dt_ / 4) * K_;
   }
-  stale_ = false;
+  if (m_.loop_rows) addLoopGramian(m_, loops_.G, dt_ * dt_ / 4 * alpha_, T_);
 }
 
 Status AugmentedLagrangianRun::step(double t, double* y) {
   const double h2 = dt_ * dt_ / 4.0;
-  q_ = qn_ + dt_ * un_ + (dt_ * dt_ / 2.0) * udn_;  // the predictor
+  delta_ = dt_ * un_ + (dt_ * dt_ / 2.0) * udn_;  // the predictor
   ++stats_.newton_solves;
-  if (stale_) {
-    trial(q_);
-    refreshDamping();
-  }
   bool converged = false;
   int it = 0;
   for (;; ++it) {
-    trial(q_);
+    trial();
     form(q_.data(), u_.data());
     if (it > 0 && m_.loop_rows) lambda_ += alpha_ * loops_.g;  // lambda*_{i+1} = lambda*_i + alpha g(q_{i+1})
     // f = (dt^2/4)(A u'* - B + G^T (lambda* + alpha g)), T = A + (dt/2) C + (dt^2/4)(K + alpha G^T G).
     f_.noalias() = ws_.A * ud_;
     f_ -= ws_.B;
-    T_ = ws_.A + (dt_ / 2) * C_ + h2 * K_;
-    if (m_.loop_rows) {
-      f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
-      T_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
-    }
+    if (m_.loop_rows) f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
+    tangent();
     f_ *= h2;
     lu_.compute(T_);
     dq_ = -lu_.solve(f_);
     if (!dq_.allFinite()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's Newton step is not finite");
-    q_ += dq_;
+    delta_ += dq_;
+    q_ = qn_ + delta_;
     ++stats_.newton_iterations;
     if (dq_.cwiseAbs().maxCoeff() <= o_.al_tol) {
       converged = true;
@@ -119,15 +100,14 @@ Status AugmentedLagrangianRun::step(double t, double* y) {
     if (it + 1 == o_.al_iterations) break;
   }
   if (!converged) ++stats_.newton_unconverged;  // goes on, counted; the run fails only beyond loop_tol
-  stale_ = !converged || it + 1 > kFreshTangentIterations;  // a slow Newton: C and K anew for the next step
   // The state at q_{n+1}: lambda* takes its last update, then the mass-orthogonal projections
   // u = u* - T^-1 (dt^2/4) alpha G^T G u*, u' = u'* - T^-1 (dt^2/4) alpha G^T (G u'* + c).
-  trial(q_);
+  trial();
   form(q_.data(), u_.data());
   if (m_.loop_rows) {
     lambda_ += alpha_ * loops_.g;
     P_ = ws_.A;
-    P_.noalias() += (h2 * alpha_) * loops_.G.transpose() * loops_.G;
+    addLoopGramian(m_, loops_.G, h2 * alpha_, P_);
     llt_.compute(P_);
     f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * loops_.Gu;
     u_ -= llt_.solve(f_);

@@ -4,8 +4,8 @@
 /// González and Naya, behind IFToMM's reference solutions; docs/theory.md
 /// eq. (M13)): the formulation `augmented-lagrangian`, run by the integrator
 /// `trapezoidal`. Each step solves, by Newton with the tangent
-/// T = A + (dt/2) C + (dt^2/4) (K + alpha G^T G), C and K the derivatives of
-/// A u' - B in u and q (forward differences, refreshed where Newton slows),
+/// T = A + (dt/2) C + (dt^2/4) (K + alpha G^T G), C and K the applied forces'
+/// damping and stiffness in closed form (addForceTangent, eq. (M13a)),
 ///   (dt^2/4) (A u'* - B + G^T (lambda* + alpha g)) = 0,
 ///   u* = (2/dt)(q - q_n) - u_n,  u'* = (4/dt^2)(q - q_n) - (4/dt) u_n - u'_n,
 /// with lambda* += alpha g at every iterate, then projects u and u'
@@ -32,18 +32,15 @@ class AugmentedLagrangianRun {
 
  private:
   void form(const double* q, const double* u);  // ws_: A, B and the loops at (q, u)
-  void trial(const Eigen::VectorXd& q);         // u*, u'* from q
-  void residual(const double* q, const double* u, Eigen::VectorXd& r);  // A(q) ud_ - B(q, u)
-  void refreshDamping();                        // C_, K_ at (q_, u_, ud_), by forward differences
+  void trial();                                 // q, u*, u'* from the increment delta_ = q - q_n
+  void tangent();                               // T_ at the formed q_, u_
   const Model& m_;
   LoopOptions o_;
   double dt_, alpha_ = 0;
   Workspace ws_;
   LoopState loops_;
-  Eigen::VectorXd qn_, un_, udn_, lambda_, q_, u_, ud_, f_, dq_;
-  Eigen::MatrixXd T_, P_, C_, K_;  // Newton's tangent, the projections' A + (dt^2/4) alpha G^T G, dR/du, dR/dq
-  Eigen::VectorXd r0_, r1_, x_;     // scratch of the differences
-  bool stale_ = true;               // C_, K_ to be formed before the next step
+  Eigen::VectorXd qn_, un_, udn_, lambda_, q_, delta_, u_, ud_, f_, dq_;
+  Eigen::MatrixXd T_, P_, C_, K_, J_;  // Newton's tangent, the projections' A + (dt^2/4) alpha G^T G, damping, stiffness, a spring's J_d
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> rank_qr_;

@@ -20,6 +20,16 @@ double worst(const Eigen::VectorXd& v, int from, int n) { return n > 0 ? v.segme
 
 }  // namespace
 
+void addLoopGramian(const Model& m, const Eigen::MatrixXd& G, double scale, Eigen::MatrixXd& M) {
+  int r = 0;
+  for (size_t i = 0; i < m.loops.size(); ++i) {
+    const int rows = loopRow(m.loops[i].type).equations;
+    for (int a : m.loop_speeds[i])
+      for (int b : m.loop_speeds[i]) M(a, b) += scale * G.col(a).segment(r, rows).dot(G.col(b).segment(r, rows));
+    r += rows;
+  }
+}
+
 void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& ls) {
   // G's rows touch only their loop's speeds (Model::loop_speeds): those are
   // cleared and summed, never the rest, which stays zero (O(rows x depth), not O(rows x nu)).

@@ -56,6 +56,12 @@ double loopPointGap(const Loop& l, const Vec3& xa, const Vec3& xb, const Mat3& R
 /// g, G, G u and c at the formed kinematics.  // u: (nu)
 void formLoops(const Model& m, const Workspace& ws, const double* u, LoopState& ls);
 
+/// M += scale * G^T G, summed loop by loop over its rows and its speeds
+/// (Model::loop_speeds): G's other columns are zero, so this is all of G^T G
+/// at O(rows x speeds per loop), not O(rows x nu^2) (the augmented
+/// Lagrangian's penalty term, docs/theory.md eq. (M13)).  // M: (nu x nu)
+void addLoopGramian(const Model& m, const Eigen::MatrixXd& G, double scale, Eigen::MatrixXd& M);
+
 /// s's largest violations grow by ls's (what a report calls the violation).
 void recordViolation(const LoopState& ls, LoopStats& s);
 
