@@ -22,7 +22,8 @@ int firstQuaternionBody(const Model& m) {
 AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions& o, double dt, const double* y)
     : m_(m), o_(o), dt_(dt), ws_(m), loops_(m), qn_(Eigen::Map<const Eigen::VectorXd>(y, m.nq)),
       un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq), delta_(m.nu),
-      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), J_(3, m.nu), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
+      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), J_(3, m.nu), x_(m.nu), rows_(m.loop_rows), extra_(Eigen::VectorXd::Zero(m.nu)),
+      sparse_(TreeCholesky::pays(m) && m.point_springs.empty()), tree_(m), cs_(m), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
   if (firstQuaternionBody(m) >= 0) throw std::invalid_argument("integrator trapezoidal integrates q' = u: not on quaternion joints");
   rank_qr_.setThreshold(kLoopRankTol);
   // u'(0) and the multipliers of eq. (M7): A u' = B + G^T lambda, so the residual's lambda* is -lambda.
@@ -36,6 +37,11 @@ AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions
     if (GtG > 0) alpha_ = o.penalty_ratio * 4.0 * ws_.A.diagonal().maxCoeff() / (dt * dt * GtG);
   }
   if (m.has_dampers) power_n_ = nonConservativePower(m, ws_, un_.data());
+  if (sparse_ && m.has_springs) {  // the joints' C and K: constant, diagonal
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m.nu, m.nu), K = C;
+    addForceTangent(m, ws_, C, K, J_);
+    extra_ = (dt / 2) * C.diagonal() + (dt * dt / 4) * K.diagonal();
+  }
 }
 
 void AugmentedLagrangianRun::form(const double* q, const double* u) {
@@ -71,6 +77,65 @@ void AugmentedLagrangianRun::tangent() {
   if (m_.loop_rows) addLoopGramian(m_, loops_.G, dt_ * dt_ / 4 * alpha_, T_);
 }
 
+// dq_ = -T^-1 f_. Dense: T by LU. Sparse (A's tree pattern pays, the applied
+// forces' C and K diagonal): x = Abar^-1 f by Abar's tree factors, Abar = A +
+// (h/2) C + (h^2/4) K, and T^-1 f = x - Abar^-1 G^T (shift I + G Abar^-1 G^T)^-1 G x,
+// shift = 1 / ((h^2/4) alpha) (Woodbury, docs/theory.md eq. (S4)): linear cost.
+bool AugmentedLagrangianRun::newtonStep() {
+  if (!sparse_) {
+    tangent();
+    lu_.compute(T_);
+    dq_ = -lu_.solve(f_);
+    return true;
+  }
+  if (!tree_.factor(ws_.A, extra_)) return false;
+  dq_ = f_;
+  tree_.solveInPlace(dq_.data());
+  if (m_.loop_rows) {
+    rows_.noalias() = loops_.G * dq_;
+    cs_.factorPenalty(loops_, tree_, 1.0 / (dt_ * dt_ / 4 * alpha_));
+    cs_.penaltySolve(tree_, rows_, x_);
+    dq_ -= x_;
+  }
+  dq_ = -dq_;
+  return true;
+}
+
+// The mass-orthogonal projections at q_{n+1} (formed), P = A + (h^2/4) alpha G^T G:
+// u -= P^-1 (h^2/4) alpha G^T G u, u' -= P^-1 (h^2/4) alpha G^T (G u' + c); the
+// rank of G. Sparse: P^-1 (h^2/4) alpha G^T r = A^-1 G^T (shift I + G A^-1 G^T)^-1 r (eq. (S4)).
+int AugmentedLagrangianRun::project() {
+  const double h2 = dt_ * dt_ / 4.0;
+  int rank = 0;
+  if (sparse_) {
+    tree_.factor(ws_.A);  // positive definite: the formation's A
+    rank = cs_.rankOf(loops_, tree_);
+    cs_.factorPenalty(loops_, tree_, 1.0 / (h2 * alpha_));
+    cs_.penaltySolve(tree_, loops_.Gu, x_);
+    u_ -= x_;
+  } else {
+    P_ = ws_.A;
+    addLoopGramian(m_, loops_.G, h2 * alpha_, P_);
+    llt_.compute(P_);
+    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * loops_.Gu;
+    u_ -= llt_.solve(f_);
+  }
+  formKinematics(m_, q_.data(), u_.data(), ws_);  // c at the projected u
+  formLoops(m_, ws_, u_.data(), loops_);
+  if (sparse_) {
+    rows_ = loops_.c;
+    rows_.noalias() += loops_.G * ud_;
+    cs_.penaltySolve(tree_, rows_, x_);
+    ud_ -= x_;
+  } else {
+    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * (loops_.G * ud_ + loops_.c);
+    ud_ -= llt_.solve(f_);
+    rank_qr_.compute(loops_.G);
+    rank = static_cast<int>(rank_qr_.rank());
+  }
+  return rank;
+}
+
 Status AugmentedLagrangianRun::step(double t, double* y) {
   const double h2 = dt_ * dt_ / 4.0;
   delta_ = dt_ * un_ + (dt_ * dt_ / 2.0) * udn_;  // the predictor
@@ -85,10 +150,8 @@ Status AugmentedLagrangianRun::step(double t, double* y) {
     f_.noalias() = ws_.A * ud_;
     f_ -= ws_.B;
     if (m_.loop_rows) f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
-    tangent();
     f_ *= h2;
-    lu_.compute(T_);
-    dq_ = -lu_.solve(f_);
+    if (!newtonStep()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's tangent is not positive definite");
     if (!dq_.allFinite()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's Newton step is not finite");
     delta_ += dq_;
     q_ = qn_ + delta_;
@@ -106,17 +169,7 @@ Status AugmentedLagrangianRun::step(double t, double* y) {
   form(q_.data(), u_.data());
   if (m_.loop_rows) {
     lambda_ += alpha_ * loops_.g;
-    P_ = ws_.A;
-    addLoopGramian(m_, loops_.G, h2 * alpha_, P_);
-    llt_.compute(P_);
-    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * loops_.Gu;
-    u_ -= llt_.solve(f_);
-    formKinematics(m_, q_.data(), u_.data(), ws_);  // c at the projected u
-    formLoops(m_, ws_, u_.data(), loops_);
-    f_.noalias() = (h2 * alpha_) * loops_.G.transpose() * (loops_.G * ud_ + loops_.c);
-    ud_ -= llt_.solve(f_);
-    rank_qr_.compute(loops_.G);
-    const int rank = static_cast<int>(rank_qr_.rank());
+    const int rank = project();
     stats_.rank_min = stats_.rank_min < 0 ? rank : std::min(stats_.rank_min, rank);
     stats_.rank_max = std::max(stats_.rank_max, rank);
   }

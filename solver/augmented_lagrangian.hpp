@@ -13,7 +13,9 @@
 /// the implicit trapezoidal rule on A u' = B. It integrates q' = u: no
 /// quaternion joints (ball, free). A, B and g are the formation's and
 /// solver/mechanism's; the solves are its own (Cholesky of T).
+#include "solver/mechanism/constrained.hpp"
 #include "solver/mechanism/loops.hpp"
+#include "solver/tree_cholesky.hpp"
 #include "solver/method.hpp"
 
 namespace em {
@@ -33,7 +35,9 @@ class AugmentedLagrangianRun {
  private:
   void form(const double* q, const double* u);  // ws_: A, B and the loops at (q, u)
   void trial();                                 // q, u*, u'* from the increment delta_ = q - q_n
-  void tangent();                               // T_ at the formed q_, u_
+  void tangent();                               // T_ at the formed q_, u_ (dense path)
+  bool newtonStep();                            // dq_ = -T^-1 f_
+  int project();                                // u_, ud_ projected at the formed q_; the rank of G
   const Model& m_;
   LoopOptions o_;
   double dt_, alpha_ = 0;
@@ -41,6 +45,10 @@ class AugmentedLagrangianRun {
   LoopState loops_;
   Eigen::VectorXd qn_, un_, udn_, lambda_, q_, delta_, u_, ud_, f_, dq_;
   Eigen::MatrixXd T_, P_, C_, K_, J_;  // Newton's tangent, the projections' A + (dt^2/4) alpha G^T G, damping, stiffness, a spring's J_d
+  Eigen::VectorXd x_, rows_, extra_;    // (nu) scratch, (m) G x, the joints' (h/2) c + (h^2/4) k
+  bool sparse_;                         // T and P through A's tree factors (TreeCholesky::pays, no point spring)
+  TreeCholesky tree_;
+  ConstrainedSolve cs_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> rank_qr_;

@@ -45,6 +45,20 @@ bool TreeCholesky::factor(const Eigen::MatrixXd& A) {
     D_[i] = A(i, i);
     for (int p = start_[i]; p < start_[i + 1]; ++p) L_[p] = A(anc_[p], i);  // above the diagonal: formA's own entries
   }
+  return eliminate();
+}
+
+bool TreeCholesky::factor(const Eigen::MatrixXd& A, const Eigen::VectorXd& extra) {
+  const int n = size();
+  for (int i = 0; i < n; ++i) {
+    D_[i] = A(i, i) + extra[i];
+    for (int p = start_[i]; p < start_[i + 1]; ++p) L_[p] = A(anc_[p], i);
+  }
+  return eliminate();
+}
+
+bool TreeCholesky::eliminate() {
+  const int n = size();
   // Featherstone's LTDL (RBDA Table 6.3): from the leaves up, row k's entries
   // divided by its pivot and its outer product taken from its ancestors' rows.
   // Row i = anc(k)[p]'s ancestors are anc(k)[p+1 ...]: the rows share storage order.

@@ -21,6 +21,9 @@ class TreeCholesky {
   /// Factor A (formation.hpp's formA: only its tree pattern above the
   /// diagonal is read). False where a pivot is not positive.
   bool factor(const Eigen::MatrixXd& A);
+  /// Factor A + diag(extra): the augmented Lagrangian's A + (h/2) C + (h²/4) K
+  /// where C and K are the joints' (diagonal).  // extra: (nu)
+  bool factor(const Eigen::MatrixXd& A, const Eigen::VectorXd& extra);
   /// The pivots D (the squared pivots of a Cholesky in leaves-first order).
   const Eigen::VectorXd& pivots() const { return D_; }
   /// x <- A^-1 x.  // x: (nu)
@@ -36,6 +39,7 @@ class TreeCholesky {
   const std::vector<int>& parents() const { return parent_; }
 
  private:
+  bool eliminate();           // LTDL of the loaded L_, D_ in place
   std::vector<int> parent_;   // (nu)
   std::vector<int> start_;    // (nu + 1) row i's ancestors at [start_[i], start_[i + 1]) of anc_ and L_, nearest first
   std::vector<int> anc_;      // every row's ancestors

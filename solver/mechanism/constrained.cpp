@@ -90,7 +90,7 @@ void ConstrainedSolve::correction(const LoopState& ls, const Eigen::MatrixXd& Ai
   out.noalias() = AinvGt * lambda_;
 }
 
-void ConstrainedSolve::factorSparse(const LoopState& ls, const TreeCholesky& A) {
+void ConstrainedSolve::factorSparse(const LoopState& ls, const TreeCholesky& A, double shift) {
   const int m = m_.loop_rows;
   // Y = L^-T G^T, row by row of G on its loop's speeds (eq. (S2)).
   for (int r = 0; r < m; ++r) {
@@ -113,10 +113,10 @@ void ConstrainedSolve::factorSparse(const LoopState& ls, const TreeCholesky& A) 
       }
   }
   // LDL^T over the envelope, in place; a pivot at most kLoopRankTol of the
-  // largest diagonal drops its row (redundant: its lambda is 0).
+  // largest diagonal drops its row (redundant: its lambda is 0). Shifted, none drops.
   double largest = 0;
-  for (int r = 0; r < m; ++r) largest = std::max(largest, E_(r, r));
-  const double drop = kLoopRankTol * largest;
+  for (int r = 0; r < m; ++r) largest = std::max(largest, E_(r, r) += shift);
+  const double drop = shift > 0 ? 0.0 : kLoopRankTol * largest;
   rank_ = 0;
   for (int r = 0; r < m; ++r) {
     const int f = first_[r];
@@ -176,6 +176,19 @@ void ConstrainedSolve::correction(const LoopState& ls, const TreeCholesky& A, co
   solveSparse(r);
   out.setZero();
   addInverseAGt(A, out.data());
+}
+
+void ConstrainedSolve::factorPenalty(const LoopState& ls, const TreeCholesky& A, double shift) { factorSparse(ls, A, shift); }
+
+void ConstrainedSolve::penaltySolve(const TreeCholesky& A, const Eigen::VectorXd& r, Eigen::VectorXd& out) {
+  solveSparse(r);
+  out.setZero();
+  addInverseAGt(A, out.data());
+}
+
+int ConstrainedSolve::rankOf(const LoopState& ls, const TreeCholesky& A) {
+  factorSparse(ls, A);
+  return rank_;
 }
 
 ConstrainedEquations constrainedAt(const Model& m, const Workspace& ws, const double* u) {

@@ -42,13 +42,22 @@ class ConstrainedSolve {
   /// lambda does on consistent rows; the lambda itself is then not the least-norm one).
   int solve(const LoopState& ls, const TreeCholesky& A, double alpha, double beta, Eigen::Ref<Eigen::VectorXd> udot);
   void correction(const LoopState& ls, const TreeCholesky& A, const Eigen::VectorXd& r, Eigen::VectorXd& out);
+  /// The augmented Lagrangian's penalized projection at linear cost (docs/theory.md
+  /// §16, eq. (S4)): with W = I / shift,
+  /// (A + G^T W G)^-1 G^T W r = A^-1 G^T (shift I + G A^-1 G^T)^-1 r (Woodbury).
+  /// factorPenalty factors shift I + G A^-1 G^T (positive definite for shift > 0:
+  /// no row dropped); penaltySolve then gives out = the right side at r.  // r: (m), out: (nu)
+  void factorPenalty(const LoopState& ls, const TreeCholesky& A, double shift);
+  void penaltySolve(const TreeCholesky& A, const Eigen::VectorXd& r, Eigen::VectorXd& out);
+  /// The rank of G A^-1 G^T by the sparse path's drop rule; nothing solved.
+  int rankOf(const LoopState& ls, const TreeCholesky& A);
   const Eigen::VectorXd& lambda() const { return lambda_; }
   int rank() const { return rank_; }
 
  private:
   void residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a);
   // The tree-sparse path: G A^-1 G^T's envelope factored (eq. (S2)); lambda_ = its solution at r.
-  void factorSparse(const LoopState& ls, const TreeCholesky& A);
+  void factorSparse(const LoopState& ls, const TreeCholesky& A, double shift = 0);  // shift > 0: S + shift I, none dropped
   void solveSparse(const Eigen::VectorXd& r);
   void addInverseAGt(const TreeCholesky& A, double* out);  // out += A^-1 G^T lambda_ (eq. (S3))
   const Model& m_;

@@ -169,6 +169,46 @@ TEST_CASE("a mechanism's multipliers and projections by the tree-sparse factors 
   }
 }
 
+TEST_CASE("the augmented Lagrangian's penalized solves by the tree-sparse factors equal the dense ones (Woodbury)", "[mechanism]") {
+  // eq. (S4): (A + G^T G / shift)^-1 G^T r / shift = A^-1 G^T (shift I + G A^-1 G^T)^-1 r,
+  // the dense left side the oracle; and A + diag(extra) factored with its diagonal.
+  // shift = 1e-6 of G A^-1 G^T's scale (the penalty ratio 1e6): cond grows by up
+  // to 1e6, so the bound is looser than kRoundOff.
+  constexpr double kPenaltyRoundOff = 1e-7;
+  std::mt19937 rng(9);
+  for (const char* scene : kMechanisms) {
+    const Model m = loadScene(test::sourcePath(scene)).model;
+    Workspace ws(m);
+    TreeCholesky tree(m);
+    ConstrainedSolve sparse(m);
+    LoopState ls(m);
+    for (int trial = 0; trial < 3; ++trial) {
+      Eigen::VectorXd q, u;
+      randomState(m, rng, q, u);
+      if (m.nq != m.nu) q = m.q0();  // quaternion joints: the closed start, u random
+      formEquations(m, q.data(), u.data(), ws);
+      formLoops(m, ws, u.data(), ls);
+      REQUIRE(tree.factor(ws.A));
+      const Eigen::MatrixXd AinvGt = ws.A.llt().solve(ls.G.transpose());
+      const double shift = 1e-6 * std::max(1e-300, (ls.G * AinvGt).diagonal().maxCoeff());
+      const Eigen::VectorXd r = Eigen::VectorXd::Random(m.loop_rows);
+      const Eigen::MatrixXd P = ws.A + ls.G.transpose() * ls.G / shift;
+      const Eigen::VectorXd dense = P.llt().solve(ls.G.transpose() * r / shift);
+      Eigen::VectorXd out(m.nu);
+      sparse.factorPenalty(ls, tree, shift);
+      sparse.penaltySolve(tree, r, out);
+      INFO(scene << " trial " << trial);
+      CHECK(relGap(out, dense) < kPenaltyRoundOff);
+      const Eigen::VectorXd extra = Eigen::VectorXd::Random(m.nu).cwiseAbs();
+      REQUIRE(tree.factor(ws.A, extra));
+      Eigen::VectorXd x = ws.B;
+      tree.solveInPlace(x.data());
+      const Eigen::MatrixXd Abar = ws.A + Eigen::MatrixXd(extra.asDiagonal());
+      CHECK(relGap(x, Abar.llt().solve(ws.B)) < kRoundOff);
+    }
+  }
+}
+
 TEST_CASE("formLoops touches only each loop's speeds and leaves nothing from the last state", "[mechanism]") {
   std::mt19937 rng(3);
   const Model m = loadScene(test::sourcePath("tests/scenes/mechanisms/bead_on_rail.json")).model;  // a slider: point and frame rows
