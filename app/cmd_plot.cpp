@@ -4,7 +4,6 @@
 // tools/plot.py draws with Debian's python3-matplotlib into a temporary folder,
 // and each figure is then moved into --out by writeAtomic (the rules of every
 // output: never an input, a device written into, a link followed, never half a file).
-#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -57,8 +56,7 @@ int runProgram(const std::vector<std::string>& argv, bool quiet) {
   if (pid == 0) {
     // The child ends with its parent (SIGTERM; plot.py then removes its scratch
     // folder): an interrupted plot leaves no orphan drawing into /tmp.
-    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (::getppid() != parent) _exit(143);  // the parent died before prctl
+    if (!dieWithParent(parent, SIGTERM)) _exit(143);  // the parent died before prctl
     std::FILE* null = std::fopen("/dev/null", "w");
     if (null) {
       dup2(fileno(null), 1);
@@ -70,10 +68,10 @@ int runProgram(const std::vector<std::string>& argv, bool quiet) {
     execv(args[0], args.data());
     _exit(127);
   }
-  awaitOnInterrupt(pid);  // an interrupt ends it and waits for it before the scratch folder goes
+  endOnInterrupt(pid);  // an interrupt ends it and waits for it before the scratch folder goes
   int status = 0;
   const pid_t waited = waitpid(pid, &status, 0);
-  awaitOnInterrupt(0);
+  releaseOnInterrupt(pid);
   if (waited < 0) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }

@@ -1,5 +1,6 @@
 #include "io/atomic_file.hpp"
 
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -25,15 +26,17 @@ volatile std::sig_atomic_t g_tmp_active = 0;
 // and waited for, then the folder, by then empty, removed (rmdir).
 char g_folder[4096];
 volatile std::sig_atomic_t g_folder_active = 0;
-volatile pid_t g_child = 0;
+volatile pid_t g_children[kMaxChildren] = {};  // 0: a free slot
 
 extern "C" void removeTemporaryAndDie(int sig) {
   if (g_tmp_active) ::unlink(g_tmp);
-  if (const pid_t child = g_child; child > 0) {
-    ::kill(child, SIGTERM);  // plot.py removes what it drew on SIGTERM; before its handler, SIGTERM ends it
-    while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
-    }
-  }
+  // plot.py removes what it drew on SIGTERM, a worker its temporary; before their handlers, SIGTERM ends them.
+  for (int i = 0; i < kMaxChildren; ++i)
+    if (const pid_t child = g_children[i]; child > 0) ::kill(child, SIGTERM);
+  for (int i = 0; i < kMaxChildren; ++i)
+    if (const pid_t child = g_children[i]; child > 0)
+      while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+      }
   if (g_folder_active) ::rmdir(g_folder);
   // One line, as every ending of the tool (write(2) is async-signal-safe).
   static const char kInt[] = "eigenmass: interrupted (SIGINT); no output was left half-written\n";
@@ -64,7 +67,24 @@ void removeOnInterrupt(const std::string& folder) {
   g_folder_active = 1;
 }
 
-void awaitOnInterrupt(pid_t child) { g_child = child; }
+void endOnInterrupt(pid_t child) {
+  for (int i = 0; i < kMaxChildren; ++i)
+    if (g_children[i] == 0) {
+      g_children[i] = child;
+      return;
+    }
+  throw std::runtime_error("more than " + std::to_string(kMaxChildren) + " child processes at once");
+}
+
+void releaseOnInterrupt(pid_t child) {
+  for (int i = 0; i < kMaxChildren; ++i)
+    if (g_children[i] == child) g_children[i] = 0;
+}
+
+bool dieWithParent(pid_t parent, int sig) {
+  for (int i = 0; i < kMaxChildren; ++i) g_children[i] = 0;  // the parent's, not this process's
+  return ::prctl(PR_SET_PDEATHSIG, sig) == 0 && ::getppid() == parent;
+}
 
 void installInterruptCleanup() {
   std::signal(SIGINT, removeTemporaryAndDie);

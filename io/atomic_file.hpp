@@ -28,9 +28,17 @@ bool writesThrough(const std::string& path);
 void installInterruptCleanup();
 /// The empty-at-the-end scratch folder to remove on such a signal ("": none).
 void removeOnInterrupt(const std::string& folder);
-/// A child to end (SIGTERM) and wait for on such a signal, before the folder
-/// is removed (0: none).
-void awaitOnInterrupt(pid_t child);
+/// Children to end (SIGTERM) and wait for on such a signal, before the folder
+/// is removed: endOnInterrupt adds one (a drawing child, a sweep's workers; up
+/// to kMaxChildren at once), releaseOnInterrupt forgets it once it is reaped.
+inline constexpr int kMaxChildren = 1024;
+void endOnInterrupt(pid_t child);
+void releaseOnInterrupt(pid_t child);
+/// In a child just forked from `parent`: the kernel sends it `sig` when the
+/// parent dies by any path, SIGKILL included (PR_SET_PDEATHSIG; SIGTERM runs
+/// this process's cleanup of its own temporary), and it forgets the parent's
+/// other children. False where the parent was gone before that took: exit then.
+bool dieWithParent(pid_t parent, int sig);
 
 /// A program's exit code once what it printed must have reached standard
 /// output: `code`, or 2 (with one line on standard error, `program` naming

@@ -2,6 +2,7 @@
 #include "solver/mechanism/formulation.hpp"
 
 #include <sys/wait.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <cmath>
@@ -20,6 +21,7 @@
 #include "compare/report.hpp"
 #include "compare/sensitivity.hpp"
 #include "solver/perturb.hpp"
+#include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 #include "io/digest.hpp"
 #include "io/json_input.hpp"
@@ -300,11 +302,18 @@ class SweepProgress {
 };
 
 // Run one case in a child process: its CPU clock is its own, a crash is its own.
+// It dies with the parent (dieWithParent: SIGTERM, which removes its temporary),
+// and the parent's interrupt ends and reaps it (endOnInterrupt): never an orphan.
 pid_t startCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   std::fflush(nullptr);
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start a worker process");
-  if (pid > 0) return pid;
+  if (pid > 0) {
+    endOnInterrupt(pid);
+    return pid;
+  }
+  if (!dieWithParent(parent, SIGTERM)) _exit(143);
   int code = 0;
   try {
     setProgressMode(ProgressMode::Off);
@@ -341,6 +350,7 @@ int runPool(const Plan& plan, const std::vector<SweepCase>& todo, const std::str
     int wstatus = 0;
     const pid_t pid = waitpid(-1, &wstatus, 0);
     if (pid < 0) throw std::runtime_error("lost a worker process");
+    releaseOnInterrupt(pid);
     const SweepCase* c = running.at(pid);
     running.erase(pid);
     if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0) ++errors;

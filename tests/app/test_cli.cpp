@@ -237,6 +237,36 @@ TEST_CASE("an interrupted compare leaves no report and no temporary, and says so
   CHECK(said == "eigenmass: interrupted (SIGINT); no output was left half-written\n");  // --no-progress: nothing else
 }
 
+// Issue 73, item 10: a sweep's (a benchmark's, an engine study's) workers were
+// reparented to PID 1 and kept writing case files after their parent ended.
+TEST_CASE("a sweep's workers do not outlive eigenmass, however it ends, and leave no temporary", "[cli][sweep]") {
+  const std::string d = std::string(EM_BINARY_DIR) + "/cli_orphan_workers";
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  // Two cases of many seconds each (300 s of pendulum5 at rk4 dt 1e-4), two workers.
+  std::ofstream(d + "/plan.json") << R"({"format": "eigenmass-plan/1", "name": "orphan", "scenes": [")" << scene("pendulum5.json")
+                                  << R"("], "t_end": 300, "output_dt": 0.1, "repeats": 3, "lines": [{"methods": ["classical"], "integrator": "rk4", "dt": [0.0001, 0.00005]}]})";
+  for (const char* sig : {"TERM", "INT", "KILL"}) {
+    std::filesystem::remove_all(d + "/res");
+    // Find the workers, signal the parent, then every worker must be gone (or a zombie
+    // awaiting init) within 2 s.
+    const std::string script =
+        std::string(EM_BINARY_DIR) + "/bin/eigenmass sweep " + d + "/plan.json --results " + d + "/res -j 2 >/dev/null 2>&1 & P=$!; "
+        "C=; for i in $(seq 100); do C=$(pgrep -P $P | tr \"\\n\" \" \"); [ -n \"$C\" ] && break; sleep 0.05; done; "
+        "[ -n \"$C\" ] || { kill -9 $P; exit 3; }; sleep 0.3; kill -" + std::string(sig) + " $P; wait $P; "
+        "for i in $(seq 40); do alive=0; for c in $C; do s=$(ps -o stat= -p $c 2>/dev/null); case \"$s\" in \"\"|Z*) ;; *) alive=1;; esac; done; "
+        "[ $alive = 0 ] && exit 0; sleep 0.05; done; kill -9 $C; exit 4";
+    const std::string file = d + "/script.sh";
+    std::ofstream(file) << script << "\n";
+    const int st = std::system(("bash " + file).c_str());
+    INFO("SIG" << sig << ": 3 = no worker seen, 4 = a worker outlived its parent");
+    CHECK(WEXITSTATUS(st) == 0);
+    if (std::string(sig) != "KILL" && std::filesystem::exists(d + "/res"))  // SIGKILL's workers get SIGTERM too, a moment later
+      for (const auto& f : std::filesystem::recursive_directory_iterator(d + "/res"))
+        CHECK(f.path().filename().string().find(".tmp") == std::string::npos);
+  }
+}
+
 TEST_CASE("compare refuses a malformed scene before any run", "[cli][scene]") {
   const std::string bad = em::test::sourcePath("tests/scenes/malformed/cycle.json");
   const Run r = eigenmass("compare " + bad + " --out /tmp/never.json", true);
