@@ -14,6 +14,7 @@
 #include "io/run_spec_json.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json.hpp"
+#include "solver/integrate.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -384,11 +385,28 @@ void readPlanKeys(const json& doc, Plan& p) {
 }
 
 // Every run of the plan on its grid: planCases checks each case's settings
-// as it makes it (checkedCase), before anything runs; here, that no case is listed twice.
+// as it makes it (checkedCase), before anything runs; here, that no case is
+// listed twice, and that every in-house case can run its scene (issue 73, item
+// 9: the augmented Lagrangian under rk4, the projection under cvode, a plugin
+// under ida loaded and listed, then failed case by case with exit 1). An
+// engine's refusals are the scene's own (PlanScene::refusals: left out, said).
 void checkPlanRuns(const Plan& p) {
   std::set<std::string> names;
-  for (const SweepCase& c : planCases(p))
+  std::vector<std::optional<Model>> models(p.scenes.size());
+  for (const SweepCase& c : planCases(p)) {
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
+    const PlanScene& scene = p.scenes[c.scene];
+    if (info(c.spec->method).engine != Engine::InHouse || scene.refusals.count(methodName(c.spec->method)) ||
+        !info(c.spec->integrator).stepped())  // a recorded run: read, not run
+      continue;
+    if (!models[c.scene]) models[c.scene].emplace(loadScene(scene.file, scene.urdf).model);
+    try {
+      refuseUnrunnable(*models[c.scene], c.spec);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(c.role == CaseRole::Run ? "lines" : c.role == CaseRole::Reference ? "reference" : "reference_check",
+                       c.name + ": " + e.what());
+    }
+  }
 }
 
 }  // namespace

@@ -230,6 +230,15 @@ TEST_CASE("a plan line's formulations name its cases on a mechanism and fold awa
                     Catch::Contains("lines[0].formulations[0]: unknown formulation 'lagrange'"));
   CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"mujoco"}}, {"formulations", {"projection"}}, {"integrator", "rk4"}, {"dt", {1e-3}}})),
                     Catch::Contains("lines[0].methods[0]: mujoco closes loops its own way"));
+  // Issue 73, item 9: runs that cannot run on their scene are refused when the plan loads, naming the case,
+  // not loaded, listed and failed one by one (exit 1).
+  CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"classical"}}, {"formulations", {"augmented-lagrangian"}}, {"integrator", "rk4"}, {"dt", {1e-3}}})),
+                    Catch::Contains("lines: iftomm_a02_n2.classical.augmented-lagrangian.rk4.0.001: formulation augmented-lagrangian runs "
+                                    "under its own integrator trapezoidal"));
+  CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"classical"}}, {"formulations", {"projection"}}, {"integrator", "cvode"}, {"tolerance", {1e-6}}})),
+                    Catch::Contains("lines: iftomm_a02_n2.classical.projection.cvode.1e-06: integrator cvode is multistep"));
+  CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"eigen"}}, {"integrator", "ida"}, {"tolerance", {1e-6}}})),
+                    Catch::Contains("lines: iftomm_a02_n2.eigen.ida.1e-06: integrator ida integrates the formation's A and B itself"));
   // The benchmark table needs the scenes' benchmark steps on the plan's grid: A01 measures every 1 s, 0.05 divides it.
   CHECK_NOTHROW(loadPlan(plan({{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-3}}}, {"benchmark"})));
   const std::string bad = plan({{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-3}}}, {"benchmark"});
