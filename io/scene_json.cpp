@@ -430,9 +430,6 @@ std::string bodyPath(int file_index, const std::string& key) { return "bodies[" 
 // A mechanism's initial state (docs/scene-format.md, "Mechanisms"): its welds
 // take their orientation from it; a loop it leaves open, or a point spring
 // whose points coincide, is refused naming the item.
-// Gauss-Newton steps an assembly may take: from a start off by ~1e-3 it needs
-// ~4 (quadratic convergence); 50 leaves room for starts off by a degree or more.
-constexpr int kAssembleIterations = 50;
 
 void checkMechanismStart(Model& m, bool assemble, Assembly* assembled) {
   if (assemble && m.loops.empty())

@@ -83,6 +83,10 @@ inline constexpr int kBenchmarkMeasureMax = 16, kBenchmarkLevelsMax = 4, kBenchm
 /// Largest |g| and |G u| of an initial state that is accepted (m or rad, m/s
 /// or rad/s): beyond it the scene is refused naming the loop and the gap.
 inline constexpr double kLoopStartTol = 1e-9;
+/// Gauss-Newton steps an assembly may take (--assemble, an ensemble member's
+/// start): from a start off by ~1e-3 it needs ~4 (quadratic convergence); 50
+/// leaves room for starts off by a degree or more.
+inline constexpr int kAssembleIterations = 50;
 
 /// A scene as written: bodies in file order and the run defaults.
 struct SceneSpec {

@@ -20,6 +20,7 @@
 #include "compare/provenance.hpp"
 #include "compare/report.hpp"
 #include "compare/sensitivity.hpp"
+#include "solver/mechanism/assembly.hpp"
 #include "solver/perturb.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
@@ -183,11 +184,22 @@ json memberJson(const Model& m, int member) {
 }
 
 // The model a case runs: the scene's, its start displaced by the plan's
-// start_offset, then the ensemble member's perturbation on top.
-Model caseModel(const Plan& plan, const SweepCase& c, const Scene& scene) {
+// start_offset, then the ensemble member's perturbation on top. On a
+// mechanism a member's displaced start is assembled onto its loops (q0 onto
+// g = 0, then u0 onto G u = 0, as --assemble does; issue 73, item 6: members
+// ran "ok" from loops 1.4e-3 m open), and `assembled` says by how much.
+Model caseModel(const Plan& plan, const SweepCase& c, const Scene& scene, std::optional<Assembly>* assembled = nullptr) {
   Model m = scene.model;
   if (const std::optional<StartOffset>& o = plan.scenes[c.scene].start_offset) m = perturbedStart(m, o->q, o->u, o->seed);
-  return plan.ensemble ? ensembleMember(m, *plan.ensemble, c.member) : m;
+  if (!plan.ensemble || c.member == 0) return m;
+  m = ensembleMember(m, *plan.ensemble, c.member);
+  if (m.loops.empty()) return m;
+  const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
+  if (!a.converged)
+    throw std::runtime_error(c.name + ": Gauss-Newton did not close the member's loops from its drawn start (gap " + gnum(a.gap, 3) +
+                             ") in " + std::to_string(kAssembleIterations) + " steps: a smaller ensemble.perturb.q keeps members nearer");
+  if (assembled) *assembled = a;
+  return withInitialState(std::move(m), a.q, a.u);
 }
 
 bool sameEnd(const Trajectory& a, const Trajectory& b) {
@@ -222,8 +234,12 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   doc["tables"] = json::array();  // the plan's tables: what plot draws from the merged results (outside the key)
   for (PlanTable t : plan.tables) doc["tables"].push_back(planTableName(t));
   if (plan.ensemble && plan.ensemble->claim) doc["claim"] = {{"t_s", plan.ensemble->claim->t_s}, {"label", plan.ensemble->claim->label}};
-  const Model model = caseModel(plan, c, scene);
+  std::optional<Assembly> assembled;
+  const Model model = caseModel(plan, c, scene, &assembled);
   if (plan.ensemble) doc["member"] = memberJson(model, c.member);
+  if (assembled)  // the drawn start's gaps and how far the assembly moved it (m or rad, m/s or rad/s)
+    doc["member"]["assembly"] = {{"gap", assembled->gap}, {"velocity_gap", assembled->velocity_gap}, {"moved_q", assembled->moved_q},
+                                 {"moved_u", assembled->moved_u}, {"iterations", assembled->iterations}};
   if (plan.scenes[c.scene].start_offset) {  // the displaced start, by name
     doc["start"] = memberJson(model, 0);
     doc["start"].erase("index");
