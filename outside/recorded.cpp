@@ -1,5 +1,4 @@
 #include "outside/recorded.hpp"
-#include "solver/applied_forces.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +11,9 @@
 #include "io/digest.hpp"
 #include "io/json_input.hpp"
 #include "io/scene_json.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/formation.hpp"
+#include "solver/mechanism/loops.hpp"
 #include "solver/joint.hpp"
 #include "solver/text.hpp"
 
@@ -344,13 +345,30 @@ void speedsByDifferences(const Model& m, RecordedRun& r) {
   r.spacing_effect = Tmax > 0 ? dT / Tmax : 0;
 }
 
-// W_diss at every sample: the trapezoid rule over sum c u^2.
-void dissipatedWork(const Model& m, RecordedRun& r) {
+// W_diss at every sample: the file's own `dissipated` column where it has one
+// (an exact run's; issue 73, item 12: the quadrature over 10-ms samples put
+// 2.6e-5 on an outside client's energy figure), else the trapezoid rule over
+// the non-conservative power (joint and point dampers, minus the drives' tau u;
+// theory.md eq. (M6)) at the samples.
+void dissipatedWork(const Model& m, const Header& h, const std::vector<std::vector<double>>& rows, RecordedRun& r) {
   r.dissipated.assign(r.t.size(), 0.0);
-  if (!m.has_dampers) return;
-  for (size_t s = 1; s < r.t.size(); ++s)
-    r.dissipated[s] = r.dissipated[s - 1] + 0.5 * (r.t[s] - r.t[s - 1]) *
-                                               (dissipationRate(m, r.u[s - 1].data()) + dissipationRate(m, r.u[s].data()));
+  if (h.has("dissipated") && rows.size() == r.t.size()) {
+    for (size_t s = 0; s < rows.size(); ++s) r.dissipated[s] = rows[s][h.col.at("dissipated")] - rows[0][h.col.at("dissipated")];
+    r.dissipated_from = "the file's dissipated column";
+    return;
+  }
+  if (!m.has_dampers) {
+    r.dissipated_from = "none: the scene has no damper or drive";
+    return;
+  }
+  Workspace ws(m);
+  std::vector<double> power(r.t.size());
+  for (size_t s = 0; s < r.t.size(); ++s) {
+    formKinematics(m, r.q[s].data(), r.u[s].data(), ws);
+    power[s] = nonConservativePower(m, ws, r.u[s].data());
+  }
+  for (size_t s = 1; s < r.t.size(); ++s) r.dissipated[s] = r.dissipated[s - 1] + 0.5 * (r.t[s] - r.t[s - 1]) * (power[s - 1] + power[s]);
+  r.dissipated_from = "the trapezoid rule over the samples' non-conservative power (its error is second order in the spacing)";
 }
 
 RecordedRun readRecorded(const std::string& name, const std::string& path, const Model& m) {
@@ -377,7 +395,7 @@ RecordedRun readRecorded(const std::string& name, const std::string& path, const
   checkStart(w, m, lineno[0], r.q[0], with_u ? &r.u[0] : nullptr);
   r.speeds = with_u ? "file" : "five-point differences (fourth order in the spacing)";
   if (!with_u) speedsByDifferences(m, r);
-  dissipatedWork(m, r);
+  dissipatedWork(m, h, rows, r);
   return r;
 }
 
@@ -436,7 +454,9 @@ Method addRecordedRun(const std::string& name, const std::string& path, const Mo
   MethodInfo added;  // no factory: nothing runs, its samples are read (runTrajectory)
   added.name = row.run.name.c_str();
   added.summary = summaries.back().c_str();
-  added.tree_only = true;  // its W_diss and checks are a tree's
+  // Not tree_only: a recorded run has no u' to refuse; on a mechanism it is judged by its
+  // samples, its loops measured by our g(q) and G u (recordedTrajectory).
+  added.tree_only = false;
   row.id = addMethod(added);
   return row.id;
 }
@@ -456,6 +476,8 @@ Trajectory recordedTrajectory(const Model& m, const CheckedRunSpec& checked_spec
   run.dt = std::stod(gnum(medianSpacing(r.t), 12));  // 0.01, not 0.009999999999999787 (a difference of sums of 0.01)
   Trajectory tr = makeTrajectory(m, run);
   Workspace ws(m);
+  std::optional<LoopMeter> meter;  // a mechanism's violation at the samples, by our g(q) and G u
+  if (!m.loops.empty()) meter.emplace(m), tr.has_loops = true;
   const long N = outputIntervals(spec.t_end, spec.output_dt);
   const double eps = 1e-9;
   size_t a = 0;
@@ -470,6 +492,7 @@ Trajectory recordedTrajectory(const Model& m, const CheckedRunSpec& checked_spec
     (exact ? taken : interpolated) += 1;
     const Eigen::VectorXd q = lerpQ(m, r.q[a], r.q[b], f), u = (1 - f) * r.u[a] + f * r.u[b];
     const double W = (1 - f) * r.dissipated[a] + f * r.dissipated[b];
+    if (meter) meter->record(q.data(), u.data(), tr.loops);
     if (r.poses.empty()) {
       appendStateSample(tr, m, ws, tg, q.data(), u.data(), W);
       continue;
@@ -494,7 +517,8 @@ nlohmann::json recordedSource(Method method) {
   if (!e) return nullptr;
   const RecordedRun& r = e->run;
   nlohmann::json j = {{"recorded", r.file},   {"sha256", r.sha256}, {"format", r.format}, {"speeds", r.speeds},
-                      {"samples", r.t.size()}, {"grid", e->grid},    {"declared", r.declared}};
+                      {"samples", r.t.size()}, {"grid", e->grid},    {"declared", r.declared},
+                      {"dissipated", r.dissipated_from}};
   if (r.speeds != "file") j["speeds_spacing_effect"] = r.spacing_effect;
   return j;
 }

@@ -34,7 +34,8 @@ struct RecordedRun {
   std::vector<double> t;
   std::vector<Eigen::VectorXd> q, u;          ///< internal order  // (nq), (nu) per sample
   std::vector<std::vector<Pose>> poses;       ///< body poses as logged, internal order (body-poses only)
-  std::vector<double> dissipated;             ///< W_diss by the trapezoid rule over the samples
+  std::vector<double> dissipated;             ///< W_diss: the file's `dissipated` column, else the trapezoid rule over the samples
+  std::string dissipated_from;                ///< which of the two (the report's source.dissipated)
   double max_joint_separation = 0;            ///< body-poses: the largest distance between a joint's two points (m)
   /// Speeds by differences: max |T(5-point u) - T(3-point u)| / max T, the
   /// second-order estimate's error that the spacing puts on the energy figure
