@@ -99,6 +99,10 @@ PlanLine lineAt(const json& v, const std::string& path) {
   }
   if (!v.contains("integrator")) throw InputError(jsonPath(path, "integrator"), "missing");
   line.integrator = integratorAt(v["integrator"], jsonPath(path, "integrator"));
+  // A DAE integrator closes the loops itself: each formulation would be a case file of one identical run (issue 73, item 4).
+  if (!line.formulations.empty() && info(line.integrator).dae)
+    throw InputError(jsonPath(path, "formulations"), std::string("integrator ") + info(line.integrator).name +
+                                                         " closes the loops itself (index 2, docs/theory.md §15): a line under it lists no formulations");
   for (size_t i = 0; i < line.methods.size(); ++i) {
     try {
       requireCompatible(line.methods[i], line.integrator);

@@ -30,9 +30,13 @@ std::vector<std::string> scenesOf(const std::vector<CaseRecord>& rs) {
   return out;
 }
 
-// A line of a diagram: the runs of one method under one integrator on one scene, coarse to fine.
+// A route's name in the tables: the method, and its formulation where the case names one (issue 73,
+// item 4: three formulations under one method were pooled into one row, their order fitted across all).
+std::string routeName(const CaseRecord& r) { return r.formulation.empty() ? r.method : r.method + " " + r.formulation; }
+
+// A line of a diagram: the runs of one route (method and formulation) under one integrator on one scene, coarse to fine.
 struct Line {
-  std::string method, integrator;
+  std::string method, integrator;  // method: routeName
   std::vector<const CaseRecord*> points;
   bool fixed() const { return !points.empty() && points[0]->setting_kind == SettingKind::Dt; }
 };
@@ -41,8 +45,8 @@ std::vector<Line> linesOf(const std::vector<CaseRecord>& rs, const std::string& 
   std::vector<Line> out;
   for (const CaseRecord& r : rs) {
     if (r.scene != scene || r.role != CaseRole::Run) continue;
-    auto it = std::find_if(out.begin(), out.end(), [&](const Line& l) { return l.method == r.method && l.integrator == r.integrator; });
-    if (it == out.end()) it = out.insert(out.end(), Line{r.method, r.integrator, {}});
+    auto it = std::find_if(out.begin(), out.end(), [&](const Line& l) { return l.method == routeName(r) && l.integrator == r.integrator; });
+    if (it == out.end()) it = out.insert(out.end(), Line{routeName(r), r.integrator, {}});
     it->points.push_back(&r);
   }
   for (Line& l : out)
@@ -125,7 +129,7 @@ std::vector<CostColumn> costColumns(const std::vector<CaseRecord>& rs) {
   std::vector<CostColumn> out;
   for (const CaseRecord& r : rs) {
     if (r.role != CaseRole::Run) continue;
-    const std::string label = r.method + " " + r.integrator + " " + gnum(r.setting);
+    const std::string label = routeName(r) + " " + r.integrator + " " + gnum(r.setting);
     auto it = std::find_if(out.begin(), out.end(), [&](const CostColumn& c) { return c.label == label; });
     if (it == out.end()) it = out.insert(out.end(), CostColumn{label, {}});
     it->by_scene[r.scene] = &r;
@@ -187,7 +191,7 @@ std::string runsTable(const std::vector<CaseRecord>& rs) {
   auto when = [](const std::optional<double>& t) { return t ? gnum(*t, 4) : std::string("-"); };
   for (const CaseRecord& r : rs) {
     if (r.role != CaseRole::Run) continue;
-    o << "| " << r.scene << " | " << r.method << " | " << r.integrator << " | " << gnum(r.setting) << " | "
+    o << "| " << r.scene << " | " << routeName(r) << " | " << r.integrator << " | " << gnum(r.setting) << " | "
       << (r.status == Outcome::Ok ? std::string(outcomeName(r.status)) : std::string(failureName(r.failure_kind)) + " at " + gnum(r.failure_time.value_or(0), 4) + " s") << " | "
       << when(r.pose_beyond[0]) << " | " << when(r.pose_beyond[1]) << " | " << when(r.coord_beyond[1]) << " | " << sci(r.max_pose) << " | "
       << sci(r.max_energy) << " | " << gnum(r.steps ? r.cpuMedian() / r.steps * 1e6 : NAN, 3) << " | "

@@ -360,8 +360,9 @@ def work_precision(rows, out):
         def mark(ax):
             if check:
                 ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
-        small_multiples(rows, scene, "max_pose_error_rad", lambda r: (r["method"], r["integrator"]), "method",
-                        lambda line: line[1], "max pose error, rad", mark,
+        # A line per method, formulation (a mechanism's) and integrator: formulations are never pooled.
+        small_multiples(rows, scene, "max_pose_error_rad", lambda r: (r["method"], r.get("formulation", ""), r["integrator"]),
+                        "method", lambda line: " ".join(x for x in line[1:] if x), "max pose error, rad", mark,
                         "Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
                         "failure); dotted: the reference vs its check" % scene, out, "work-precision-" + scene)
 
@@ -410,7 +411,7 @@ def cost_vs_size(runs, t_end, out):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
     lines = {}
     for r in runs:
-        lines.setdefault((r["method"], r["integrator"], r["setting"]), []).append(r)
+        lines.setdefault((" ".join(x for x in (r["method"], r.get("formulation", "")) if x), r["integrator"], r["setting"]), []).append(r)
     for (method, integ, setting), pts in lines.items():
         pts.sort(key=lambda r: int(r["nu"]))
         n = [int(p["nu"]) for p in pts]

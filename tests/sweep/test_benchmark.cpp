@@ -263,6 +263,24 @@ TEST_CASE("a plan line's formulations name its cases on a mechanism and fold awa
                     Catch::Contains("lines: iftomm_a02_n2.classical.projection.cvode.1e-06: integrator cvode is multistep"));
   CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"eigen"}}, {"integrator", "ida"}, {"tolerance", {1e-6}}})),
                     Catch::Contains("lines: iftomm_a02_n2.eigen.ida.1e-06: integrator ida integrates the formation's A and B itself"));
+  // Issue 73, item 4: IDA under two formulations wrote two case files of one identical run.
+  CHECK_THROWS_WITH(loadPlan(plan({{"methods", {"classical"}}, {"formulations", {"projection", "udwadia-kalaba"}}, {"integrator", "ida"},
+                                   {"tolerance", {1e-6}}})),
+                    Catch::Contains("lines[0].formulations: integrator ida closes the loops itself"));
+  // ... and a work-precision row pooled three formulations under one method: each is its own row now.
+  {
+    const Plan wp = loadPlan(plan({{"methods", {"classical"}}, {"formulations", {"projection", "udwadia-kalaba"}}, {"integrator", "rk4"},
+                                   {"dt", {1e-3, 5e-4}}},
+                                  {"work-precision", "runs"}));
+    std::vector<CaseRecord> rs = {run("classical", "projection", "rk4", 1e-3, 1e-3, 0.1), run("classical", "projection", "rk4", 5e-4, 1e-4, 0.2),
+                                  run("classical", "udwadia-kalaba", "rk4", 1e-3, 5e-2, 0.1),
+                                  run("classical", "udwadia-kalaba", "rk4", 5e-4, 4e-2, 0.2)};
+    for (CaseRecord& r : rs) r.max_pose = *r.benchmark_error;
+    const std::string md = sweepTables(wp, rs);
+    CHECK(lineOf(md, "| classical projection | rk4 | 2 / 2 |").find("1.00e-04") != std::string::npos);
+    CHECK(lineOf(md, "| classical udwadia-kalaba | rk4 | 2 / 2 |").find("4.00e-02") != std::string::npos);
+    CHECK(lineOf(md, "| s | classical udwadia-kalaba | rk4 | 0.0005 |") != "");
+  }
   // The benchmark table needs the scenes' benchmark steps on the plan's grid: A01 measures every 1 s, 0.05 divides it.
   CHECK_NOTHROW(loadPlan(plan({{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-3}}}, {"benchmark"})));
   const std::string bad = plan({{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-3}}}, {"benchmark"});
