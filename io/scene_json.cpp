@@ -114,10 +114,19 @@ JointType jointType(const json& v, const std::string& path) {
 }
 
 // k or c: one number for every coordinate, or one per coordinate; >= 0.
+// |x| within kMaxForceCoefficient (a stiffness, a damping, a torque).
+double forceCoefficient(double x, const std::string& path) {
+  if (std::abs(x) > kMaxForceCoefficient)
+    throw Err(path, gnum(x) + " beyond +-" + gnum(kMaxForceCoefficient) + " (SI), the bound of a stiffness, damping or torque");
+  return x;
+}
+
 Eigen::VectorXd perCoordinate(const json& v, const std::string& path, int nu) {
   Eigen::VectorXd x = v.is_array() ? numbers(v, path, nu) : Eigen::VectorXd::Constant(nu, numberAt(v, path));
-  for (int i = 0; i < nu; ++i)
+  for (int i = 0; i < nu; ++i) {
     if (x[i] < 0) throw Err(v.is_array() ? at(path, i) : path, "must be >= 0");
+    forceCoefficient(x[i], v.is_array() ? at(path, i) : path);
+  }
   return x;
 }
 
@@ -190,6 +199,7 @@ Joint joint(const json& v, const std::string& path) {
   if (v.contains("torque")) {  // a drive: one number for every speed, or one per speed
     const json& t = v["torque"];
     j.torque = t.is_array() ? numbers(t, at(path, "torque"), nu) : Eigen::VectorXd::Constant(nu, numberAt(t, at(path, "torque")));
+    for (int i = 0; i < nu; ++i) forceCoefficient(j.torque[i], t.is_array() ? at(at(path, "torque"), i) : at(path, "torque"));
   }
   return j;
 }
@@ -243,8 +253,10 @@ ForceSpec force(const json& v, const std::string& path) {
   readEnds(v, path, f.body_a, f.point_a, f.body_b, f.point_b);
   f.k = numberAt(requireKey(v, path, "k"), at(path, "k"));
   if (!(f.k >= 0)) throw Err(at(path, "k"), "must be >= 0");
+  forceCoefficient(f.k, at(path, "k"));
   f.c = v.contains("c") ? numberAt(v["c"], at(path, "c")) : 0.0;
   if (!(f.c >= 0)) throw Err(at(path, "c"), "must be >= 0");
+  forceCoefficient(f.c, at(path, "c"));
   f.length = numberAt(requireKey(v, path, "length"), at(path, "length"));
   if (!(f.length > 0)) throw Err(at(path, "length"), "a rest length must be > 0");
   if (f.length > kMaxDisplacement) throw Err(at(path, "length"), gnum(f.length) + " m beyond " + gnum(kMaxDisplacement) + " m");

@@ -19,6 +19,11 @@ namespace em {
 /// narrow enough that products of masses, levers and inertias stay normal
 /// doubles (a 5e-324 kg body made Simbody throw; 1e308 kg overflows).
 inline constexpr double kMassMin = 1e-12, kMassMax = 1e12;
+/// The largest spring stiffness, damping coefficient or drive torque a scene
+/// may state (SI: N/m or N m/rad, N s/m or N m s/rad, N or N m), as kMassMax
+/// bounds a mass: beyond it a number is no physical one (issue 73, item 11: a k
+/// or a torque of 1e300 hung Simbody past 300 s and printed E(0) in 300 digits).
+inline constexpr double kMaxForceCoefficient = 1e12;
 inline constexpr double kInertiaMin = 1e-24, kInertiaMax = 1e24;
 /// Bound of |gravity| (m/s^2): a thousand times Earth's, beyond any vehicle
 /// or robot; 1e308 made E(0) a 300-digit number and m g l overflow.

@@ -2,7 +2,9 @@
 
 #include "reference/engine.hpp"
 #include "solver/mechanism/loops.hpp"
+#include "solver/text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <stdexcept>
@@ -381,6 +383,14 @@ void SimbodySystem::Impl::sample(Trajectory& tr, double t, const State& s) {
   }
 }
 
+namespace {
+// A step that collapsed (Trajectory's StepUnderflow), apart from the engine's own errors.
+struct StepUnderflowError : std::runtime_error {
+  explicit StepUnderflowError(double step) : std::runtime_error("step underflow"), h(step) {}
+  double h;
+};
+}  // namespace
+
 Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserver& observe) {
   const RunSpec& spec = run;
   const long n_out = outputIntervals(spec.t_end, spec.output_dt);
@@ -403,11 +413,20 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
       while (integ->getTime() < t_out * (1 - 1e-14)) {
         const SimTK::Integrator::SuccessfulStepStatus st = integ->stepTo(t_out);
         if (st == SimTK::Integrator::EndOfSimulation) throw std::runtime_error("integrator ended the simulation early");
+        // The budgets every run keeps (issue 73, item 11: CPodes at tol 1e-12 on a flat
+        // parallelogram ran past 60 s): the steps of MethodOptions::max_steps, and a step
+        // no longer than 1e-14 of the time, the in-house adaptive runs' underflow.
+        if (static_cast<double>(integ->getNumStepsTaken()) > spec.options.max_steps)
+          throw std::runtime_error("more than " + gnum(spec.options.max_steps) + " steps (the step budget; a plan's max_steps raises it)");
+        if (const double h = integ->getPreviousStepSizeTaken(); integ->getNumStepsTaken() > 0 && h < 1e-14 * std::max(1.0, integ->getTime()))
+          throw StepUnderflowError(h);
       }
       cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
       I.sample(tr, t_out, integ->getState());
       if (observe) observe(t_out);
     }
+  } catch (const StepUnderflowError& e) {
+    markFailed(tr, integ->getTime(), Failure::StepUnderflow, "Simbody's step fell to " + gnum(e.h, 3) + " s");
   } catch (const std::exception& e) {
     markFailed(tr, integ->getTime(), Failure::Engine, "Simbody: " + oneLine(e.what()));
   }
