@@ -270,6 +270,10 @@ void addRunOptions(CLI::App* cmd, RunArgs& g, const std::string& output_dt_help)
                   "(docs/theory.md (M13)); with --formulation augmented-lagrangian only")
       ->check(finiteRange(1.0, 1e10))
       ->capture_default_str();
+  addProgressFlags(cmd);
+}
+
+void addProgressFlags(CLI::App* cmd) {
   auto* on = cmd->add_flag_callback("--progress", [] { setProgressMode(ProgressMode::On); },
                                     "Show the progress of runs longer than 2 s even when stderr is not a terminal");
   auto* off = cmd->add_flag_callback("--no-progress", [] { setProgressMode(ProgressMode::Off); },

@@ -37,6 +37,8 @@ void addBenchmark(CLI::App& app);
 int sweepPlan(const Plan& plan, const std::string& plan_path, const std::string& dir, int jobs, bool list);
 /// Refuse what a sweep writes into `dir` (each case's result and CSV, the merged files) where it is one of
 /// its inputs (the plan, its scenes): a plan or scene kept in the results folder under a case's name.
+/// --progress and --no-progress (compare/progress.hpp), excluding each other.
+void addProgressFlags(CLI::App* cmd);
 void refuseSweepOverInputs(const Plan& plan, const std::string& plan_path, const std::string& dir);
 /// Refuse a path with a line break where --list prints it (each case's command must stay one line).
 void refuseLineBreaks(const std::vector<std::pair<const char*, std::string>>& paths);

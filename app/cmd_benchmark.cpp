@@ -138,9 +138,19 @@ int runBenchmark(BenchArgs& a) {
     const BenchmarkSpec& b = *p.scene.benchmark;
     if (a.t_end > b.t_end * (1 + 1e-12))
       throw std::invalid_argument("--t-end: " + gnum(a.t_end) + " s beyond problem " + b.problem + "'s horizon " + gnum(b.t_end) + " s");
-    json plan = templatePlan(tmpl, p.file, {}, "benchmark-" + p.stem,
-                             "Problem " + b.problem + " (" + fs::path(p.file).filename().string() + ") by every route of " +
-                                 fs::path(a.plan).filename().string() + ", written by `eigenmass benchmark`.");
+    // The horizon the user gave must hold whole output steps of the problem (issue 73, item 14: the
+    // message blamed the template plan, which the user never gave).
+    if (const double steps = a.t_end / b.outputStep(); a.t_end > 0 && std::abs(steps - std::round(steps)) > 1e-9 * steps)
+      throw std::invalid_argument("--t-end: " + gnum(a.t_end) + " s is not a whole number of problem " + b.problem + "'s output steps (" +
+                                  gnum(b.outputStep()) + " s)");
+    json plan;
+    try {
+      plan = templatePlan(tmpl, p.file, {}, "benchmark-" + p.stem,
+                          "Problem " + b.problem + " (" + fs::path(p.file).filename().string() + ") by every route of " +
+                              fs::path(a.plan).filename().string() + ", written by `eigenmass benchmark`.");
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("--plan " + a.plan + ": " + e.what());
+    }
     plan["t_end"] = a.t_end > 0 ? a.t_end : b.t_end;
     plan["output_dt"] = b.outputStep();
     fitSteps(plan, b);

@@ -46,9 +46,14 @@ int runStudy(StudyArgs& a) {
   const std::string name = "engine-study-" + stem;
   const std::string dir = a.results.empty() ? "results/" + name : a.results;
   if (a.list) refuseLineBreaks({{"--results", dir}});
-  json study = templatePlan(tmpl, a.scene.path, a.scene.urdf, name,
-                            "Every engine and in-house route of " + fs::path(a.plan).filename().string() + " on " +
-                                fs::path(a.scene.path).filename().string() + ", written by `eigenmass engine-study`.");
+  json study;
+  try {
+    study = templatePlan(tmpl, a.scene.path, a.scene.urdf, name,
+                         "Every engine and in-house route of " + fs::path(a.plan).filename().string() + " on " +
+                             fs::path(a.scene.path).filename().string() + ", written by `eigenmass engine-study`.");
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("--plan " + a.plan + ": " + e.what());
+  }
   if (a.t_end > 0) study["t_end"] = a.t_end;
   const std::string path = writeTemplatePlan(study, dir, "--plan " + a.plan + " (the study's plan made from it)", "--results");
   const Plan plan = loadPlan(path);

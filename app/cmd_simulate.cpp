@@ -27,7 +27,8 @@ void printSummary(const Trajectory& tr, const std::string& path) {
   std::printf("%s %s/%s: status %s, %s = %.6g s, %ld steps, %ld rhs evaluations, %.3f s CPU\n", tr.scene.c_str(),
               tr.method().c_str(), tr.integrator().c_str(), outcomeName(tr.status()), ended.c_str(), tr.t.back(), tr.steps,
               tr.rhs_evals, tr.run_time_s);
-  std::printf("energy: E(0) = %.12f J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
+  // %.12g, not %.12f: E(0) of 1e300 J (a spring's k of 1e300) printed 300 digits (issue 73, item 14).
+  std::printf("energy: E(0) = %.12g J, max |E(t) + W_diss(t) - E(0)| = %.3e J (relative to %s J: %.3e)", tr.energy[0],
               drift, gnum(energyScale(tr)).c_str(), drift / energyScale(tr));
   if (!tr.dissipated.empty() && tr.dissipated.back() != 0) std::printf(", dissipated W_diss = %.6g J", tr.dissipated.back());
   if (std::isfinite(tr.max_joint_separation))  // a maximal-coordinate engine's (ODE's) joints, loops included

@@ -20,10 +20,17 @@ void addTemplatePlanOptions(CLI::App* cmd, TemplatePlanArgs& a, const TemplatePl
   CLI::Option* jobs = cmd->add_option("-j,--jobs", a.jobs, "Worker processes; default: every core (not with --list: it runs "
                                                            "none)")->check(CLI::Range(1, 1024));
   jobs->excludes(cmd->add_flag("--list", a.list, help.list));
+  addProgressFlags(cmd);  // issue 73, item 14: benchmark refused --no-progress
 }
 
 json templatePlan(const json& tmpl, const std::string& scene_path, const UrdfOptions& urdf, const std::string& name,
                   const std::string& description) {
+  // A template is a plan: an object whose routes are its "lines" (issue 73, item 14: a scene or an
+  // array given as --plan printed a raw json.exception).
+  if (!tmpl.is_object()) throw std::invalid_argument("expected a plan: an object with \"format\": \"eigenmass-plan/1\" (docs/sweep.md)");
+  if (tmpl.value("format", json()) == "eigenmass-scene/1") throw std::invalid_argument("a scene, not a plan (eigenmass-plan/1, docs/sweep.md)");
+  if (tmpl.value("format", json()) != "eigenmass-plan/1") throw std::invalid_argument("format: expected \"eigenmass-plan/1\"");
+  if (!tmpl.contains("lines") || !tmpl["lines"].is_array()) throw std::invalid_argument("lines: missing or not a list (the template's routes)");
   json p = tmpl;
   json scene = {{"file", fs::absolute(scene_path).lexically_normal().string()}};
   if (urdf.balance_inertia) scene["balance_inertia"] = true;

@@ -160,7 +160,9 @@ void measure(CaseRecord& rec, const Model& model, const Trajectory& run, const T
   // reference and its check included), else against the reference run.
   if (benchmark && (benchmark->hasSolution() || ref)) {
     const BenchmarkError b = benchmark->hasSolution() ? solutionError(*benchmark, run) : benchmarkError(*benchmark, run, *ref);
-    rec.benchmark_error = b.max_abs, rec.benchmark_error_t = b.at_t;
+    // A run that failed before its first output step measured nothing: no error, not 0 (issue 73, item 14:
+    // such runs were listed at error 0 and drawn at 1e-16).
+    if (b.steps > 0) rec.benchmark_error = b.max_abs, rec.benchmark_error_t = b.at_t;
   }
   if (!ref) return;
   for (size_t i = 0; i < kCaseThresholds.size(); ++i) rec.pose_beyond[i] = m.divergence_time_s[i];
@@ -304,7 +306,7 @@ class SweepProgress {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     const double left = elapsed / static_cast<double>(done_ - start_done_) * static_cast<double>(total_ - done_);
     const bool quiet = elapsed < kProgressAfterS || elapsed - last_line_ < kProgressLineS;
-    if (what.empty() && quiet && done_ < total_) return;
+    if (what.empty() && ((quiet && done_ < total_) || progressMode() == ProgressMode::Off)) return;  // --no-progress: failures only
     last_line_ = elapsed;
     std::fprintf(stderr, "sweep: %zu / %zu cases, elapsed %.0f s, ETA %.0f s%s%s\n", done_, total_, elapsed, left,
                  what.empty() ? "" : ": ", what.c_str());

@@ -1,6 +1,8 @@
 // An assembled start (docs/theory.md §15, eqs. (M8), (M9)).
 #include "solver/mechanism/assembly.hpp"
 
+#include <algorithm>
+
 #include "solver/formation.hpp"
 #include "solver/mechanism/projection.hpp"
 
@@ -14,7 +16,9 @@ Assembly assembleStart(const Model& m, double tol, int iterations) {
   formKinematics(m, q.data(), u.data(), ws);
   LoopState before(m);
   formLoops(m, ws, u.data(), before);
-  a.gap = before.g.size() ? before.g.cwiseAbs().maxCoeff() : 0.0;
+  // The turn counts too: a hinge whose axes are opposed has g = 0 on its direction rows and is
+  // pi rad open (issue 73, item 14: the message said "gap 1.11e-16").
+  a.gap = std::max({before.g.size() ? before.g.cwiseAbs().maxCoeff() : 0.0, before.position_m, before.position_rad});
   LoopProjector project(m);
   const LoopProjector::Result r = project.positions(m, ws, q.data(), u.data(), tol, iterations);
   a.iterations = r.iterations;

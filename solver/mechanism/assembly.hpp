@@ -9,7 +9,7 @@ namespace em {
 /// What assembling a start did: the gaps it found, how far it moved q0 and
 /// u0, and the assembled state.
 struct Assembly {
-  double gap = 0, velocity_gap = 0;  ///< max |g| (m or rad) and max |G u| (m/s or rad/s) before
+  double gap = 0, velocity_gap = 0;  ///< max of |g| and the loops' turns (m or rad), and max |G u| (m/s or rad/s), before
   double moved_q = 0, moved_u = 0;   ///< max |q - q0| (rad or m; quaternion parts), max |u - u0|
   int iterations = 0;                ///< Gauss-Newton steps
   bool converged = false;            ///< max |g| <= tol reached (else q and u are the model's own)

@@ -360,6 +360,13 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
        "--method: x not in {classical,"},
       {"compare " + s + " --methods classical,x", "(a plugin's or a recorded run's method is named by --plugin NAME=lib.so or --run"},
       {"", "Usage: eigenmass"},
+      // Issue 73, item 14: a horizon not on the problem's output steps blamed --plan, which was never given;
+      // a scene or a list given as the template printed a raw json.exception.
+      {"benchmark A04 --t-end 0.333 --results " + std::string(EM_BINARY_DIR) + "/cli_bench_x",
+       "--t-end: 0.333 s is not a whole number of problem A04's output steps (0.01 s)"},
+      {"benchmark A03 --plan " + scene("mechanisms/andrews.json") + " --results " + std::string(EM_BINARY_DIR) + "/cli_bench_x",
+       "--plan " + scene("mechanisms/andrews.json") + ": a scene, not a plan"},
+      {"engine-study " + s + " --plan " + em::test::sourcePath("data/tolerances.json"), "/data/tolerances.json: format: expected \"eigenmass-plan/1\""},
   };
   for (const auto& [args, phrase] : cases) {
     const Run r = eigenmass(args, true);
@@ -369,6 +376,34 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
     CHECK(r.out.find("running") == std::string::npos);  // refused before any run
     if (!args.empty()) CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
   }
+}
+
+TEST_CASE("messages of issue 73, item 14: E(0) at any scale in a line, benchmark takes --no-progress, an array is no plan", "[cli][hostile]") {
+  const std::string dir = std::string(EM_BINARY_DIR) + "/cli_item14";
+  std::filesystem::create_directories(dir);
+  // A spring of k = 1e300 printed E(0) in 300 digits and hung Simbody (item 11): refused at read now,
+  // beyond 1e12 (SI); at the bound, E(0) = 5e19 J prints in 12 significant digits, not 33 characters.
+  auto cart = nlohmann::json::parse(std::ifstream(scene("cartpole.json")));
+  cart["bodies"][0]["joint"]["spring"]["k"] = 1e300;
+  std::ofstream(dir + "/huge.json") << cart.dump();
+  const Run huge = eigenmass("simulate " + dir + "/huge.json --t-end 0.01 --out " + dir + "/huge.csv", true);
+  CHECK(huge.status == 2);
+  CHECK(huge.out.find("bodies[0].joint.spring.k: 1e+300 beyond +-1e+12 (SI), the bound of a stiffness, damping or torque") != std::string::npos);
+  cart["bodies"][0]["joint"]["spring"]["k"] = 1e12;
+  cart["bodies"][0]["joint"]["q0"] = {1e4};
+  std::ofstream(dir + "/stiff.json") << cart.dump();
+  const Run r = eigenmass("simulate " + dir + "/stiff.json --t-end 0.01 --dt 1e-4 --out " + dir + "/stiff.csv --no-progress", true);
+  const size_t at = r.out.find("energy: E(0) = ");
+  REQUIRE(at != std::string::npos);
+  const size_t from = at + std::string("energy: E(0) = ").size();
+  CHECK(r.out.find(" J,", from) - from <= 18);  // "5e+19" or "5.00000000001e+19", not 50000000000000000000.000000000000
+  std::ofstream(dir + "/array.json") << "[1, 2]";
+  const Run arr = eigenmass("benchmark A03 --plan " + dir + "/array.json --results " + dir + "/b", true);
+  CHECK(arr.status == 2);
+  CHECK(arr.out.find("--plan " + dir + "/array.json: expected a plan: an object") != std::string::npos);
+  CHECK(arr.out.find("json.exception") == std::string::npos);
+  const Run listed = eigenmass("benchmark A03 --no-progress --list --results " + dir + "/b", true);
+  CHECK(listed.status == 0);
 }
 
 TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming the file", "[cli][hostile]") {
