@@ -126,6 +126,15 @@ TEST_CASE("assemble: an open start refused, then assembled and said how far, and
   CHECK(meta["scene_source"]["assembly"]["gap_before"].get<double>() > 5e-3);
   CHECK(meta["scene_source"]["assembly"]["max_change_q"].get<double>() > 1e-3);
   CHECK(meta["loops"]["max_position_violation_m"].get<double>() < 1e-12);
+  // A hinge whose axes are written opposed is pi rad open, though its direction rows read 0: the gap says so
+  // (issue 73, item 14: it said "gap 1.11e-16").
+  nlohmann::json door;
+  std::ifstream(std::string(EM_SOURCE_DIR) + "/tests/scenes/mechanisms/door_and_plate.json") >> door;
+  door["loops"][0]["axis_b"] = {-0.6, 0, -0.8};
+  std::ofstream(tempDir() + "/opposed.json") << door.dump();
+  const Run opposed = eigenmass("simulate " + tempDir() + "/opposed.json --t-end 0.1 --out " + tempDir() + "/opposed.csv", true);
+  CHECK(opposed.status == 2);
+  CHECK_THAT(opposed.out, Catch::Contains("did not close the loops from the written start (gap 3.14)"));
   // A tree has nothing to assemble onto.
   const Run tree = eigenmass("simulate " + scene("pendulum5.json") + " --assemble --out " + tempDir() + "/p.csv", true);
   CHECK(tree.status == 2);
