@@ -135,6 +135,19 @@ TEST_CASE("assemble: an open start refused, then assembled and said how far, and
   const Run opposed = eigenmass("simulate " + tempDir() + "/opposed.json --t-end 0.1 --out " + tempDir() + "/opposed.csv", true);
   CHECK(opposed.status == 2);
   CHECK_THAT(opposed.out, Catch::Contains("did not close the loops from the written start (gap 3.14)"));
+  // A copy of a closure (the doubtful list of issue 73: 3000 copies loaded) is refused, naming the first,
+  // as written or with its two ends swapped.
+  nlohmann::json dup;
+  std::ifstream(std::string(EM_SOURCE_DIR) + "/data/scenes/mechanisms/iftomm_a02_n2.json") >> dup;
+  nlohmann::json copy = dup["loops"][1];
+  copy["name"] = "again";
+  std::swap(copy["body_a"], copy["body_b"]);
+  std::swap(copy["point_a"], copy["point_b"]);
+  dup["loops"].push_back(copy);
+  std::ofstream(tempDir() + "/dup.json") << dup.dump();
+  const Run copied = eigenmass("simulate " + tempDir() + "/dup.json --out " + tempDir() + "/dup.csv", true);
+  CHECK(copied.status == 2);
+  CHECK_THAT(copied.out, Catch::Contains("loops[2]: the same closure as loops[1] ('B2'): a copy adds only redundant rows"));
   // A tree has nothing to assemble onto.
   const Run tree = eigenmass("simulate " + scene("pendulum5.json") + " --assemble --out " + tempDir() + "/p.csv", true);
   CHECK(tree.status == 2);
