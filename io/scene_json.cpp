@@ -16,6 +16,15 @@
 
 namespace em {
 
+Assembly assembledStart(const Model& m, const std::string& what) {
+  const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
+  if (!a.converged)
+    throw std::runtime_error("Gauss-Newton did not close the loops from the " + what + " (gap " + gnum(a.gap, 3) + ") in " +
+                             std::to_string(kAssembleIterations) + " steps");
+  return a;
+}
+
+
 namespace {
 
 using json = nlohmann::json;
@@ -448,10 +457,12 @@ void checkMechanismStart(Model& m, bool assemble, Assembly* assembled) {
     throw Err("simulate.assemble", "the scene has no loops to assemble its start onto (or --assemble was given for a tree)");
   if (!m.isMechanism()) return;
   if (assemble) {
-    const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
-    if (!a.converged)
-      throw Err("simulate.assemble", "Gauss-Newton did not close the loops from the written start (gap " + gnum(a.gap, 3) + ") in " +
-                                         std::to_string(kAssembleIterations) + " steps: start nearer an assembled position");
+    Assembly a;
+    try {
+      a = assembledStart(m, "written start");
+    } catch (const std::runtime_error& e) {
+      throw Err("simulate.assemble", std::string(e.what()) + ": start nearer an assembled position");
+    }
     m = withInitialState(std::move(m), a.q, a.u);
     if (assembled) *assembled = a;
   }

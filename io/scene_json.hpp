@@ -92,6 +92,11 @@ inline constexpr double kLoopStartTol = 1e-9;
 /// start): from a start off by ~1e-3 it needs ~4 (quadratic convergence); 50
 /// leaves room for starts off by a degree or more.
 inline constexpr int kAssembleIterations = 50;
+/// m's start assembled onto its loops at the scene's tolerance (kLoopStartTol
+/// / 1000, kAssembleIterations): what --assemble and an ensemble's members
+/// use. Throws std::runtime_error ("... from the <what> (gap g) in 50 steps")
+/// where Gauss-Newton does not close them.
+Assembly assembledStart(const Model& m, const std::string& what);
 
 /// A scene as written: bodies in file order and the run defaults.
 struct SceneSpec {

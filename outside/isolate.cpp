@@ -1,7 +1,6 @@
 #include "outside/isolate.hpp"
 
 #include <poll.h>
-#include <sys/prctl.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
@@ -13,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "io/atomic_file.hpp"
 #include "solver/text.hpp"
 
 namespace em {
@@ -42,7 +42,7 @@ void writeAll(int fd, const std::string& s) {
 // It dies with its parent (SIGKILL when the parent exits by any path: a
 // signal's handler, a crash, SIGKILL), so it never outlives it; init reaps it.
 [[noreturn]] void child(const std::function<std::string()>& work, int fd, Beat* beat, pid_t parent) {
-  if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(5);  // the parent already gone: before prctl took
+  if (!dieWithParent(parent, SIGKILL)) _exit(5);  // the parent already gone: before prctl took
   // The parent's handlers are the parent's: its cleanup, and a sanitizer's
   // report, which would turn a plugin's crash into an exit status.
   for (int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(sig, SIG_DFL);

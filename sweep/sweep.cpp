@@ -196,10 +196,12 @@ Model caseModel(const Plan& plan, const SweepCase& c, const Scene& scene, std::o
   if (!plan.ensemble || c.member == 0) return m;
   m = ensembleMember(m, *plan.ensemble, c.member);
   if (m.loops.empty()) return m;
-  const Assembly a = assembleStart(m, kLoopStartTol * 1e-3, kAssembleIterations);
-  if (!a.converged)
-    throw std::runtime_error(c.name + ": Gauss-Newton did not close the member's loops from its drawn start (gap " + gnum(a.gap, 3) +
-                             ") in " + std::to_string(kAssembleIterations) + " steps: a smaller ensemble.perturb.q keeps members nearer");
+  Assembly a;
+  try {
+    a = assembledStart(m, "member's drawn start");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(c.name + ": " + e.what() + ": a smaller ensemble.perturb.q keeps members nearer");
+  }
   if (assembled) *assembled = a;
   return withInitialState(std::move(m), a.q, a.u);
 }
