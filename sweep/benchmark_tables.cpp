@@ -27,9 +27,11 @@ bool reached(const CaseRecord& r, double level) {
 
 // A route: one method (and formulation) under one scheme, its runs coarse to fine.
 struct BRoute {
-  std::string owner, method, formulation, integrator;
+  std::string owner, method, formulation, integrator, tuning;
   std::vector<const CaseRecord*> runs;
-  std::string name() const { return method + (formulation.empty() ? "" : " " + formulation) + " " + integrator; }
+  std::string name() const {
+    return method + (formulation.empty() ? "" : " " + formulation) + " " + integrator + (tuning.empty() ? "" : " [" + tuning + "]");
+  }
   // The first run finer than runs[i] that did not complete within `level`, or nullptr:
   // a route whose error leaves the level as its setting tightens does not converge
   // there, and its coarser run's "within" is an accident of the setting (issue 76,
@@ -53,9 +55,9 @@ std::vector<BRoute> routesOf(const std::vector<CaseRecord>& rs, const std::strin
   for (const CaseRecord& r : rs) {
     if (r.scene != scene || r.role != CaseRole::Run) continue;
     auto it = std::find_if(out.begin(), out.end(), [&](const BRoute& x) {
-      return x.method == r.method && x.formulation == r.formulation && x.integrator == r.integrator;
+      return x.method == r.method && x.formulation == r.formulation && x.integrator == r.integrator && x.tuning == r.tuning;
     });
-    if (it == out.end()) it = out.insert(out.end(), BRoute{ownerOf(r), r.method, r.formulation, r.integrator, {}});
+    if (it == out.end()) it = out.insert(out.end(), BRoute{ownerOf(r), r.method, r.formulation, r.integrator, r.tuning, {}});
     it->runs.push_back(&r);
   }
   for (BRoute& x : out)

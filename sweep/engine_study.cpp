@@ -44,8 +44,9 @@ bool sameRun(const CaseRecord& a, const CaseRecord& b) {
 
 // A route: one method under one scheme on one scene, its runs coarse to fine.
 struct Route {
-  std::string owner, method, integrator;
+  std::string owner, method, integrator, tuning;
   std::vector<const CaseRecord*> runs;
+  std::string label() const { return method + (tuning.empty() ? "" : " [" + tuning + "]"); }
   /// The cheapest run within `accuracy` (CPU per simulated second), if any;
   /// of runs that are one run (sameRun), the loosest setting stands for them,
   /// with its own timing (the others' differ by the machine's noise alone).
@@ -68,8 +69,10 @@ std::vector<Route> routesOf(const std::vector<CaseRecord>& rs, const std::string
   std::vector<Route> out;
   for (const CaseRecord& r : rs) {
     if (r.scene != scene || r.role != CaseRole::Run || r.member != 0) continue;
-    auto it = std::find_if(out.begin(), out.end(), [&](const Route& x) { return x.method == r.method && x.integrator == r.integrator; });
-    if (it == out.end()) it = out.insert(out.end(), Route{routeOwner(r.method), r.method, r.integrator, {}});
+    auto it = std::find_if(out.begin(), out.end(), [&](const Route& x) {
+      return x.method == r.method && x.integrator == r.integrator && x.tuning == r.tuning;
+    });
+    if (it == out.end()) it = out.insert(out.end(), Route{routeOwner(r.method), r.method, r.integrator, r.tuning, {}});
     it->runs.push_back(&r);
   }
   for (Route& x : out)
@@ -183,7 +186,7 @@ std::vector<std::pair<std::string, Fastest>> fastestByOwner(const std::vector<Ro
 std::string routeCell(const Fastest& f, int a, double t_end, const Conditioning& c) {
   if (c.ill[a]) return kIll;
   if (!f.run[a]) return "not reached | -";
-  return f.route[a]->method + " " + f.route[a]->integrator + " " + settingText(*f.run[a]) + " | " +
+  return f.route[a]->label() + " " + f.route[a]->integrator + " " + settingText(*f.run[a]) + " | " +
          sci(perSimulatedSecond(*f.run[a], t_end));
 }
 
@@ -197,7 +200,7 @@ std::string gridBoundLines(const std::vector<Route>& routes, double output_dt) {
       size_t j = i;
       while (j + 1 < x.runs.size() && sameRun(*x.runs[j + 1], first)) ++j;
       if (j == i || (i > 0 && sameRun(*x.runs[i - 1], first))) continue;
-      o << "- " << x.method << " " << x.integrator << ": tolerances " << gnum(first.setting) << " to "
+      o << "- " << x.label() << " " << x.integrator << ": tolerances " << gnum(first.setting) << " to "
         << gnum(x.runs[j]->setting) << " gave one run, step for step (" << first.steps << " steps, "
         << *first.grid_cut_steps << " of them cut short by the " << gnum(output_dt) << "-s output grid): the grid, "
         << "not the tolerance, set its steps, and the table names the loosest.\n";
@@ -242,7 +245,7 @@ std::string routeTable(const std::vector<Route>& routes, double t_end, const Con
   for (const Route& x : routes) {
     int ok = 0;
     for (const CaseRecord* r : x.runs) ok += r->status == Outcome::Ok;
-    o << "| " << x.owner << " | " << x.method << " | " << x.integrator << " | " << ok << " / " << x.runs.size() << " |";
+    o << "| " << x.owner << " | " << x.label() << " | " << x.integrator << " | " << ok << " / " << x.runs.size() << " |";
     for (int k = 0; k < 2; ++k) {
       const double a = kAccuracies[k];
       const CaseRecord* r = x.cheapest(a, t_end);
@@ -289,7 +292,7 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
       // A run that stopped at t = 0 has no sample to measure: dashes, not zeros.
       const bool none = r->status != Outcome::Ok && r->failure_time.value_or(1) <= 0;
       auto cell = [none](double x) { return none ? std::string("-") : sci(x); };
-      o << "| " << r->method << " | " << r->integrator << " | " << settingText(*r) << " | "
+      o << "| " << x.label() << " | " << r->integrator << " | " << settingText(*r) << " | "
         << (r->status == Outcome::Ok ? std::string(outcomeName(r->status)) : std::string(failureName(r->failure_kind)) + " at " + gnum(r->failure_time.value_or(0), 4) + " s") << " | "
         << cell(r->max_pose) << " | " << when(r->pose_beyond[0]) << " | " << when(r->pose_beyond[1]) << " | " << cell(r->max_energy) << " |";
       if (p) o << " " << cell(r->momentum_p.value_or(NAN)) << " |";
@@ -328,7 +331,7 @@ std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<s
         continue;
       }
       const Fastest& f = by_owner[0].second;
-      o << by_owner[0].first << " (" << f.route[a]->method << " " << f.route[a]->integrator << " " << settingText(*f.run[a])
+      o << by_owner[0].first << " (" << f.route[a]->label() << " " << f.route[a]->integrator << " " << settingText(*f.run[a])
         << ", " << sci(perSimulatedSecond(*f.run[a], t_end)) << " CPU s / s)";
       if (by_owner.size() > 1)
         o << "; next " << by_owner[1].first << ", "

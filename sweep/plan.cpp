@@ -24,6 +24,24 @@ namespace fs = std::filesystem;
 
 std::string PlanScene::stem() const { return fs::path(file).stem().string(); }
 
+std::string Tuning::label() const {
+  std::string out;
+  for (const auto& [key, value] : values) out += (out.empty() ? "" : " ") + key + "=" + gnum(value);
+  return out;
+}
+
+std::string Tuning::tag() const {
+  std::string out;
+  for (const auto& [key, value] : values) out += (out.empty() ? "" : ".") + key + "-" + gnum(value);
+  return out;
+}
+
+void Tuning::applyTo(MethodOptions& o) const {
+  for (const auto& [key, value] : values)
+    if (key == kPenaltyRatioKey) o.loops.penalty_ratio = value;
+    else o.params[key] = value;
+}
+
 namespace {
 
 struct TableRow {
@@ -71,8 +89,57 @@ RunSpec runAt(const json& v, const std::string& path) {
   return s;
 }
 
+double methodParamAt(const MethodParam& m, const json& v, const std::string& path);
+bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t);
+
+// A line's "tuning": a list of sets, each an object of option keys its
+// methods read (a row's params) or "al_penalty_ratio" where the line lists
+// the augmented Lagrangian; every set once, none empty.
+std::vector<Tuning> tuningsAt(const json& v, const std::string& path, const PlanLine& line) {
+  const json sets = nonEmptyArrayAt(v, path);
+  std::vector<Tuning> out;
+  const bool al = std::find(line.formulations.begin(), line.formulations.end(), Formulation::AugmentedLagrangian) != line.formulations.end();
+  for (size_t i = 0; i < sets.size(); ++i) {
+    const std::string at = jsonPath(path, i);
+    if (!sets[i].is_object() || sets[i].empty()) throw InputError(at, "expected an object of option values, at least one");
+    Tuning t;
+    for (const auto& [key, value] : sets[i].items()) {
+      const std::string kpath = jsonPath(at, key);
+      if (key == kPenaltyRatioKey) {
+        if (!al) throw InputError(kpath, "read by the formulation augmented-lagrangian only, which this line does not list");
+        const double x = positiveAt(value, kpath);
+        if (!(x >= 1 && x <= 1e10)) throw InputError(kpath, "must be in [1, 1e10], got " + gnum(x));
+        t.values.emplace_back(key, x);
+        continue;
+      }
+      const MethodParam* param = nullptr;
+      for (Method m : line.methods)
+        for (const MethodParam& p : info(m).params)
+          if (key == p.name) param = &p;
+      if (!param) {
+        std::vector<std::string> known;
+        for (Method m : line.methods)
+          for (const MethodParam& p : info(m).params) known.emplace_back(p.name);
+        if (al) known.emplace_back(kPenaltyRatioKey);
+        throw InputError(kpath, "not an option of this line's methods (" + (known.empty() ? std::string("they have none") : joined(known)) + ")");
+      }
+      t.values.emplace_back(key, methodParamAt(*param, value, kpath));
+    }
+    bool read = false;  // by one method whole: a set split over two would run untuned on both
+    for (Method m : line.methods) {
+      if (al) read = read || readsTuning(m, Formulation::AugmentedLagrangian, t);
+      read = read || readsTuning(m, std::nullopt, t);
+    }
+    if (!read) throw InputError(at, "no method of this line reads all of its options: one set per method's options");
+    for (const Tuning& u : out)
+      if (u.label() == t.label()) throw InputError(at, "the same set twice");
+    out.push_back(t);
+  }
+  return out;
+}
+
 PlanLine lineAt(const json& v, const std::string& path) {
-  onlyKeys(v, path, {"methods", "formulations", "integrator", "dt", "tolerance"});
+  onlyKeys(v, path, {"methods", "formulations", "integrator", "dt", "tolerance", "tuning"});
   PlanLine line;
   const std::string mpath = jsonPath(path, "methods");
   const json methods = nonEmptyArrayAt(v.contains("methods") ? v["methods"] : json(), mpath);
@@ -114,6 +181,7 @@ PlanLine lineAt(const json& v, const std::string& path) {
   const std::string spath = jsonPath(path, key);
   const json settings = nonEmptyArrayAt(v.contains(key) ? v[key] : json(), spath);
   for (size_t i = 0; i < settings.size(); ++i) line.settings.push_back(positiveAt(settings[i], jsonPath(spath, i)));
+  if (v.contains("tuning")) line.tunings = tuningsAt(v["tuning"], jsonPath(path, "tuning"), line);
   return line;
 }
 
@@ -275,20 +343,18 @@ std::vector<PlanTable> tablesAt(const json& v) {
   return out;
 }
 
+// A method option's value at `path`, within its row's bounds.
+double methodParamAt(const MethodParam& m, const json& v, const std::string& path) {
+  if (m.whole) return wholeNumberAt(v, path, int(m.min), int(m.max), "a method option");
+  const double x = positiveAt(v, path);
+  if (!(x > m.min && x <= m.max)) throw InputError(path, "must be in (" + gnum(m.min) + ", " + gnum(m.max) + "], got " + gnum(x));
+  return x;
+}
+
 // The methods' own options (the registry rows' params) at their keys.
 void readMethodParams(const json& doc, MethodOptions& options) {
-  for (const MethodParam& m : methodParams()) {
-    if (!doc.contains(m.name)) continue;
-    const json& v = doc[m.name];
-    if (m.whole) {
-      options.params[m.name] = wholeNumberAt(v, m.name, int(m.min), int(m.max), "a method option");
-      continue;
-    }
-    const double x = positiveAt(v, m.name);
-    if (!(x > m.min && x <= m.max))
-      throw InputError(m.name, "must be in (" + gnum(m.min) + ", " + gnum(m.max) + "], got " + gnum(x));
-    options.params[m.name] = x;
-  }
+  for (const MethodParam& m : methodParams())
+    if (doc.contains(m.name)) options.params[m.name] = methodParamAt(m, doc[m.name], m.name);
   for (const MethodParam& m : methodParams())  // an option read only under another's > 0 (refine_tol under refine)
     if (m.read_when && doc.contains(m.name)) {
       const auto it = options.params.find(m.read_when);
@@ -386,6 +452,12 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("max_steps")) p.options.max_steps = positiveAt(doc["max_steps"], "max_steps");
   if (doc.contains("max_samples")) p.options.max_samples = positiveAt(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);
+  for (size_t i = 0; i < p.lines.size(); ++i)  // a top-level value and a line's would each claim the same runs
+    for (size_t k = 0; k < p.lines[i].tunings.size(); ++k)
+      for (const auto& [key, value] : p.lines[i].tunings[k].values)
+        if (doc.contains(key))
+          throw InputError(jsonPath(jsonPath(jsonPath("lines", i), "tuning"), k) + "." + key,
+                           "also set at the plan's top level: set it in one place");
 }
 
 // Every run of the plan on its grid: planCases checks each case's settings
@@ -483,7 +555,7 @@ CheckedRunSpec checkedCase(const RunSpec& spec, CaseRole role, const std::string
 }
 
 SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSpec spec,
-                   std::optional<Formulation> formulation = std::nullopt) {
+                   std::optional<Formulation> formulation = std::nullopt, const Tuning& tuning = {}) {
   const std::string scene_name = p.scenes[scene].stem();
   const std::string stem = p.ensemble ? scene_name + "." + memberTag(p, member) : scene_name;
   spec.t_end = p.t_end;
@@ -496,7 +568,33 @@ SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSp
   if (role == CaseRole::Reference) name = stem + ".reference";
   else if (role == CaseRole::Check) name = stem + ".check";
   else name = stem + "." + route + "." + integratorName(spec.integrator) + "." + gnum(spec.setting());
-  return SweepCase{role, scene, scene_name, member, checkedCase(spec, role, name), name, formulation.has_value()};
+  tuning.applyTo(spec.options);
+  if (!tuning.values.empty()) name += "." + tuning.tag();
+  return SweepCase{role, scene, scene_name, member, checkedCase(spec, role, name), name, formulation.has_value(), tuning.label()};
+}
+
+// Whether method m (under formulation f) reads every value of the set: a
+// line of two engines may tune each apart; a set it does not read is not its run.
+bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t) {
+  for (const auto& [key, value] : t.values) {
+    if (key == kPenaltyRatioKey) {
+      if (!f || *f != Formulation::AugmentedLagrangian) return false;
+      continue;
+    }
+    const std::vector<MethodParam>& params = info(m).params;
+    if (std::none_of(params.begin(), params.end(), [&](const MethodParam& p) { return key == p.name; })) return false;
+  }
+  return true;
+}
+
+// The sets of `line` that method m under f runs: those it reads whole; none
+// (a line of two engines tuning one of them): once at the plan's options.
+std::vector<Tuning> tuningsOf(const PlanLine& line, Method m, const std::optional<Formulation>& f) {
+  std::vector<Tuning> out;
+  for (const Tuning& t : line.tunings)
+    if (readsTuning(m, f, t)) out.push_back(t);
+  if (out.empty()) out.emplace_back();
+  return out;
 }
 
 }  // namespace
@@ -522,13 +620,14 @@ std::vector<SweepCase> planCases(const Plan& p) {
         for (Method m : line.methods)
           for (const std::optional<Formulation>& f : forms)
             if (!p.scenes[s].refusals.count(methodName(m)))  // left out, and said (leftOutLines)
-              for (double setting : line.settings) {
-                RunSpec spec;
-                spec.method = m;
-                spec.integrator = line.integrator;
-                spec.setSetting(setting);
-                cases.push_back(makeCase(p, s, k, CaseRole::Run, spec, f));
-              }
+              for (double setting : line.settings)
+                for (const Tuning& t : tuningsOf(line, m, f)) {
+                  RunSpec spec;
+                  spec.method = m;
+                  spec.integrator = line.integrator;
+                  spec.setSetting(setting);
+                  cases.push_back(makeCase(p, s, k, CaseRole::Run, spec, f, t));
+                }
       }
   for (Method m : p.runs) {  // a recorded run's case, named with the plan's output step (its samples are put on that grid)
     RunSpec spec;
@@ -547,11 +646,13 @@ std::string leftOutLines(const Plan& p) {
     std::vector<std::pair<std::string, std::vector<std::string>>> by_reason;  // (why, methods), in the lines' order
     long cases = 0;
     for (const PlanLine& line : p.lines) {
-      const size_t forms = sc.has_loops && !line.formulations.empty() ? line.formulations.size() : 1;
+      std::vector<std::optional<Formulation>> forms = {std::nullopt};
+      if (sc.has_loops && !line.formulations.empty()) forms.assign(line.formulations.begin(), line.formulations.end());
       for (Method m : line.methods) {
         const auto it = sc.refusals.find(methodName(m));
         if (it == sc.refusals.end()) continue;
-        cases += static_cast<long>(forms * line.settings.size()) * members;
+        for (const std::optional<Formulation>& f : forms)
+          cases += static_cast<long>(tuningsOf(line, m, f).size() * line.settings.size()) * members;
         auto same = std::find_if(by_reason.begin(), by_reason.end(), [&](const auto& r) { return r.first == it->second; });
         if (same == by_reason.end()) by_reason.push_back({it->second, {}}), same = by_reason.end() - 1;
         if (std::find(same->second.begin(), same->second.end(), it->first) == same->second.end()) same->second.push_back(it->first);

@@ -16,6 +16,22 @@
 
 namespace em {
 
+/// One of a line's "tuning" sets: values of its methods' own options (the
+/// registry rows' params, the plan's top-level keys) and of the augmented
+/// Lagrangian's "al_penalty_ratio". Each set is a route of its own, named by
+/// it, so that every owner runs at its best settings beside its defaults
+/// (issue 76: MuJoCo's solref, ODE's ERP and CFM, ...).
+struct Tuning {
+  std::vector<std::pair<std::string, double>> values;  ///< key and value, in the keys' order
+  /// "mujoco_solref_damping=1 mujoco_solref_time=0.005" ("" for none): the route's name and the records' (no comma: a CSV cell).
+  std::string label() const;
+  /// The case name's part: "mujoco_solref_damping-1.mujoco_solref_time-0.005".
+  std::string tag() const;
+  void applyTo(MethodOptions& o) const;
+};
+/// The tuning key of the augmented Lagrangian's penalty ratio (LoopOptions::penalty_ratio).
+constexpr const char* kPenaltyRatioKey = "al_penalty_ratio";
+
 /// One line of a plan: these methods under one integrator at each setting.
 struct PlanLine {
   std::vector<Method> methods;
@@ -24,6 +40,8 @@ struct PlanLine {
   std::vector<Formulation> formulations;
   Integrator integrator = Integrator::RK4;
   std::vector<double> settings;  ///< dt (fixed-step integrators) or tolerances
+  /// "tuning": each method at each setting once per set (empty: once, at the plan's options).
+  std::vector<Tuning> tunings;
 };
 
 /// The tables a plan's merged results carry (docs/sweep.md).
@@ -98,6 +116,7 @@ struct SweepCase {
   CheckedRunSpec spec;     ///< on the plan's grid, checked when the case is made (a plan that loaded runs)
   std::string name;        ///< "pendulum5.classical.rk4.1e-2" ("pendulum5.m007.classical..." in an ensemble): result file stem, --case argument
   bool formulation_named = false;  ///< a line's "formulations" on a scene with loops: spec.options.loops.formulation names the case
+  std::string tuning;  ///< its line's tuning set (Tuning::label), applied to spec.options; "" for none
 };
 
 /// Every case of a plan, references and checks first (in scene and member

@@ -46,6 +46,7 @@ json specKey(const RunSpec& s) {
 json runKey(const SweepCase& c) {
   json k = specKey(c.spec);
   if (c.formulation_named) k["formulation"] = formulationName(c.spec->options.loops.formulation);
+  if (!c.tuning.empty()) k["tuning"] = c.tuning;  // absent otherwise: older results stay valid
   return k;
 }
 
@@ -128,6 +129,7 @@ CaseRecord baseRecord(const SweepCase& c, const Scene& scene) {
   rec.nu = scene.model.nu;
   rec.member = c.member;
   if (c.formulation_named) rec.formulation = formulationName(c.spec->options.loops.formulation);
+  rec.tuning = c.tuning;
   return rec;
 }
 

@@ -26,6 +26,7 @@ struct CaseRecord {
   CaseRole role = CaseRole::Run;  ///< written as caseRoleName
   std::string scene, method, integrator;
   std::string formulation;   ///< a line's formulation that names the case (empty: the plan's, or a tree)
+  std::string tuning;        ///< its line's tuning set (Tuning::label; empty: none)
   int member = 0;            ///< ensemble member (0: the scene itself)
   SettingKind setting_kind = SettingKind::Dt;
   double setting = 0;

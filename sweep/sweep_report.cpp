@@ -98,6 +98,7 @@ json caseRecordJson(const CaseRecord& r) {
     j[beyondKey("coord", i)] = orNull(r.coord_beyond[i]);
   }
   if (!r.formulation.empty()) j["formulation"] = r.formulation;  // absent otherwise: older files read the same
+  if (!r.tuning.empty()) j["tuning"] = r.tuning;
   return j;
 }
 
@@ -141,7 +142,8 @@ CaseRecord readCaseRecord(const json& j, const std::string& source) {
     r.momentum_p = optionalFrom(j.value("momentum_drift_p", json()));  // absent in files written before the engine study
     r.momentum_H = optionalFrom(j.value("momentum_drift_H", json()));
     r.joint_separation = optionalFrom(j.value("max_joint_separation_m", json()));
-    r.formulation = j.value("formulation", std::string());  // the keys below are absent in files written before the benchmark
+    r.formulation = j.value("formulation", std::string());
+    r.tuning = j.value("tuning", std::string());  // the keys below are absent in files written before the benchmark
     r.loop_position_m = optionalFrom(j.value("loops_max_position_m", json()));
     r.loop_position_rad = optionalFrom(j.value("loops_max_position_rad", json()));
     r.loop_velocity_m = optionalFrom(j.value("loops_max_velocity_m_per_s", json()));
@@ -181,7 +183,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
   for (const char* what : {"pose", "coord"})
     for (size_t i = 0; i < kCaseThresholds.size(); ++i) o << beyondKey(what, i) << ',';
   o << "steps,rhs_evals,repeats_identical,"
-       "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,formulation,loops_max_position_m,loops_max_position_rad,benchmark_error_m,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
+       "momentum_drift_p,momentum_drift_H,max_joint_separation_m,min_gap,max_abs_Omega,jacobi_sweeps,block_merges,block_splits,formulation,tuning,loops_max_position_m,loops_max_position_rad,benchmark_error_m,cpu_median_s,cpu_min_s,cpu_max_s,cpu_per_rhs_s,cpu_per_step_s\n";
   auto opt = [](const std::optional<double>& x) { return x ? gnum(*x, 17) : std::string(); };
   auto num = [](double x) { return std::isfinite(x) ? gnum(x, 17) : std::string(); };
   for (const CaseRecord& r : records) {
@@ -195,7 +197,7 @@ std::string mergedCsv(const std::vector<CaseRecord>& records, bool with_member) 
       for (const std::optional<double>& t : *times) o << opt(t) << ',';
     o << r.steps << ',' << r.rhs_evals << ','
       << (r.repeats_identical ? "true" : "false") << ',' << opt(r.momentum_p) << ',' << opt(r.momentum_H) << ','
-      << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << r.formulation << ',' << opt(r.loop_position_m) << ','
+      << opt(r.joint_separation) << ',' << eigenCells(r.eigen) << ',' << r.formulation << ',' << r.tuning << ',' << opt(r.loop_position_m) << ','
       << opt(r.loop_position_rad) << ',' << opt(r.benchmark_error) << ',' << num(r.cpuMedian()) << ',' << num(r.cpuMin()) << ','
       << num(r.cpuMax()) << ',' << num(r.rhs_evals ? r.cpuMedian() / r.rhs_evals : NAN) << ','
       << num(r.steps ? r.cpuMedian() / r.steps : NAN) << '\n';

@@ -32,7 +32,10 @@ std::vector<std::string> scenesOf(const std::vector<CaseRecord>& rs) {
 
 // A route's name in the tables: the method, and its formulation where the case names one (issue 73,
 // item 4: three formulations under one method were pooled into one row, their order fitted across all).
-std::string routeName(const CaseRecord& r) { return r.formulation.empty() ? r.method : r.method + " " + r.formulation; }
+// A line's tuning set is a route of its own (issue 76: every owner at its settings).
+std::string routeName(const CaseRecord& r) {
+  return r.method + (r.formulation.empty() ? "" : " " + r.formulation) + (r.tuning.empty() ? "" : " [" + r.tuning + "]");
+}
 
 // A line of a diagram: the runs of one route (method and formulation) under one integrator on one scene, coarse to fine.
 struct Line {

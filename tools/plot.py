@@ -77,6 +77,11 @@ def marker(integrator):
     return MARKERS.get(integrator, ".")
 
 
+def tuned(r):
+    """A line's tuning set (sweep plans' "tuning"), bracketed, or "" (none; CSVs from before it)."""
+    return "[%s]" % r["tuning"] if r.get("tuning") else ""
+
+
 def num(x):
     if x in ("", None):
         return math.nan
@@ -361,7 +366,7 @@ def work_precision(rows, out):
             if check:
                 ax.axhline(num(check[0]["max_pose_error_rad"]), color="k", ls=":", lw=0.8)
         # A line per method, formulation (a mechanism's) and integrator: formulations are never pooled.
-        small_multiples(rows, scene, "max_pose_error_rad", lambda r: (r["method"], r.get("formulation", ""), r["integrator"]),
+        small_multiples(rows, scene, "max_pose_error_rad", lambda r: (r["method"], r.get("formulation", ""), r["integrator"], tuned(r)),
                         "method", lambda line: " ".join(x for x in line[1:] if x), "max pose error, rad", mark,
                         "Work-precision on %s: a panel per method, grey the others; x a failed run (error up to the "
                         "failure); dotted: the reference vs its check" % scene, out, "work-precision-" + scene)
@@ -397,11 +402,11 @@ def benchmark(rows, results, out):
             ax.axhline(level, color="k", ls="--", lw=0.7)
 
     def label(line):
-        owner, method, formulation, integrator = line
-        return " ".join(x for x in (method if owner == IN_HOUSE_OWNER[0] else "", formulation, integrator) if x)
+        owner, method, formulation, integrator, tuning = line
+        return " ".join(x for x in (method if owner == IN_HOUSE_OWNER[0] else "", formulation, integrator, tuning) if x)
     for scene in dict.fromkeys(r["scene"] for r in rows if r["role"] == "run"):
         small_multiples(rows, scene, "benchmark_error_m",
-                        lambda r: (benchmark_owner(r), r["method"], r["formulation"], r["integrator"]), "owner", label,
+                        lambda r: (benchmark_owner(r), r["method"], r["formulation"], r["integrator"], tuned(r)), "owner", label,
                         "benchmark error, m", mark,
                         "Benchmark %s: error by the problem's measure against CPU time, a panel per owner, grey the "
                         "others; dashed: the precision levels; x a failed run" % scene, out, "benchmark-" + scene)
@@ -411,7 +416,7 @@ def cost_vs_size(runs, t_end, out):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
     lines = {}
     for r in runs:
-        lines.setdefault((" ".join(x for x in (r["method"], r.get("formulation", "")) if x), r["integrator"], r["setting"]), []).append(r)
+        lines.setdefault((" ".join(x for x in (r["method"], r.get("formulation", ""), tuned(r)) if x), r["integrator"], r["setting"]), []).append(r)
     for (method, integ, setting), pts in lines.items():
         pts.sort(key=lambda r: int(r["nu"]))
         n = [int(p["nu"]) for p in pts]

@@ -426,3 +426,93 @@ TEST_CASE("docs/sweep.md's case counts are the shipped plans' own", "[sweep][doc
     CHECK(std::stoul(m[1].str()) == planCases(loadPlan(test::sourcePath("data/plans/" + file))).size());
   }
 }
+
+TEST_CASE("a line's tuning sets are routes of their own: named, applied, recorded, refused where no method reads them",
+          "[sweep][mechanism][cli]") {
+  // Issue 76: every owner at its best settings. A set is one case per method and setting, its options applied
+  // to that run alone; the same method untuned is another route.
+  useEngines();
+  json plan = smallPlan();
+  plan["name"] = "tuned";
+  plan["scenes"] = {test::sourcePath("data/scenes/mechanisms/iftomm_a04.json")};
+  plan["t_end"] = 1;
+  plan["output_dt"] = 0.01;
+  plan["lines"] = {{{"methods", {"mujoco"}}, {"integrator", "rk4"}, {"dt", {1e-3}}},
+                   {{"methods", {"mujoco"}}, {"integrator", "rk4"}, {"dt", {1e-3}},
+                    {"tuning", {{{"mujoco_solref_time", 0.005}}, {{"mujoco_solref_time", 0.1}, {"mujoco_solref_damping", 2}}}}},
+                   {{"methods", {"classical"}}, {"formulations", {"augmented-lagrangian"}}, {"integrator", "trapezoidal"},
+                    {"dt", {1e-2}}, {"tuning", {{{"al_penalty_ratio", 1e6}}}}}};
+  plan["tables"] = {"runs"};
+  {  // a method of the line that reads no set runs once, untuned (classical beside mujoco's sets)
+    json both = plan;
+    both["lines"][1]["methods"] = {"mujoco", "classical"};
+    int untuned = 0;
+    for (const SweepCase& c : planCases(loadPlan(writePlan(both, "both.json"))))
+      if (c.spec->method == Method::Classical && c.spec->integrator == Integrator::RK4) {
+        ++untuned;
+        CHECK((c.tuning.empty() && c.name == "iftomm_a04.classical.rk4.0.001"));
+      }
+    CHECK(untuned == 1);
+  }
+  const Plan p = loadPlan(writePlan(plan, "tuned.json"));
+  std::vector<std::string> names;
+  for (const SweepCase& c : planCases(p))
+    if (c.role == CaseRole::Run) names.push_back(c.name);
+  const std::vector<std::string> expected = {
+      "iftomm_a04.mujoco.rk4.0.001", "iftomm_a04.mujoco.rk4.0.001.mujoco_solref_time-0.005",
+      "iftomm_a04.mujoco.rk4.0.001.mujoco_solref_damping-2.mujoco_solref_time-0.1",  // keys in name order
+      "iftomm_a04.classical.augmented-lagrangian.trapezoidal.0.01.al_penalty_ratio-1e+06"};
+  CHECK(names == expected);
+  for (const SweepCase& c : planCases(p)) {
+    if (c.name == expected[1]) CHECK(c.spec->options.params.at("mujoco_solref_time") == 0.005);
+    if (c.name == expected[2]) CHECK((c.tuning == "mujoco_solref_damping=2 mujoco_solref_time=0.1" && c.spec->options.params.at("mujoco_solref_damping") == 2));
+    if (c.name == expected[0]) CHECK(c.spec->options.params.count("mujoco_solref_time") == 0);
+    if (c.name == expected[3]) CHECK(c.spec->options.loops.penalty_ratio == 1e6);
+  }
+  // Run: the sets reach the engine. MuJoCo's closures are soft: a time constant 20x shorter holds the loops tighter.
+  const std::string dir = kDir + "/tuned";
+  fs::remove_all(dir);
+  REQUIRE(shell(eigenmass() + " sweep " + writePlan(plan, "tuned.json") + " --results " + dir + " -j 1 >/dev/null 2>&1") == 0);
+  std::vector<std::string> missing;
+  const std::vector<CaseRecord> rs = collectRecords(p, dir, missing);
+  REQUIRE(missing.empty());
+  std::map<std::string, const CaseRecord*> by;
+  for (const CaseRecord& r : rs) by[r.name] = &r;
+  REQUIRE((by[expected[0]]->loop_position_m && by[expected[1]]->loop_position_m));
+  INFO("violation at solref 0.02 (default) " << *by[expected[0]]->loop_position_m << ", at 0.005 " << *by[expected[1]]->loop_position_m);
+  CHECK(*by[expected[1]]->loop_position_m < 0.5 * *by[expected[0]]->loop_position_m);
+  CHECK(by[expected[1]]->tuning == "mujoco_solref_time=0.005");
+  CHECK(by[expected[0]]->tuning.empty());
+  const std::string page = readFile(dir + "/tuned.md", "tables");
+  CHECK_THAT(page, Catch::Contains("mujoco [mujoco_solref_time=0.005]"));
+  CHECK(readFile(dir + "/tuned.csv", "merged").find(",mujoco_solref_damping=2 mujoco_solref_time=0.1,") != std::string::npos);
+
+  // Refused in one line, naming the key: an option no method of the line reads, one set split over two
+  // methods (each would run it untuned), the penalty without the augmented Lagrangian, a set twice, a value
+  // out of its row's range, and a key set at the top level too.
+  json bad = plan;
+  bad["lines"][1]["tuning"] = {{{"ode_erp", 0.5}}};
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].ode_erp: not an option of this line's methods (mujoco_solref_time"));
+  bad["lines"][1]["methods"] = {"mujoco", "eigen"};
+  bad["lines"][1]["tuning"] = {{{"refine", 1}, {"mujoco_solref_time", 0.005}}};
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0]: no method of this line reads all of its options"));
+  bad = plan;
+  bad["lines"][2]["formulations"] = {"projection"};
+  bad["lines"][2]["integrator"] = "rk4";
+  CHECK_THAT(planError(bad), Catch::Contains("lines[2].tuning[0].al_penalty_ratio: read by the formulation augmented-lagrangian only"));
+  bad = plan;
+  bad["lines"][1]["tuning"][1] = {{"mujoco_solref_time", 0.005}};
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[1]: the same set twice"));
+  bad = plan;
+  bad["lines"][1]["tuning"][0]["mujoco_solref_time"] = 5000;
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].mujoco_solref_time: must be in (0, 1000], got 5000"));
+  bad = plan;
+  bad["lines"][1]["tuning"] = json::array();
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning:"));
+  bad = plan;
+  bad["lines"][1]["tuning"][0] = json::object();
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0]: expected an object of option values"));
+  bad = plan;
+  bad["mujoco_solref_time"] = 0.01;
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].mujoco_solref_time: also set at the plan's top level"));
+}
