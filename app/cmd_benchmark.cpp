@@ -172,6 +172,12 @@ int runBenchmark(BenchArgs& a) {
     std::vector<std::string> missing;
     BenchmarkProblem bp{p.stem, *p.scene.benchmark, collectRecords(plan, p.dir, missing), false};
     bp.complete = missing.empty();
+    if (bp.complete) {  // the summary's margins: its contenders timed in interleaved rounds (sweep.hpp, Interleaved)
+      const std::vector<std::string> contenders = benchmarkContenders(bp.records, bp.scene, bp.spec);
+      std::fprintf(stderr, "benchmark: problem %s: %zu runs timed over %d interleaved rounds for the margins\n",
+                   p.scene.benchmark->problem.c_str(), contenders.size(), kInterleavedRounds);
+      bp.interleaved = timeInterleaved(plan, contenders, p.dir, kInterleavedRounds);
+    }
     merged.push_back(std::move(bp));
   }
   if (a.list) return status;

@@ -197,7 +197,72 @@ std::string runTable(const std::vector<BRoute>& routes, double t_end) {
   return o.str() + "\n";
 }
 
+// Per level: eigenmass's fastest run and the other owners' fastest runs, cheapest (by their medians) first.
+struct LevelCell {
+  const CaseRecord* mine = nullptr;
+  const BRoute* mine_route = nullptr;
+  std::vector<std::pair<std::string, const CaseRecord*>> others;  // owner, run
+};
+
+LevelCell levelCell(const std::vector<OwnerBest>& best, size_t k) {
+  LevelCell cell;
+  for (const OwnerBest& b : best) {
+    if (!b.run[k]) continue;
+    if (b.owner == kInHouseOwner) cell.mine = b.run[k], cell.mine_route = b.route[k];
+    else cell.others.emplace_back(b.owner, b.run[k]);
+  }
+  std::stable_sort(cell.others.begin(), cell.others.end(),
+                   [](const auto& a, const auto& b) { return a.second->cpuMedian() < b.second->cpuMedian(); });
+  return cell;
+}
+
+// How many of the cheapest other owners a margin is timed against: the next
+// owner by the consecutive repeats' medians may not be the next by the
+// interleaved rounds (issue 75 found the next owner changing between reruns).
+constexpr size_t kContendersPerLevel = 2;
+
+// The summary's verdict from the interleaved rounds: met when every contender's
+// 10th percentile ratio exceeds 1, missed when one's 90th falls below 1, else
+// tied; the nearest contender is named with its interval.
+std::string verdict(const LevelCell& cell, const Interleaved& t) {
+  if (cell.others.empty()) return "met (no other owner reached it)";
+  std::string nearest_owner;
+  std::optional<Margin> nearest;
+  bool missed = false, tied = false;
+  for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) {
+    const std::optional<Margin> m = interleavedMargin(t, cell.mine->name, cell.others[i].second->name);
+    if (!m) {  // no interleaved rounds: the medians' ratio, said to have no interval
+      const double r = cell.others[0].second->cpuMedian() / cell.mine->cpuMedian();
+      return std::string(r > 1 ? "met" : "missed") + " (no interval: not timed interleaved): next " + cell.others[0].first + " " +
+             gnum(r > 1 ? r : 1 / r, 3) + "x " + (r > 1 ? "dearer" : "cheaper");
+    }
+    missed = missed || m->p90 < 1;
+    tied = tied || (m->p10 <= 1 && m->p90 >= 1);
+    if (!nearest || m->median < nearest->median) nearest = m, nearest_owner = cell.others[i].first;
+  }
+  const std::string interval = " [" + gnum(nearest->p10, 3) + ", " + gnum(nearest->p90, 3) + "]";
+  if (missed) return "missed: " + nearest_owner + " " + gnum(1 / nearest->median, 3) + "x cheaper (ratio " + gnum(nearest->median, 3) + interval + ")";
+  if (tied) return "tied: " + nearest_owner + " " + gnum(nearest->median, 3) + "x" + interval;
+  return "met: next " + nearest_owner + " " + gnum(nearest->median, 3) + "x dearer" + interval;
+}
+
 }  // namespace
+
+std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec) {
+  const std::vector<BRoute> routes = routesOf(rs, scene);
+  const std::vector<OwnerBest> best = fastestByOwner(routes, spec);
+  std::vector<std::string> out;
+  auto add = [&](const CaseRecord* r) {
+    if (r && std::find(out.begin(), out.end(), r->name) == out.end()) out.push_back(r->name);
+  };
+  for (size_t k = 0; k < spec.levels.size(); ++k) {
+    const LevelCell cell = levelCell(best, k);
+    if (!cell.mine) continue;
+    add(cell.mine);
+    for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) add(cell.others[i].second);
+  }
+  return out;
+}
 
 std::string benchmarkScene(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec, double t_end,
                            bool judge) {
@@ -261,8 +326,12 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
     for (const CaseRecord& r : p.records)
       if (r.role == CaseRole::Run && std::find(owners.begin(), owners.end(), ownerOf(r)) == owners.end()) owners.push_back(ownerOf(r));
   std::ostringstream o;
-  o << "CPU s of each owner's fastest route within each precision level (its whole run, the horizon's; - : no route "
-       "reached it); eigenmass's route; whether it is the cheapest.\n\n| problem | level (m) |";
+  o << "CPU s of each owner's fastest route within each precision level (its whole run, the horizon's, median of "
+       "its repeats; - : no route reached it); eigenmass's route; whether it is the cheapest. The verdict's ratio is the "
+       "median over "
+    << kInterleavedRounds << " interleaved rounds (each runs eigenmass's route and the " << kContendersPerLevel
+    << " cheapest other owners' once, in turn) of other / eigenmass, with its 10th-90th percentile interval: met "
+       "where every such interval lies above 1, tied where one holds 1, missed where one lies below.\n\n| problem | level (m) |";
   for (const std::string& w : owners) o << " " << w << " |";
   o << " eigenmass's route | goal |\n|---|---|";
   for (size_t k = 0; k < owners.size(); ++k) o << "---|";
@@ -272,26 +341,18 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
     const std::vector<OwnerBest> best = fastestByOwner(routes, p.spec);
     for (size_t k = 0; k < p.spec.levels.size(); ++k) {
       o << "| " << p.spec.problem << " | " << gnum(p.spec.levels[k]) << " |";
-      const CaseRecord* mine = nullptr;
-      const BRoute* mine_route = nullptr;
-      double other = INFINITY;
-      std::string other_owner;
       for (const std::string& w : owners) {
         const auto it = std::find_if(best.begin(), best.end(), [&](const OwnerBest& b) { return b.owner == w; });
         const CaseRecord* r = it == best.end() ? nullptr : it->run[k];
         o << " " << (r ? sci(r->cpuMedian()) : std::string("-")) << " |";
-        if (!r) continue;
-        if (w == kInHouseOwner) mine = r, mine_route = it->route[k];
-        else if (r->cpuMedian() < other) other = r->cpuMedian(), other_owner = w;
       }
-      o << " " << (mine ? mine_route->name() + " " + settingText(*mine) : std::string("-")) << " | ";
+      const LevelCell cell = levelCell(best, k);
+      o << " " << (cell.mine ? cell.mine_route->name() + " " + settingText(*cell.mine) : std::string("-")) << " | ";
       const std::string why = unresolved(p.records, p.scene, p.spec, p.spec.levels[k]);
       if (!p.complete) o << "not judged (incomplete)";
       else if (!why.empty()) o << "not judged: " << why;
-      else if (!mine) o << "missed: not reached";
-      else if (!std::isfinite(other)) o << "met (no other owner reached it)";
-      else if (mine->cpuMedian() < other) o << "met: next " << other_owner << " " << gnum(other / mine->cpuMedian(), 3) << "x dearer";
-      else o << "missed: " << other_owner << " " << gnum(mine->cpuMedian() / other, 3) << "x cheaper";
+      else if (!cell.mine) o << "missed: not reached";
+      else o << verdict(cell, p.interleaved);
       o << " |\n";
     }
   }

@@ -90,7 +90,7 @@ RunSpec runAt(const json& v, const std::string& path) {
 }
 
 double methodParamAt(const MethodParam& m, const json& v, const std::string& path);
-bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t);
+bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t, bool has_loops);
 
 // A line's "tuning": a list of sets, each an object of option keys its
 // methods read (a row's params) or "al_penalty_ratio" where the line lists
@@ -127,8 +127,8 @@ std::vector<Tuning> tuningsAt(const json& v, const std::string& path, const Plan
     }
     bool read = false;  // by one method whole: a set split over two would run untuned on both
     for (Method m : line.methods) {
-      if (al) read = read || readsTuning(m, Formulation::AugmentedLagrangian, t);
-      read = read || readsTuning(m, std::nullopt, t);
+      if (al) read = read || readsTuning(m, Formulation::AugmentedLagrangian, t, true);
+      read = read || readsTuning(m, std::nullopt, t, true);
     }
     if (!read) throw InputError(at, "no method of this line reads all of its options: one set per method's options");
     for (const Tuning& u : out)
@@ -575,25 +575,38 @@ SweepCase makeCase(const Plan& p, size_t scene, int member, CaseRole role, RunSp
 
 // Whether method m (under formulation f) reads every value of the set: a
 // line of two engines may tune each apart; a set it does not read is not its run.
-bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t) {
+bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t, bool has_loops) {
   for (const auto& [key, value] : t.values) {
     if (key == kPenaltyRatioKey) {
       if (!f || *f != Formulation::AugmentedLagrangian) return false;
       continue;
     }
     const std::vector<MethodParam>& params = info(m).params;
-    if (std::none_of(params.begin(), params.end(), [&](const MethodParam& p) { return key == p.name; })) return false;
+    const auto p = std::find_if(params.begin(), params.end(), [&](const MethodParam& q) { return key == q.name; });
+    if (p == params.end() || (p->loops_only && !has_loops)) return false;
   }
   return true;
 }
 
-// The sets of `line` that method m under f runs: those it reads whole; none
-// (a line of two engines tuning one of them): once at the plan's options.
-std::vector<Tuning> tuningsOf(const PlanLine& line, Method m, const std::optional<Formulation>& f) {
+// The sets of `line` that method m under f runs on a scene: those it reads
+// whole there. A method the sets are not for (classical beside MuJoCo's
+// solref) runs once at the plan's options; one they are for runs none where
+// the scene reads none of them (a closure's options on a tree: the untuned
+// line's runs are those runs, and leftOutLines says so).
+// Whether the set is for method m on some scene: read whole under no formulation or one of the line's, with loops.
+bool setFor(const PlanLine& line, Method m, const Tuning& t) {
+  if (readsTuning(m, std::nullopt, t, true)) return true;
+  return std::any_of(line.formulations.begin(), line.formulations.end(), [&](Formulation f) { return readsTuning(m, f, t, true); });
+}
+
+std::vector<Tuning> tuningsOf(const PlanLine& line, Method m, const std::optional<Formulation>& f, bool has_loops) {
   std::vector<Tuning> out;
-  for (const Tuning& t : line.tunings)
-    if (readsTuning(m, f, t)) out.push_back(t);
-  if (out.empty()) out.emplace_back();
+  bool for_m = false;
+  for (const Tuning& t : line.tunings) {
+    for_m = for_m || setFor(line, m, t);
+    if (readsTuning(m, f, t, has_loops)) out.push_back(t);
+  }
+  if (!for_m) out.emplace_back();
   return out;
 }
 
@@ -621,7 +634,7 @@ std::vector<SweepCase> planCases(const Plan& p) {
           for (const std::optional<Formulation>& f : forms)
             if (!p.scenes[s].refusals.count(methodName(m)))  // left out, and said (leftOutLines)
               for (double setting : line.settings)
-                for (const Tuning& t : tuningsOf(line, m, f)) {
+                for (const Tuning& t : tuningsOf(line, m, f, p.scenes[s].has_loops)) {
                   RunSpec spec;
                   spec.method = m;
                   spec.integrator = line.integrator;
@@ -652,16 +665,27 @@ std::string leftOutLines(const Plan& p) {
         const auto it = sc.refusals.find(methodName(m));
         if (it == sc.refusals.end()) continue;
         for (const std::optional<Formulation>& f : forms)
-          cases += static_cast<long>(tuningsOf(line, m, f).size() * line.settings.size()) * members;
+          cases += static_cast<long>(tuningsOf(line, m, f, sc.has_loops).size() * line.settings.size()) * members;
         auto same = std::find_if(by_reason.begin(), by_reason.end(), [&](const auto& r) { return r.first == it->second; });
         if (same == by_reason.end()) by_reason.push_back({it->second, {}}), same = by_reason.end() - 1;
         if (std::find(same->second.begin(), same->second.end(), it->first) == same->second.end()) same->second.push_back(it->first);
       }
     }
-    if (by_reason.empty()) continue;
-    out += "**Not run on " + sc.stem() + "** (" + std::to_string(cases) + " cases of the plan's lines left out):";
-    for (const auto& [why, methods] : by_reason) out += " " + joined(methods) + ": " + why + ".";
-    out += "\n\n";
+    long closure_sets = 0;  // on a tree: runs of sets that tune closures alone (tuningsOf)
+    for (const PlanLine& line : p.lines)
+      for (Method m : line.methods)
+        for (const Tuning& t : line.tunings)
+          if (!sc.has_loops && !sc.refusals.count(methodName(m)) && setFor(line, m, t) && !readsTuning(m, std::nullopt, t, false))
+            closure_sets += static_cast<long>(line.settings.size()) * members;
+    if (by_reason.empty() && closure_sets == 0) continue;
+    if (!by_reason.empty()) {
+      out += "**Not run on " + sc.stem() + "** (" + std::to_string(cases) + " cases of the plan's lines left out):";
+      for (const auto& [why, methods] : by_reason) out += " " + joined(methods) + ": " + why + ".";
+      out += "\n\n";
+    }
+    if (closure_sets > 0)
+      out += "**Not run on " + sc.stem() + "**: " + std::to_string(closure_sets) + " cases of tuning sets that set closures' "
+             "options or a formulation's (a tree has no closure: they would be the untuned runs again).\n\n";
   }
   return out;
 }

@@ -282,6 +282,52 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   return true;
 }
 
+Interleaved timeInterleaved(const Plan& plan, const std::vector<std::string>& names, const std::string& dir, int rounds) {
+  std::vector<SweepCase> cases;
+  const std::vector<SweepCase> all = planCases(plan);
+  for (const std::string& n : names) {
+    const auto it = std::find_if(all.begin(), all.end(), [&](const SweepCase& c) { return c.name == n && c.role == CaseRole::Run; });
+    if (it == all.end()) throw std::invalid_argument("interleaved timing: no run named " + printable(n, 80) + " in plan " + plan.name);
+    cases.push_back(*it);
+  }
+  // What the file must have been made from: these cases' keys (plan, scene bytes, run), the rounds.
+  json key = {{"rounds", rounds}, {"cases", json::array()}};
+  std::vector<Scene> scenes;  // per case: its scene, read once per file
+  std::map<size_t, size_t> scene_of;
+  for (const SweepCase& c : cases) {
+    if (!scene_of.count(c.scene)) {
+      scene_of[c.scene] = scenes.size();
+      scenes.push_back(loadScene(plan.scenes[c.scene].file, plan.scenes[c.scene].urdf));
+    }
+    key["cases"].push_back(caseKey(plan, c, scenes[scene_of[c.scene]].source.sha256));
+  }
+  const std::string path = (fs::path(dir) / "margins.json").string();
+  Interleaved out;
+  out.rounds = rounds;
+  if (fs::exists(path)) {
+    const json doc = readJsonFile(path, "interleaved timings");
+    if (doc.is_object() && doc.value("key", json()) == key) {
+      for (const SweepCase& c : cases) out.cpu_s[c.name] = doc.at("cpu_s").at(c.name).get<std::vector<double>>();
+      return out;
+    }
+  }
+  std::vector<Model> models;
+  for (const SweepCase& c : cases) models.push_back(caseModel(plan, c, scenes[scene_of[c.scene]]));
+  for (int k = 0; k < rounds; ++k)
+    for (size_t i = 0; i < cases.size(); ++i) out.cpu_s[cases[i].name].push_back(runTrajectory(models[i], cases[i].spec).run_time_s);
+  json doc = {{"format", "eigenmass-margins/1"}, {"plan", plan.name}, {"key", key}, {"cpu_s", out.cpu_s}, {"provenance", provenance()}};
+  writeJsonAtomic(doc, path);  // replaces a file made from other cases: it is this folder's own
+  return out;
+}
+
+std::optional<Margin> interleavedMargin(const Interleaved& t, const std::string& mine, const std::string& other) {
+  const auto a = t.cpu_s.find(mine), b = t.cpu_s.find(other);
+  if (a == t.cpu_s.end() || b == t.cpu_s.end() || a->second.size() != b->second.size() || a->second.empty()) return std::nullopt;
+  std::vector<double> ratios;
+  for (size_t k = 0; k < a->second.size(); ++k) ratios.push_back(b->second[k] / a->second[k]);
+  return Margin{*quantile(ratios, 0.5), *quantile(ratios, 0.1), *quantile(ratios, 0.9), static_cast<int>(ratios.size())};
+}
+
 std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_path, const std::string& dir) {
   auto quoted = [](const std::string& s) {
     std::string q = "'";

@@ -5,6 +5,7 @@
 /// then merged into one CSV and the tables of error against run time and of
 /// cost against size.
 #include <array>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -183,12 +184,41 @@ std::string engineStudySummary(const std::vector<CaseRecord>& records, const std
 std::string benchmarkScene(const std::vector<CaseRecord>& records, const std::string& scene, const BenchmarkSpec& spec,
                            double t_end, bool judge = true);
 
+/// Interleaved timings of a few runs (issue 76: a margin has an interval):
+/// round k runs each case once, in turn, so that the machine's drift over
+/// minutes falls on every case of a round alike. cpu_s[name][k]: round k's
+/// integration CPU time (s).
+struct Interleaved {
+  int rounds = 0;
+  std::map<std::string, std::vector<double>> cpu_s;
+};
+/// Rounds of interleaved timing: a 10th-90th percentile of the per-round
+/// ratios rests on ten or more of them.
+constexpr int kInterleavedRounds = 11;
+/// Time `cases` (names of the plan's runs) over `rounds` interleaved rounds,
+/// or read them from `<dir>/margins.json` when it holds exactly these cases,
+/// rounds, plan and scene bytes; writes the file. Throws naming an unknown case.
+Interleaved timeInterleaved(const Plan& plan, const std::vector<std::string>& cases, const std::string& dir, int rounds);
+
+/// The runs a benchmark summary compares on one scene: per level, eigenmass's
+/// fastest run and the two cheapest other owners' fastest runs, each once.
+std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& records, const std::string& scene, const BenchmarkSpec& spec);
+
+/// A margin's interval: the median and the 10th and 90th percentiles of the
+/// per-round ratios other / mine (> 1: mine cheaper); nullopt without rounds of both.
+struct Margin {
+  double median = 0, p10 = 0, p90 = 0;
+  int rounds = 0;
+};
+std::optional<Margin> interleavedMargin(const Interleaved& t, const std::string& mine, const std::string& other);
+
 /// One benchmark problem's merged results, for the summary across problems.
 struct BenchmarkProblem {
   std::string scene;  ///< the scene's stem, as its records name it
   BenchmarkSpec spec;
   std::vector<CaseRecord> records;
   bool complete = true;  ///< every case has a result (else no goal is judged)
+  Interleaved interleaved;  ///< the contenders' interleaved timings (none: the verdicts say so)
 };
 /// Per problem and level: each owner's fastest CPU, eigenmass's route, and whether it is the cheapest.
 std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems);

@@ -57,6 +57,7 @@ CaseRecord run(const std::string& method, const std::string& formulation, const 
   if (status != Outcome::Ok) r.failure_kind = Failure::LoopsOpen, r.failure_time = 0.5;
   r.has_error = true, r.benchmark_error = err, r.cpu_s = {cpu, cpu, cpu};
   r.loop_position_m = 1e-9;
+  r.name = method + "." + formulation + "." + integrator + "." + std::to_string(dt);
   return r;
 }
 
@@ -180,11 +181,11 @@ TEST_CASE("the benchmark table: each route's cheapest run within a level, why ot
         "- Within 0.001 m: eigenmass's fastest route is classical projection rk4 dt 0.001, 1.00e-01 CPU s; cheaper than every "
         "other owner's fastest (ida 2x): goal met.");
   const std::string summary = benchmarkSummary({{"s", b, rs, true}});
-  CHECK(lineOf(summary, "| T | 0.1 |") == "| T | 0.1 | 1.00e-02 | 2.00e-01 | 2.00e-02 | - | classical projection rk4 dt 0.01 | met: next mujoco 2x dearer |");
+  CHECK(lineOf(summary, "| T | 0.1 |") == "| T | 0.1 | 1.00e-02 | 2.00e-01 | 2.00e-02 | - | classical projection rk4 dt 0.01 | met (no interval: not timed interleaved): next mujoco 2x dearer |");
   // An engine cheaper than eigenmass: the goal is missed, by how much.
   std::vector<CaseRecord> beaten = rs;
   beaten.push_back(run("ode", "", "ode-step", 1e-3, 1e-2, 0.004));
-  CHECK(lineOf(benchmarkSummary({{"s", b, beaten, true}}), "| T | 0.1 |").find("missed: ode 2.5x cheaper") != std::string::npos);
+  CHECK(lineOf(benchmarkSummary({{"s", b, beaten, true}}), "| T | 0.1 |").find("missed (no interval: not timed interleaved): next ode 2.5x cheaper") != std::string::npos);
   CHECK(lineOf(benchmarkSummary({{"s", b, beaten, false}}), "| T | 0.1 |").find("not judged (incomplete)") != std::string::npos);
   // A check that failed before the horizon, or lies within ten times a level, leaves the level unjudged.
   std::vector<CaseRecord> checked = rs;
@@ -200,7 +201,7 @@ TEST_CASE("the benchmark table: each route's cheapest run within a level, why ot
   checked.back().status = Outcome::Failed;
   BenchmarkSpec solved = b;
   solved.solution.assign(10, 0.0);
-  CHECK(lineOf(benchmarkSummary({{"s", solved, checked, true}}), "| T | 0.1 |").find("met: next mujoco 2x dearer") != std::string::npos);
+  CHECK(lineOf(benchmarkSummary({{"s", solved, checked, true}}), "| T | 0.1 |").find("next mujoco 2x dearer") != std::string::npos);
   const std::string md_solved = benchmarkScene(checked, "s", solved, 1.0);
   CHECK(md_solved.find("against the problem's solution (the scene's benchmark.solution)") != std::string::npos);
   CHECK(md_solved.find("The reference's check is 5.00e-04 m from the solution up to 0.5 s, where it failed (loops-open).") != std::string::npos);
@@ -371,4 +372,48 @@ TEST_CASE("eigenmass benchmark runs two shipped problems and one never seen, eve
   CHECK(beyond.status == 2);
   CHECK(beyond.out.find("--t-end: 30 s beyond problem A02-N2's horizon 20 s") != std::string::npos);
   CHECK_FALSE(fs::exists(dir + "/none"));
+}
+
+TEST_CASE("a summary margin is the median of interleaved rounds' ratios with its 10th-90th percentile: met, tied or missed",
+          "[benchmark][sweep]") {
+  // Issue 76, item 3: a margin has an interval. The verdict: met where every compared owner's interval lies
+  // above 1, tied where one holds 1, missed where one lies below; the nearest owner is named with its interval.
+  useEngines();
+  const std::vector<CaseRecord> rs = {run("classical", "projection", "rk4", 1e-2, 5e-2, 0.01), run("mujoco", "", "rk4", 1e-3, 8e-2, 0.02),
+                                      run("ode", "", "ode-step", 1e-3, 8e-2, 0.03), run("dart", "", "dart-euler", 1e-3, 8e-2, 0.5)};
+  BenchmarkSpec b = spec(1.0, 10);
+  b.levels = {0.1};
+  // The contenders: eigenmass's fastest run and the two cheapest other owners' (not DART, 25x dearer).
+  const std::vector<std::string> c = benchmarkContenders(rs, "s", b);
+  REQUIRE(c.size() == 3);
+  CHECK(c[0] == rs[0].name);
+  CHECK(c[1] == rs[1].name);
+  CHECK(c[2] == rs[2].name);
+  // 11 rounds; per-round ratios mujoco / eigenmass: 1.5 .. 2.5 by 0.1 (median 2, 10th percentile 1.6, 90th 2.4).
+  Interleaved t;
+  t.rounds = 11;
+  for (int k = 0; k < 11; ++k) {
+    t.cpu_s[rs[0].name].push_back(0.01);
+    t.cpu_s[rs[1].name].push_back(0.01 * (1.5 + 0.1 * k));
+    t.cpu_s[rs[2].name].push_back(0.03);
+  }
+  const std::optional<Margin> m = interleavedMargin(t, rs[0].name, rs[1].name);
+  REQUIRE(m);
+  CHECK(m->median == Approx(2.0));
+  CHECK(m->p10 == Approx(1.6));
+  CHECK(m->p90 == Approx(2.4));
+  BenchmarkProblem p{"s", b, rs, true, t};
+  CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| met: next mujoco 2x dearer [1.6, 2.4] |") != std::string::npos);
+  // Rounds that straddle 1: tied, however the medians of the consecutive repeats ranked them.
+  for (int k = 0; k < 11; ++k) p.interleaved.cpu_s[rs[1].name][k] = 0.01 * (0.7 + 0.06 * k);
+  CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| tied: mujoco 1x [0.76, 1.24] |") != std::string::npos);
+  // Every round cheaper than eigenmass: missed, with the ratio's interval.
+  for (int k = 0; k < 11; ++k) p.interleaved.cpu_s[rs[1].name][k] = 0.005;
+  CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| missed: mujoco 2x cheaper (ratio 0.5 [0.5, 0.5]) |") != std::string::npos);
+  // The second owner decides as well: mujoco clearly dearer, ode tied.
+  for (int k = 0; k < 11; ++k) {
+    p.interleaved.cpu_s[rs[1].name][k] = 0.02;
+    p.interleaved.cpu_s[rs[2].name][k] = 0.01 * (0.7 + 0.06 * k);
+  }
+  CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| tied: ode 1x [0.76, 1.24] |") != std::string::npos);
 }

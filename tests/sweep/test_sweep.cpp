@@ -454,6 +454,17 @@ TEST_CASE("a line's tuning sets are routes of their own: named, applied, recorde
       }
     CHECK(untuned == 1);
   }
+  {  // a closure's option on a tree: the tuned runs would be the untuned ones again; left out and said
+    json tree = plan;
+    tree["scenes"] = {test::sourcePath("data/scenes/pendulum5.json")};
+    tree["lines"] = {plan["lines"][0], plan["lines"][1]};
+    const Plan t = loadPlan(writePlan(tree, "tree.json"));
+    std::vector<std::string> runs;
+    for (const SweepCase& c : planCases(t))
+      if (c.role == CaseRole::Run) runs.push_back(c.name);
+    CHECK(runs == std::vector<std::string>{"pendulum5.mujoco.rk4.0.001"});
+    CHECK_THAT(leftOutLines(t), Catch::Contains("**Not run on pendulum5**: 2 cases of tuning sets that set closures' options"));
+  }
   const Plan p = loadPlan(writePlan(plan, "tuned.json"));
   std::vector<std::string> names;
   for (const SweepCase& c : planCases(p))
