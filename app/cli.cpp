@@ -282,8 +282,6 @@ void addProgressFlags(CLI::App* cmd) {
 }
 
 void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m) {
-  if (cmd.count("--al-penalty-ratio") && cmd.get_option("--formulation")->as<std::string>() != formulationName(Formulation::AugmentedLagrangian))
-    throw std::invalid_argument("--al-penalty-ratio: read by --formulation augmented-lagrangian only");
   if (!m.loops.empty()) return;
   for (const char* option : {"--formulation", "--baumgarte-alpha", "--baumgarte-beta", "--al-penalty-ratio"})
     if (cmd.count(option)) throw std::invalid_argument(std::string(option) + ": scene '" + m.name + "' has no loops");
@@ -307,6 +305,8 @@ void refuseUnreadFormulationOptions(const CLI::App& cmd, const std::vector<Metho
                                   " integrates the loops as its own index-2 DAE, no formulation of ours");
   }
   const FormulationInfo& row = formulationRow(f);
+  if (cmd.count("--al-penalty-ratio") && f != Formulation::AugmentedLagrangian)
+    throw std::invalid_argument("--al-penalty-ratio: read by --formulation augmented-lagrangian only");
   if (row.brings_integrator)
     for (const char* option : {"--baumgarte-alpha", "--baumgarte-beta"})
       if (cmd.count(option))

@@ -19,11 +19,22 @@ int firstQuaternionBody(const Model& m) {
   return -1;
 }
 
+namespace {
+
+// T and P through A's tree factors where its pattern pays and no point spring fills the tangent.
+bool sparsePath(const Model& m) { return TreeCholesky::pays(m) && m.point_springs.empty(); }
+
+// The dense path's matrices' size: none on the sparse path (they would cost nu^2 memory there).
+int denseDim(const Model& m) { return sparsePath(m) ? 0 : m.nu; }
+
+}  // namespace
+
 AugmentedLagrangianRun::AugmentedLagrangianRun(const Model& m, const LoopOptions& o, double dt, const double* y)
     : m_(m), o_(o), dt_(dt), ws_(m), loops_(m), qn_(Eigen::Map<const Eigen::VectorXd>(y, m.nq)),
       un_(Eigen::Map<const Eigen::VectorXd>(y + m.nq, m.nu)), udn_(m.nu), lambda_(Eigen::VectorXd::Zero(m.loop_rows)), q_(m.nq), delta_(m.nu),
-      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(m.nu, m.nu), P_(m.nu, m.nu), C_(m.nu, m.nu), K_(m.nu, m.nu), J_(3, m.nu), x_(m.nu), rows_(m.loop_rows), extra_(Eigen::VectorXd::Zero(m.nu)),
-      sparse_(TreeCholesky::pays(m) && m.point_springs.empty()), tree_(m), cs_(m), lu_(m.nu), llt_(m.nu), rank_qr_(m.loop_rows, m.nu) {
+      u_(m.nu), ud_(m.nu), f_(m.nu), dq_(m.nu), T_(denseDim(m), denseDim(m)), P_(denseDim(m), denseDim(m)), C_(denseDim(m), denseDim(m)),
+      K_(denseDim(m), denseDim(m)), J_(3, m.nu), x_(m.nu), rows_(m.loop_rows), extra_(Eigen::VectorXd::Zero(m.nu)),
+      sparse_(sparsePath(m)), tree_(m), cs_(m), lu_(denseDim(m)), llt_(denseDim(m)), rank_qr_(sparse_ ? 0 : m.loop_rows, denseDim(m)) {
   if (firstQuaternionBody(m) >= 0) throw std::invalid_argument("integrator trapezoidal integrates q' = u: not on quaternion joints");
   rank_qr_.setThreshold(kLoopRankTol);
   // u'(0) and the multipliers of eq. (M7): A u' = B + G^T lambda, so the residual's lambda* is -lambda.
@@ -92,7 +103,7 @@ bool AugmentedLagrangianRun::newtonStep() {
   dq_ = f_;
   tree_.solveInPlace(dq_.data());
   if (m_.loop_rows) {
-    rows_.noalias() = loops_.G * dq_;
+    cs_.timesG(loops_, dq_, rows_);
     cs_.factorPenalty(loops_, tree_, 1.0 / (dt_ * dt_ / 4 * alpha_));
     cs_.penaltySolve(tree_, rows_, x_);
     dq_ -= x_;
@@ -123,8 +134,8 @@ int AugmentedLagrangianRun::project() {
   formKinematics(m_, q_.data(), u_.data(), ws_);  // c at the projected u
   formLoops(m_, ws_, u_.data(), loops_);
   if (sparse_) {
-    rows_ = loops_.c;
-    rows_.noalias() += loops_.G * ud_;
+    cs_.timesG(loops_, ud_, rows_);
+    rows_ += loops_.c;
     cs_.penaltySolve(tree_, rows_, x_);
     ud_ -= x_;
   } else {
@@ -149,7 +160,10 @@ Status AugmentedLagrangianRun::step(double t, double* y) {
     // f = (dt^2/4)(A u'* - B + G^T (lambda* + alpha g)), T = A + (dt/2) C + (dt^2/4)(K + alpha G^T G).
     f_.noalias() = ws_.A * ud_;
     f_ -= ws_.B;
-    if (m_.loop_rows) f_.noalias() += loops_.G.transpose() * (lambda_ + alpha_ * loops_.g);
+    if (m_.loop_rows) {  // G^T (lambda* + alpha g) over the loops' speeds: linear cost
+      rows_ = lambda_ + alpha_ * loops_.g;
+      cs_.addTimesGt(loops_, rows_, f_);
+    }
     f_ *= h2;
     if (!newtonStep()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's tangent is not positive definite");
     if (!dq_.allFinite()) return Status::failure(t, Failure::NonFinite, "the augmented Lagrangian's Newton step is not finite");

@@ -27,9 +27,10 @@ struct LoopOptions {
   /// (max diagonals), so that the iteration matrix A + (dt^2/4) alpha G^T G weighs the
   /// loops penalty_ratio times the inertia; its Newton stops when max |dq| <= al_tol
   /// (rad, m), at most al_iterations.
-  /// (--al-penalty-ratio.) Through A02's singular positions neither 1e4 nor
-  /// 1e6 converges everywhere: each pass leaves an error set by where the
-  /// steps fall (docs/results.md, "A02 through its singular positions").
+  /// (--al-penalty-ratio; a plan line's tuning "al_penalty_ratio".) Through A02's
+  /// singular positions 1e6 converges as dt falls and the default 1e4 does not;
+  /// 1e6 as the default fails the three-turn test at coarse dt (docs/results.md,
+  /// "A02 through its singular positions").
   double penalty_ratio = 1e4;
   double al_tol = 1e-12;
   int al_iterations = 30;

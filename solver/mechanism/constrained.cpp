@@ -26,10 +26,6 @@ int leastNorm(Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod, cons
   return static_cast<int>(cod.rank());
 }
 
-}  // namespace
-
-namespace {
-
 // The speeds both sorted lists hold.
 std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
   std::vector<int> out;
@@ -41,7 +37,7 @@ std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
 
 ConstrainedSolve::ConstrainedSolve(const Model& m)
     : m_(m), S_(m.loop_rows, m.loop_rows), GM_(m.loop_rows, m.nu), r_(m.loop_rows), lambda_(Eigen::VectorXd::Zero(m.loop_rows)),
-      w_(m.nu), cod_(m.loop_rows, m.loop_rows), cod_gm_(m.loop_rows, m.nu), first_(m.loop_rows, 0),
+      w_(m.nu), Ga_(m.loop_rows), cod_(m.loop_rows, m.loop_rows), cod_gm_(m.loop_rows, m.nu), first_(m.loop_rows, 0),
       Y_(Eigen::MatrixXd::Zero(m.nu, m.loop_rows)), E_(Eigen::MatrixXd::Zero(m.loop_rows, m.loop_rows)), d_(m.loop_rows),
       v_(m.nu) {
   const int L = static_cast<int>(m.loops.size());
@@ -60,15 +56,29 @@ ConstrainedSolve::ConstrainedSolve(const Model& m)
 }
 
 // r = b - G a, b = -c - 2 alpha G u - beta^2 g: what the constraint force must add to g''.
-void ConstrainedSolve::residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a) {
-  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g;
-  r_.noalias() -= ls.G * a;
+void ConstrainedSolve::residual(const LoopState& ls, double alpha, double beta) {
+  r_ = -ls.c - 2.0 * alpha * ls.Gu - beta * beta * ls.g - Ga_;
+}
+
+void ConstrainedSolve::timesG(const LoopState& ls, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> out) const {
+  for (int r = 0; r < m_.loop_rows; ++r) {
+    double sum = 0;
+    for (int j : m_.loop_speeds[row_loop_[r]]) sum += ls.G(r, j) * x[j];
+    out[r] = sum;
+  }
+}
+
+void ConstrainedSolve::addTimesGt(const LoopState& ls, const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> out) const {
+  for (int r = 0; r < m_.loop_rows; ++r)
+    if (const double vr = v[r]; vr != 0)
+      for (int j : m_.loop_speeds[row_loop_[r]]) out[j] += ls.G(r, j) * vr;
 }
 
 int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, double alpha, double beta,
                             Eigen::Ref<Eigen::VectorXd> udot) {
   S_.noalias() = ls.G * AinvGt;
-  residual(ls, alpha, beta, udot);
+  Ga_.noalias() = ls.G * udot;
+  residual(ls, alpha, beta);
   rank_ = leastNorm(cod_, S_, kLoopRankTol, r_, lambda_);
   udot.noalias() += AinvGt * lambda_;
   return rank_;
@@ -77,7 +87,8 @@ int ConstrainedSolve::solve(const LoopState& ls, const Eigen::MatrixXd& AinvGt, 
 int ConstrainedSolve::solveUdwadiaKalaba(const LoopState& ls, const Eigen::MatrixXd& M, double alpha, double beta,
                                          Eigen::Ref<Eigen::VectorXd> udot) {
   GM_.noalias() = ls.G * M;
-  residual(ls, alpha, beta, udot);
+  Ga_.noalias() = ls.G * udot;
+  residual(ls, alpha, beta);
   rank_ = leastNorm(cod_gm_, GM_, kLoopRankTolUK, r_, w_);  // the least-norm w with (G M) w = r on G M's range
   udot.noalias() += M * w_;
   return rank_;
@@ -159,12 +170,8 @@ void ConstrainedSolve::addInverseAGt(const TreeCholesky& A, double* out) {
 
 int ConstrainedSolve::solve(const LoopState& ls, const TreeCholesky& A, double alpha, double beta,
                             Eigen::Ref<Eigen::VectorXd> udot) {
-  // r = b - G a, G a on each row's loop speeds.
-  for (int r = 0; r < m_.loop_rows; ++r) {
-    double Ga = 0;
-    for (int j : m_.loop_speeds[row_loop_[r]]) Ga += ls.G(r, j) * udot[j];
-    r_[r] = -ls.c[r] - 2.0 * alpha * ls.Gu[r] - beta * beta * ls.g[r] - Ga;
-  }
+  timesG(ls, udot, Ga_);  // G a on each row's loop speeds
+  residual(ls, alpha, beta);
   factorSparse(ls, A);
   solveSparse(r_);
   addInverseAGt(A, udot.data());

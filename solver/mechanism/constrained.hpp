@@ -51,18 +51,23 @@ class ConstrainedSolve {
   void penaltySolve(const TreeCholesky& A, const Eigen::VectorXd& r, Eigen::VectorXd& out);
   /// The rank of G A^-1 G^T by the sparse path's drop rule; nothing solved.
   int rankOf(const LoopState& ls, const TreeCholesky& A);
+  /// out = G x and out += G^T v over each row's loop speeds, G's only nonzero
+  /// columns: linear cost, where the dense products cost rows x nu.  // x, out: (nu) or (m)
+  void timesG(const LoopState& ls, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> out) const;
+  void addTimesGt(const LoopState& ls, const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> out) const;
   const Eigen::VectorXd& lambda() const { return lambda_; }
   int rank() const { return rank_; }
 
  private:
-  void residual(const LoopState& ls, double alpha, double beta, const Eigen::Ref<const Eigen::VectorXd>& a);
+  // r_ = b - G a, b = -c - 2 alpha G u - beta^2 g, from Ga_ = G a (formed densely or on the loops' speeds).
+  void residual(const LoopState& ls, double alpha, double beta);
   // The tree-sparse path: G A^-1 G^T's envelope factored (eq. (S2)); lambda_ = its solution at r.
   void factorSparse(const LoopState& ls, const TreeCholesky& A, double shift = 0);  // shift > 0: S + shift I, none dropped
   void solveSparse(const Eigen::VectorXd& r);
   void addInverseAGt(const TreeCholesky& A, double* out);  // out += A^-1 G^T lambda_ (eq. (S3))
   const Model& m_;
   Eigen::MatrixXd S_, GM_;
-  Eigen::VectorXd r_, lambda_, w_;
+  Eigen::VectorXd r_, lambda_, w_, Ga_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_, cod_gm_;
   int rank_ = 0;
   // The sparse path's pattern, fixed by the model: each row's loop, each loop's
