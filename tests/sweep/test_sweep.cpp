@@ -415,7 +415,8 @@ TEST_CASE("docs/sweep.md's case counts are the shipped plans' own", "[sweep][doc
   const std::vector<std::pair<std::string, std::string>> plans = {
       {"`work-precision.json`", "work-precision.json"}, {"`cost-vs-size.json`", "cost-vs-size.json"},
       {"`eigen-block.json`", "eigen-block.json"},       {"`paper-ensemble.json`", "paper-ensemble.json"},
-      {"`sigma/paper-sigma-{1e-6,1e-4,1e-2}.json`", "sigma/paper-sigma-1e-6.json"}, {"`engines.json`", "engines.json"}};
+      {"`sigma/paper-sigma-{1e-6,1e-4,1e-2}.json`", "sigma/paper-sigma-1e-6.json"}, {"`engines.json`", "engines.json"},
+      {"`fourbar-size.json`", "fourbar-size.json"}};
   for (const auto& [named, file] : plans) {
     INFO(named);
     const size_t at = page.find(named);
