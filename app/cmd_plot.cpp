@@ -276,7 +276,22 @@ int runPlot(PlotArgs a) {
     checkCsvDir(a.input, a.csv_dir);
   }
   if (a.out.empty()) a.out = defaultOut(a.input, kind);
+  // The folders --out makes are removed again, while empty, when nothing is drawn (issue 73's doubtful list:
+  // a refused plot left an empty --out folder behind).
+  fs::path made = fs::absolute(a.out).lexically_normal();
+  while (!made.parent_path().empty() && made.parent_path() != made && !fs::exists(made.parent_path())) made = made.parent_path();
+  const bool fresh = !fs::exists(made);
   prepareFolder("--out", a.out);
+  struct EmptyFoldersGone {
+    fs::path leaf, top;
+    ~EmptyFoldersGone() {
+      std::error_code ec;
+      for (fs::path p = leaf; !top.empty(); p = p.parent_path()) {
+        if (!fs::is_directory(p, ec) || !fs::is_empty(p, ec) || !fs::remove(p, ec)) break;  // remove takes an empty folder only
+        if (p == top) break;
+      }
+    }
+  } gone{fresh ? fs::absolute(a.out).lexically_normal() : fs::path(), fresh ? made : fs::path()};
   checkPython();
   const ScratchFolder tmp;
   std::vector<std::string> argv = {python(), shippedFile("tools/plot.py", EM_SOURCE_DIR), kind, a.input, tmp.path.string(), a.format,

@@ -1010,9 +1010,16 @@ TEST_CASE("plot refuses what it cannot draw in one line - missing matplotlib nam
   // A file of the right format but not its shape: one line naming the missing key, nothing drawn.
   const std::string bad = (std::filesystem::temp_directory_path() / "eigenmass_test_plot_bad.json").string();
   std::ofstream(bad) << R"({"format": "eigenmass-extreme/1", "cases": [{"name": "x"}]})";
-  const auto shape = err(bad + " --out " + (std::filesystem::temp_directory_path() / "eigenmass_test_plot_bad").string());
+  const std::filesystem::path out_root = std::filesystem::temp_directory_path() / "eigenmass_test_plot_bad";
+  std::filesystem::remove_all(out_root);
+  const auto shape = err(bad + " --out " + (out_root / "a" / "b").string());
   CHECK(shape.first == 2);
   CHECK(shape.second == "eigenmass: error: " + bad + ": key 'runs' not found (not the shape of an extreme summary; nothing drawn)\n");
+  CHECK_FALSE(std::filesystem::exists(out_root));  // the folders it made for --out are gone again: nothing was drawn
+  std::filesystem::create_directories(out_root);  // a folder that was there stays
+  CHECK(err(bad + " --out " + out_root.string()).first == 2);
+  CHECK(std::filesystem::is_directory(out_root));
+  std::filesystem::remove_all(out_root);
   std::filesystem::remove(bad);
   CHECK(err(expected + " --format jpg").first == 2);
   CHECK(err(expected + " --csv-dir /tmp").first == 2);
