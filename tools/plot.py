@@ -685,8 +685,10 @@ def loop_figure(cols, method, title, meta, out, stem):
         ax.semilogy(cols["t"], [max(abs(v), FLOOR) for v in cols[c]], ls=style, lw=1.2, color=color(method), label=label)
     if meta.get("failure") and cols["t"]:
         mark_failure(ax, method, cols["t"][-1], max(abs(cols["loops.position_m"][-1]), FLOOR))
-    finish_against_time(fig, ax, "largest |g| (position) and |G u| (velocity)", "Constraint violation at the samples: " + title,
-                        out, stem + "-loops")
+    # A zero violation has no logarithm: it is drawn at FLOOR, and the axis says so.
+    floored = any(abs(v) < FLOOR for c, _, _ in LOOP_COLUMNS for v in cols[c])
+    finish_against_time(fig, ax, "largest |g| (position) and |G u| (velocity)" + (" (zeros drawn at %g)" % FLOOR if floored else ""),
+                        "Constraint violation at the samples: " + title, out, stem + "-loops")
 
 
 # ---------------------------------------------------------------------------------------- extreme
