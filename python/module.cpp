@@ -16,6 +16,7 @@
 #include "compare/engines.hpp"
 #include "compare/report.hpp"
 #include "io/csv.hpp"
+#include "compare/provenance.hpp"
 #include "io/json_input.hpp"
 #include "io/run_spec_json.hpp"
 #include "io/scene_json.hpp"
@@ -202,21 +203,23 @@ std::vector<std::pair<std::string, std::string>> namedPaths(const py::dict& d, c
   return out;
 }
 
-Scene load(const py::object& path_arg, bool balance_inertia, const std::vector<std::string>& lock_joints, bool floating_base) {
+Scene load(const py::object& path_arg, bool balance_inertia, const std::vector<std::string>& lock_joints, bool floating_base,
+           bool assemble) {
   const std::string path = pathArg(path_arg, "path");
   UrdfOptions o;
   o.balance_inertia = balance_inertia;
   o.lock_joints = lock_joints;
   o.floating_base = floating_base;
   try {
-    Scene s = loadScene(path, o);
+    Scene s = loadScene(path, o, assemble);
     checkInitialState(s);
     return s;
   } catch (const std::exception& e) {
     // The import options' lines name the CLI's flags: name the keyword arguments instead.
     std::string what = e.what();
     for (const auto& [flag, keyword] : {std::pair<std::string, std::string>{"--balance-inertia", "balance_inertia"},
-                                        {"--lock-joint", "lock_joints"}, {"--floating-base", "floating_base"}})
+                                        {"--lock-joint", "lock_joints"}, {"--floating-base", "floating_base"},
+                                        {"--assemble", "assemble"}})
       for (size_t at = what.find(flag); at != std::string::npos; at = what.find(flag, at + keyword.size()))
         what.replace(at, flag.size(), keyword);
     if (dynamic_cast<const std::invalid_argument*>(&e)) throw std::invalid_argument(what);
@@ -415,11 +418,17 @@ PYBIND11_MODULE(eigenmass, mod) {
       .def_property_readonly("u0", [](const Scene& s) { return vec(fileOrder(s.model.u0(), s.model.uFilePermutation())); })
       .def_property_readonly("file", [](const Scene& s) { return s.source.file; })
       .def_property_readonly("sha256", [](const Scene& s) { return s.source.sha256; })
+      .def_property_readonly("assembly",  // load(..., assemble=True): how far the start was moved onto the loops (None otherwise)
+                             [](const Scene& s) -> py::object {
+                               if (!s.source.assembly) return py::none();
+                               return fromJson(sceneSourceJson(s.source).at("assembly"));  // the sidecar's own object
+                             })
       .def("__repr__", [](const Scene& s) {
         return "<eigenmass.Scene " + s.model.name + ": " + std::to_string(s.model.n()) + " bodies, nu " + std::to_string(s.model.nu) + ">";
       });
   mod.def("load", &load, "Load a scene (.json) or URDF robot, with the CLI's import options", py::arg("path"),
-          py::arg("balance_inertia") = false, py::arg("lock_joints") = std::vector<std::string>{}, py::arg("floating_base") = false);
+          py::arg("balance_inertia") = false, py::arg("lock_joints") = std::vector<std::string>{}, py::arg("floating_base") = false,
+          py::arg("assemble") = false);
   mod.def("equations", &equations,
           "A, B, u', eigenvalues of A and the energies at (q, u) (default: the initial state), the scene's order, from `engine`",
           py::arg("scene"), py::arg("engine") = "inhouse", py::arg("q") = py::none(), py::arg("u") = py::none());

@@ -298,3 +298,21 @@ def test_a_mechanism_runs_every_formulation_and_returns_its_violation_and_lambda
         em.simulate(s, integrator="rk4", dt=1e-3, formulation="augmented-lagrangian")
     with pytest.raises(ValueError, match="formulation: scene 'pendulum5' has no loops"):
         em.simulate(em.load(scene("pendulum5.json")), formulation="projection")
+
+
+def test_load_assembles_an_open_start_as_the_cli_does(tmp_path):
+    """Issue 73's doubtful list: load() had no assemble. A02 (N = 2) with its first crank turned 0.01 rad is open by
+    ~0.01 m: refused as written, assembled with assemble=True, and s.assembly is the sidecar's object."""
+    doc = json.load(open(scene("mechanisms/iftomm_a02_n2.json")))
+    doc["bodies"][1]["joint"]["q0"][0] += 0.01
+    path = tmp_path / "open.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(Exception, match="--assemble|assemble"):
+        em.load(path)
+    s = em.load(path, assemble=True)
+    assert s.assembly["gap_before"] > 5e-3
+    assert s.assembly["max_change_q"] > 1e-3
+    assert em.load(scene("mechanisms/iftomm_a02_n2.json")).assembly is None
+    csv_path = tmp_path / "open.csv"
+    assert cli("simulate", str(path), "--t-end", "0.05", "--assemble", "--out", str(csv_path))[0] == 0
+    assert s.assembly == json.load(open(str(csv_path) + ".json"))["scene_source"]["assembly"]
