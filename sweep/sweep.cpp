@@ -277,6 +277,7 @@ bool runCase(const Plan& plan, const SweepCase& c, const std::string& dir) {
   if (c.role == CaseRole::Reference) doc["trajectory"] = trajectoryJson(first);
   if (c.role == CaseRole::Run && plan.hasTable(PlanTable::Trajectories)) writeCsv(first, caseCsv(dir, c));
   doc["result"] = caseRecordJson(rec);
+  doc["scene_source"] = sceneSourceJson(scene.source);  // as simulate's sidecar: the file, and an assembled start's move
   doc["provenance"] = provenance();
   writeJsonAtomic(doc, caseFile(dir, c));
   return true;

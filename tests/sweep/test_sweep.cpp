@@ -528,3 +528,29 @@ TEST_CASE("a line's tuning sets are routes of their own: named, applied, recorde
   bad["mujoco_solref_time"] = 0.01;
   CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].mujoco_solref_time: also set at the plan's top level"));
 }
+
+TEST_CASE("a case file says how far its scene's start was assembled, as simulate's sidecar does", "[sweep][mechanism][cli]") {
+  // Issue 73's doubtful list: a scene with simulate.assemble ran assembled, and its case files did not say so.
+  nlohmann::json doc;
+  std::ifstream(test::sourcePath("data/scenes/mechanisms/iftomm_a02_n2.json")) >> doc;
+  doc["bodies"][1]["joint"]["q0"][0] = doc["bodies"][1]["joint"]["q0"][0].get<double>() + 0.01;  // open by ~0.01 m
+  doc["simulate"]["assemble"] = true;
+  fs::create_directories(kDir);
+  std::ofstream(kDir + "/open_a02.json") << doc.dump();
+  json plan = smallPlan();
+  plan["name"] = "assembled";
+  plan["scenes"] = {kDir + "/open_a02.json"};
+  plan["t_end"] = 0.1;
+  plan["output_dt"] = 0.05;
+  plan["lines"] = {{{"methods", {"classical"}}, {"integrator", "rk4"}, {"dt", {1e-2}}}};
+  plan["tables"] = {"runs"};
+  const std::string dir = kDir + "/assembled";
+  fs::remove_all(dir);
+  REQUIRE(shell(eigenmass() + " sweep " + writePlan(plan, "assembled.json") + " --results " + dir + " -j 1 >/dev/null 2>&1") == 0);
+  for (const char* file : {"/open_a02.reference.json", "/open_a02.classical.rk4.0.01.json"}) {
+    const json c = readJsonFile(dir + file, "case");
+    INFO(file);
+    CHECK(c.at("scene_source").at("assembly").at("gap_before").get<double>() > 5e-3);
+    CHECK(c.at("scene_source").at("sha256") == c.at("key").at("scene_sha256"));
+  }
+}
