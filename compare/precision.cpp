@@ -1,5 +1,7 @@
 #include "compare/precision.hpp"
 
+#include "io/run_spec_json.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -114,6 +116,8 @@ nlohmann::json precisionJson(const PrecisionResult& r) {
                       {"run_time_s", m.run_time_s},
                       {"steps", m.steps},
                       {"rhs_evals", m.rhs_evals}});
+    // A mechanism's point: its loops' violation, rank and formulation, as a report's method (issue 73's doubtful list).
+    if (m.has_loops) points.back()["loops"] = loopsJson(m, m.run);
   }
   return {{"format", "eigenmass-precision/1"},
           {"scene", r.scene_name},

@@ -360,3 +360,18 @@ TEST_CASE("equations of a mechanism by an engine whose closures are soft say tha
   REQUIRE(ours.status == 0);
   CHECK(ours.out.find("udot_note") == std::string::npos);
 }
+
+TEST_CASE("precision on a mechanism states each point's formulation and loop violation", "[cli][mechanism]") {
+  // Issue 73's doubtful list: the precision file had neither, so a point's error could not be told from its loops' drift.
+  const std::string out = tempDir() + "/prec_a04.json";
+  std::remove(out.c_str());
+  REQUIRE(eigenmass("precision " + scene("mechanisms/iftomm_a04.json") + " --t-end 0.5 --methods classical --settings 1e-2,5e-3 "
+                    "--formulation udwadia-kalaba --out " + out).status == 0);
+  nlohmann::json doc;
+  std::ifstream(out) >> doc;
+  REQUIRE(doc["points"].size() == 2);
+  for (const auto& p : doc["points"]) {
+    CHECK(p["loops"]["formulation"] == "udwadia-kalaba");
+    CHECK(p["loops"]["max_position_violation_m"].get<double>() < 1e-6);
+  }
+}
