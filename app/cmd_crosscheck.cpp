@@ -103,8 +103,13 @@ int runCrossCheck(const CrossCheckArgs& a) {
                 cell(worst.udot, !worst.A_only, shared.udot).c_str());
   }
   for (const auto& [row, d] : c.dependent) {  // one line per reason, naming the entries it covers
+    // Only the entries the table shows: a footnote beside a "-" cell (issue 73's doubtful list) names nothing printed.
+    const auto printed = std::find_if(worst_of.begin(), worst_of.end(), [&](const CrossCheckRow& w) { return w.engine == row; });
+    if (printed == worst_of.end()) continue;
+    const bool shows_A = !printed->udot_only, shows_B = !printed->udot_only && !printed->A_only, shows_udot = !printed->A_only;
     std::vector<std::pair<std::string, std::string>> lines;  // (entries, why)
-    for (const auto& [entry, why] : {std::pair<std::string, std::string>{"A", d.A}, {"B", d.B}, {"u'", d.udot}}) {
+    for (const auto& [entry, why] : {std::pair<std::string, std::string>{"A", shows_A ? d.A : ""}, {"B", shows_B ? d.B : ""},
+                                     {"u'", shows_udot ? d.udot : ""}}) {
       if (why.empty()) continue;
       auto same = std::find_if(lines.begin(), lines.end(), [&](const auto& l) { return l.second == why; });
       if (same != lines.end()) same->first += ", " + entry;
