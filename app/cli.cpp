@@ -31,11 +31,28 @@ int g_exit = 0;
 
 int exitCode() { return g_exit; }
 
+std::string oneLine(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else if (c < 0x20 || c == 0x7f) {  // an escape sequence would drive the terminal
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else out += ch;  // UTF-8 (u′, ±) as it is
+  }
+  return out;
+}
+
 void guarded(const std::function<int()>& body) {
   try {
     g_exit = body();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "eigenmass: error: %s\n", e.what());
+    // One line, whatever the message quotes: a path or a value read from outside may hold a line break.
+    std::fprintf(stderr, "eigenmass: error: %s\n", oneLine(e.what()).c_str());
     g_exit = 2;
   }
 }

@@ -48,6 +48,8 @@ int exitCode();
 /// Run a subcommand body: an exception ends in one line on stderr and exit
 /// status 2, never a crash; otherwise the body's status is the exit status.
 void guarded(const std::function<int()>& body);
+/// `text` on one line: line breaks and other control characters escaped (\n, \x1b), UTF-8 kept.
+std::string oneLine(const std::string& text);
 
 /// Make ready to write `path` before any computation: its folder exists and
 /// takes a file, and neither it nor a file written beside it under a derived

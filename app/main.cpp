@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return em::finishStandardOutput("eigenmass", app.exit(e));  // --help, --version
-    std::fprintf(stderr, "eigenmass: error: %s (see --help)\n", e.what());
+    std::fprintf(stderr, "eigenmass: error: %s (see --help)\n", em::cli::oneLine(e.what()).c_str());
     return 2;
   }
   // What a command printed must have reached standard output, as an output

@@ -1251,3 +1251,15 @@ TEST_CASE("a damped motion's exponent below zero has no e-folding time, said so"
                         Catch::Contains("not positive: nearby motions do not separate over this run, no e-folding time"));
   CHECK_THAT(r.out, !Catch::Contains("e-fold every -"));
 }
+
+TEST_CASE("an error quoting a path with a line break or an escape stays one line", "[cli][hostile]") {
+  // Issue 73's doubtful list: paths with newlines were printed raw, an error of two lines (and ESC drove the terminal).
+  const Run r = eigenmass("simulate '/tmp/eigenmass_no\nsuch\x1b[31m.json'", true);
+  CHECK(r.status == 2);
+  CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 1);
+  CHECK_THAT(r.out, Catch::Contains("eigenmass_no\\nsuch\\x1b[31m.json"));
+  CHECK(r.out.find('\x1b') == std::string::npos);
+  // UTF-8 in a path is kept as it is.
+  const Run u = eigenmass("simulate '/tmp/eigenmass_no_u\xe2\x80\xb2.json'", true);
+  CHECK_THAT(u.out, Catch::Contains("eigenmass_no_u\xe2\x80\xb2.json"));
+}
