@@ -117,6 +117,7 @@ void addSweep(CLI::App& app) {
   jobs->excludes(cmd->add_flag("--list", a->list, "Print one shell command per case (for GNU parallel or a Slurm array) and stop"));
   jobs->excludes(cmd->add_option("--case", a->one_case, "Run this one case (a name --list prints) and stop"));
   jobs->excludes(cmd->add_option("--merge", a->merge, "Merge the case results in this folder (as given to --results) and stop"));
+  addProgressFlags(cmd);  // as benchmark and engine-study take them (sweep refused --progress)
   cmd->callback([a] { guarded([&] { return runSweepCommand(*a); }); });
 }
 

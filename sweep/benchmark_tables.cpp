@@ -347,7 +347,11 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
         o << " " << (r ? sci(r->cpuMedian()) : std::string("-")) << " |";
       }
       const LevelCell cell = levelCell(best, k);
-      o << " " << (cell.mine ? cell.mine_route->name() + " " + settingText(*cell.mine) : std::string("-")) << " | ";
+      // A winner at its route's finest setting has no finer run to show that it converges (issue 76, item 5): said.
+      const bool finest = cell.mine && cell.mine == cell.mine_route->runs.back();
+      o << " " << (cell.mine ? cell.mine_route->name() + " " + settingText(*cell.mine) + (finest ? " (its finest: convergence unchecked)" : "")
+                             : std::string("-"))
+        << " | ";
       const std::string why = unresolved(p.records, p.scene, p.spec, p.spec.levels[k]);
       if (!p.complete) o << "not judged (incomplete)";
       else if (!why.empty()) o << "not judged: " << why;

@@ -405,6 +405,8 @@ TEST_CASE("messages of issue 73, item 14: E(0) at any scale in a line, benchmark
   CHECK(arr.out.find("json.exception") == std::string::npos);
   const Run listed = eigenmass("benchmark A03 --no-progress --list --results " + dir + "/b", true);
   CHECK(listed.status == 0);
+  // sweep takes the same flags (it refused --progress).
+  CHECK(eigenmass("sweep " + em::test::sourcePath("data/plans/order-check.json") + " --progress --list --results " + dir + "/s", true).status == 0);
 }
 
 TEST_CASE("non-finite equations at t = 0 and a locked gimbal are refused naming the file", "[cli][hostile]") {

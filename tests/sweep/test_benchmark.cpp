@@ -404,6 +404,8 @@ TEST_CASE("a summary margin is the median of interleaved rounds' ratios with its
   CHECK(m->p90 == Approx(2.4));
   BenchmarkProblem p{"s", b, rs, true, t};
   CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| met: next mujoco 2x dearer [1.6, 2.4] |") != std::string::npos);
+  // eigenmass's run is its route's only, so its finest: nothing finer shows it converges, and the summary says so.
+  CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("classical projection rk4 dt 0.01 (its finest: convergence unchecked) |") != std::string::npos);
   // Rounds that straddle 1: tied, however the medians of the consecutive repeats ranked them.
   for (int k = 0; k < 11; ++k) p.interleaved.cpu_s[rs[1].name][k] = 0.01 * (0.7 + 0.06 * k);
   CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| tied: mujoco 1x [0.76, 1.24] |") != std::string::npos);
