@@ -221,6 +221,20 @@ LevelCell levelCell(const std::vector<OwnerBest>& best, size_t k) {
 // interleaved rounds (issue 75 found the next owner changing between reruns).
 constexpr size_t kContendersPerLevel = 2;
 
+// An owner this many times dearer than eigenmass by the medians is not timed
+// again: the margin is not in doubt, and rounds of it would cost the most (ODE's
+// 96 s runs on A02 at N = 40). Its interval is the extremes of the consecutive
+// repeats, other's min / eigenmass's max to other's max / eigenmass's min.
+constexpr double kRetimeWithin = 10;
+
+// The margin of `other` over `mine`: from the interleaved rounds, else (an owner
+// kRetimeWithin dearer, or no rounds) from the consecutive repeats' extremes.
+std::optional<Margin> marginOf(const Interleaved& t, const CaseRecord& mine, const CaseRecord& other) {
+  if (std::optional<Margin> m = interleavedMargin(t, mine.name, other.name)) return m;
+  if (other.cpuMedian() <= kRetimeWithin * mine.cpuMedian() || mine.cpu_s.empty() || other.cpu_s.empty()) return std::nullopt;
+  return Margin{other.cpuMedian() / mine.cpuMedian(), other.cpuMin() / mine.cpuMax(), other.cpuMax() / mine.cpuMin(), 0};
+}
+
 // The summary's verdict from the interleaved rounds: met when every contender's
 // 10th percentile ratio exceeds 1, missed when one's 90th falls below 1, else
 // tied; the nearest contender is named with its interval.
@@ -230,7 +244,7 @@ std::string verdict(const LevelCell& cell, const Interleaved& t) {
   std::optional<Margin> nearest;
   bool missed = false, tied = false;
   for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) {
-    const std::optional<Margin> m = interleavedMargin(t, cell.mine->name, cell.others[i].second->name);
+    const std::optional<Margin> m = marginOf(t, *cell.mine, *cell.others[i].second);
     if (!m) {  // no interleaved rounds: the medians' ratio, said to have no interval
       const double r = cell.others[0].second->cpuMedian() / cell.mine->cpuMedian();
       return std::string(r > 1 ? "met" : "missed") + " (no interval: not timed interleaved): next " + cell.others[0].first + " " +
@@ -259,7 +273,8 @@ std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& rs, 
     const LevelCell cell = levelCell(best, k);
     if (!cell.mine) continue;
     add(cell.mine);
-    for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) add(cell.others[i].second);
+    for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i)
+      if (cell.others[i].second->cpuMedian() <= kRetimeWithin * cell.mine->cpuMedian()) add(cell.others[i].second);
   }
   return out;
 }
@@ -330,8 +345,9 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
        "its repeats; - : no route reached it); eigenmass's route; whether it is the cheapest. The verdict's ratio is the "
        "median over "
     << kInterleavedRounds << " interleaved rounds (each runs eigenmass's route and the " << kContendersPerLevel
-    << " cheapest other owners' once, in turn) of other / eigenmass, with its 10th-90th percentile interval: met "
-       "where every such interval lies above 1, tied where one holds 1, missed where one lies below.\n\n| problem | level (m) |";
+    << " cheapest other owners' once, in turn) of other / eigenmass, with its 10th-90th percentile interval; an owner more "
+       "than " << gnum(kRetimeWithin) << " times dearer by the medians is not timed again, its interval the extremes of the "
+       "consecutive repeats. Met where every such interval lies above 1, tied where one holds 1, missed where one lies below.\n\n| problem | level (m) |";
   for (const std::string& w : owners) o << " " << w << " |";
   o << " eigenmass's route | goal |\n|---|---|";
   for (size_t k = 0; k < owners.size(); ++k) o << "---|";

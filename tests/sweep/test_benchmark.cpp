@@ -418,4 +418,18 @@ TEST_CASE("a summary margin is the median of interleaved rounds' ratios with its
     p.interleaved.cpu_s[rs[2].name][k] = 0.01 * (0.7 + 0.06 * k);
   }
   CHECK(lineOf(benchmarkSummary({p}), "| T | 0.1 |").find("| tied: ode 1x [0.76, 1.24] |") != std::string::npos);
+  // An owner more than ten times dearer by the medians is not timed again: its margin comes from the repeats' extremes.
+  std::vector<CaseRecord> far = {rs[0], rs[1], run("ode", "", "ode-step", 1e-3, 8e-2, 0.5)};
+  far[2].cpu_s = {0.4, 0.5, 0.6};
+  const std::vector<std::string> timed = benchmarkContenders(far, "s", b);
+  CHECK(timed == std::vector<std::string>{rs[0].name, rs[1].name});
+  Interleaved only;
+  only.rounds = 11;
+  only.cpu_s[rs[0].name] = t.cpu_s[rs[0].name];
+  only.cpu_s[rs[1].name] = std::vector<double>(11, 0.02);
+  BenchmarkProblem q{"s", b, far, true, only};
+  CHECK(lineOf(benchmarkSummary({q}), "| T | 0.1 |").find("| met: next mujoco 2x dearer [2, 2] |") != std::string::npos);
+  far.erase(far.begin() + 1);  // ODE alone: 50x by the medians, [40, 60] by its repeats' extremes over eigenmass's 0.01
+  BenchmarkProblem r{"s", b, far, true, only};
+  CHECK(lineOf(benchmarkSummary({r}), "| T | 0.1 |").find("| met: next ode 50x dearer [40, 60] |") != std::string::npos);
 }
