@@ -91,7 +91,9 @@ echo
 echo "Each problem as its scene's \`benchmark\` key states it (horizon, output steps, levels) and what its \`x-source\` says of the"
 echo "specification; where eigenmass departs, the source says so. The error is everywhere the largest absolute gap of the"
 echo "measured coordinates over the output steps; the specifications' threshold value (1e-3, A01 and A02) enters their own"
-echo "error formula, which was not reachable here: it is not applied."
+echo "error formula, which was not reachable here: it is not applied. A02's specification (lim.ii.udc.es/mbsbenchmark/dist/A02/"
+echo "A02_specification.xml) measures B0's position and velocity, x and y, with 400 output steps and that threshold; eigenmass"
+echo "measures B0's x position alone (its scenes' x-source predates this reading of the specification)."
 echo
 /usr/bin/python3 - "$(dirname "$0")/../data/scenes/mechanisms" <<'PY'
 import json, os, sys
