@@ -416,6 +416,7 @@ Trajectory simulate(const Model& m, const CheckedRunSpec& checked_spec, const Sa
     tr.loops.newton_solves = al_stats.newton_solves;
     tr.loops.newton_iterations = al_stats.newton_iterations;
     tr.loops.newton_unconverged = al_stats.newton_unconverged;
+    tr.loops.newton_at_roundoff = al_stats.newton_at_roundoff;
     tr.loops.rank_min = al_stats.rank_min;
     tr.loops.rank_max = al_stats.rank_max;
   }

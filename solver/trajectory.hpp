@@ -62,6 +62,9 @@ struct LoopStats {
   /// per evaluation or step), their iterations, those that stopped at the bound
   /// above projection_tol.
   long newton_solves = 0, newton_iterations = 0, newton_unconverged = 0;
+  /// The augmented Lagrangian: steps whose Newton stopped at round-off (its step no longer shrinking, within
+  /// kNewtonRoundoff of its tolerance) rather than at the tolerance itself.
+  long newton_at_roundoff = 0;
   long repartitions = 0;                   ///< coordinate partitioning: partitions chosen anew after the first
   std::vector<double> repartition_times;   ///< when (s): the first kRepartitionTimesKept of them
   /// Where the multipliers' rank fell below the rank of the first evaluation

@@ -95,6 +95,17 @@ void TreeCholesky::solveL(double* x) const {
   }
 }
 
+void TreeCholesky::multiply(const Eigen::MatrixXd& A, const double* x, double* y) const {
+  const int n = size();
+  for (int j = 0; j < n; ++j) y[j] = A(j, j) * x[j];
+  for (int j = 0; j < n; ++j)
+    for (int p = start_[j]; p < start_[j + 1]; ++p) {  // A(i, j), i an ancestor of j (i < j): above the diagonal
+      const int i = anc_[p];
+      y[i] += A(i, j) * x[j];
+      y[j] += A(i, j) * x[i];
+    }
+}
+
 void TreeCholesky::solveInPlace(double* x) const {
   const int n = size();
   for (int i = n - 1; i >= 0; --i) {  // L^-T

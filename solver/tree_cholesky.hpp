@@ -33,6 +33,9 @@ class TreeCholesky {
   void solveLtOn(const std::vector<int>& support, double* x) const;
   /// x <- L^-1 x over every speed.
   void solveL(double* x) const;
+  /// y = A x over A's tree pattern (its entries above the diagonal, mirrored):
+  /// O(sum of depths), where a dense product costs nu^2.  // x, y: (nu), apart
+  void multiply(const Eigen::MatrixXd& A, const double* x, double* y) const;
   int size() const { return static_cast<int>(D_.size()); }
   /// The speeds' parent speed (-1 at a root): a body's first speed has its
   /// parent body's last; its others, the one before.

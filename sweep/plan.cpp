@@ -24,15 +24,28 @@ namespace fs = std::filesystem;
 
 std::string PlanScene::stem() const { return fs::path(file).stem().string(); }
 
+namespace {
+
+// The shortest of gnum's forms that reads back as x: a tuned value names its
+// case, its key and its column, so 0.1234574 must not print as 0.123457 (a
+// hostile pass found the sweep then reused 0.123457's result for it).
+std::string exactNum(double x) {
+  for (int digits = 6; digits < 17; ++digits)
+    if (const std::string s = gnum(x, digits); std::stod(s) == x) return s;
+  return gnum(x, 17);
+}
+
+}  // namespace
+
 std::string Tuning::label() const {
   std::string out;
-  for (const auto& [key, value] : values) out += (out.empty() ? "" : " ") + key + "=" + gnum(value);
+  for (const auto& [key, value] : values) out += (out.empty() ? "" : " ") + key + "=" + exactNum(value);
   return out;
 }
 
 std::string Tuning::tag() const {
   std::string out;
-  for (const auto& [key, value] : values) out += (out.empty() ? "" : ".") + key + "-" + gnum(value);
+  for (const auto& [key, value] : values) out += (out.empty() ? "" : ".") + key + "-" + exactNum(value);
   return out;
 }
 
@@ -90,6 +103,7 @@ RunSpec runAt(const json& v, const std::string& path) {
 }
 
 double methodParamAt(const MethodParam& m, const json& v, const std::string& path);
+constexpr size_t kMaxTuningSets = 100;  // a line's sets: each multiplies its cases
 bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t, bool has_loops);
 
 // A line's "tuning": a list of sets, each an object of option keys its
@@ -97,7 +111,10 @@ bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t,
 // the augmented Lagrangian; every set once, none empty.
 std::vector<Tuning> tuningsAt(const json& v, const std::string& path, const PlanLine& line) {
   const json sets = nonEmptyArrayAt(v, path);
+  if (sets.size() > kMaxTuningSets)
+    throw InputError(path, std::to_string(sets.size()) + " sets, more than " + std::to_string(kMaxTuningSets) + ": each is a route of its own");
   std::vector<Tuning> out;
+  std::set<std::string> labels;
   const bool al = std::find(line.formulations.begin(), line.formulations.end(), Formulation::AugmentedLagrangian) != line.formulations.end();
   for (size_t i = 0; i < sets.size(); ++i) {
     const std::string at = jsonPath(path, i);
@@ -131,8 +148,7 @@ std::vector<Tuning> tuningsAt(const json& v, const std::string& path, const Plan
       read = read || readsTuning(m, std::nullopt, t, true);
     }
     if (!read) throw InputError(at, "no method of this line reads all of its options: one set per method's options");
-    for (const Tuning& u : out)
-      if (u.label() == t.label()) throw InputError(at, "the same set twice");
+    if (!labels.insert(t.label()).second) throw InputError(at, "the same set twice");
     out.push_back(t);
   }
   return out;
@@ -452,12 +468,27 @@ void readPlanKeys(const json& doc, Plan& p) {
   if (doc.contains("max_steps")) p.options.max_steps = positiveAt(doc["max_steps"], "max_steps");
   if (doc.contains("max_samples")) p.options.max_samples = positiveAt(doc["max_samples"], "max_samples");
   readMethodParams(doc, p.options);
-  for (size_t i = 0; i < p.lines.size(); ++i)  // a top-level value and a line's would each claim the same runs
-    for (size_t k = 0; k < p.lines[i].tunings.size(); ++k)
-      for (const auto& [key, value] : p.lines[i].tunings[k].values)
-        if (doc.contains(key))
-          throw InputError(jsonPath(jsonPath(jsonPath("lines", i), "tuning"), k) + "." + key,
-                           "also set at the plan's top level: set it in one place");
+  for (size_t i = 0; i < p.lines.size(); ++i) {
+    const std::string tpath = jsonPath(jsonPath("lines", i), "tuning");
+    // An ensemble's distribution tables name a route by method and scheme alone: tuned routes would be pooled there.
+    if (p.ensemble && !p.lines[i].tunings.empty())
+      throw InputError(tpath, "not with an ensemble: its distribution tables would pool the tuned routes with the untuned");
+    for (size_t k = 0; k < p.lines[i].tunings.size(); ++k) {
+      const Tuning& t = p.lines[i].tunings[k];
+      for (const auto& [key, value] : t.values) {
+        const std::string at = jsonPath(tpath, k) + "." + key;
+        if (doc.contains(key)) throw InputError(at, "also set at the plan's top level: set it in one place");
+        if (key == kPenaltyRatioKey) continue;
+        const MethodParam m = methodParam(key);  // an option read only under another's > 0 (refine_tol under refine)
+        if (!m.read_when) continue;
+        const auto in_set = std::find_if(t.values.begin(), t.values.end(), [&](const auto& kv) { return kv.first == m.read_when; });
+        const auto in_plan = p.options.params.find(m.read_when);
+        const double under = in_set != t.values.end() ? in_set->second
+                             : in_plan != p.options.params.end() ? in_plan->second : methodParam(m.read_when).fallback;
+        if (!(under > 0)) throw InputError(at, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
+      }
+    }
+  }
 }
 
 // Every run of the plan on its grid: planCases checks each case's settings
@@ -472,10 +503,22 @@ void checkPlanRuns(const Plan& p) {
   for (const SweepCase& c : planCases(p)) {
     if (!names.insert(c.name).second) throw InputError("lines", "case " + c.name + " appears twice");
     const PlanScene& scene = p.scenes[c.scene];
-    if (info(c.spec->method).engine != Engine::InHouse || scene.refusals.count(methodName(c.spec->method)) ||
-        !info(c.spec->integrator).stepped())  // a recorded run: read, not run
-      continue;
+    if (scene.refusals.count(methodName(c.spec->method)) || !info(c.spec->integrator).stepped()) continue;  // left out; a recorded run
     if (!models[c.scene]) models[c.scene].emplace(loadScene(scene.file, scene.urdf).model);
+    if (info(c.spec->method).engine != Engine::InHouse) {  // an engine's options as the case would run them (MuJoCo's solref vs dt)
+      try {
+        requireSettingsTaken(c.spec, *models[c.scene]);
+      } catch (const std::invalid_argument& e) {
+        std::string why = e.what();
+        for (const MethodParam& m : methodParams()) {  // the plan spells the CLI's --mujoco-solref-time as mujoco_solref_time
+          std::string flag = std::string("--") + m.name;
+          std::replace(flag.begin(), flag.end(), '_', '-');
+          for (size_t at = why.find(flag); at != std::string::npos; at = why.find(flag, at + 1)) why.replace(at, flag.size(), m.name);
+        }
+        throw InputError("lines", c.name + ": " + why);
+      }
+      continue;
+    }
     try {
       refuseUnrunnable(*models[c.scene], c.spec);
     } catch (const std::invalid_argument& e) {
@@ -684,7 +727,7 @@ std::string leftOutLines(const Plan& p) {
       out += "\n\n";
     }
     if (closure_sets > 0)
-      out += "**Not run on " + sc.stem() + "**: " + std::to_string(closure_sets) + " cases of tuning sets that set closures' "
+      out += "**Not run on " + sc.stem() + "**: " + std::to_string(closure_sets) + (closure_sets == 1 ? " case" : " cases") + " of tuning sets that set closures' "
              "options or a formulation's (a tree has no closure: they would be the untuned runs again).\n\n";
   }
   return out;

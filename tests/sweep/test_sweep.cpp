@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -527,6 +528,36 @@ TEST_CASE("a line's tuning sets are routes of their own: named, applied, recorde
   bad = plan;
   bad["mujoco_solref_time"] = 0.01;
   CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].mujoco_solref_time: also set at the plan's top level"));
+
+  // A hostile pass (this session): values past gnum's six digits named two runs alike, so a changed value
+  // reused the old one's result; refine_tol without refine was run as the default; sets were unbounded;
+  // an ensemble pooled tuned and untuned routes; a solref below two steps failed only once running.
+  bad = plan;
+  bad["lines"][1]["tuning"] = {{{"mujoco_solref_time", 0.1234574}}, {{"mujoco_solref_time", 0.123457}}};
+  {
+    std::set<std::string> names;
+    for (const SweepCase& c : planCases(loadPlan(writePlan(bad, "exact.json")))) names.insert(c.name);
+    CHECK(names.count("iftomm_a04.mujoco.rk4.0.001.mujoco_solref_time-0.1234574") == 1);
+    CHECK(names.count("iftomm_a04.mujoco.rk4.0.001.mujoco_solref_time-0.123457") == 1);
+  }
+  bad = plan;
+  bad["lines"][1]["methods"] = {"eigen-jacobi"};
+  bad["lines"][1]["tuning"] = {{{"refine_tol", 1e-9}}};
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[0].refine_tol: read only with refine > 0, and refine is 0"));
+  bad["lines"][1]["tuning"] = {{{"refine_tol", 1e-9}, {"refine", 2}}};
+  CHECK(planError(bad).empty());
+  bad = plan;
+  bad["lines"][1]["tuning"] = json::array();
+  for (int k = 0; k < 101; ++k) bad["lines"][1]["tuning"].push_back({{"mujoco_solref_time", 0.005 + 1e-4 * k}});
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning: 101 sets, more than 100"));
+  bad = plan;
+  bad["ensemble"] = {{"count", 2}, {"seed", 1}, {"perturb", {{"q", 1e-3}}}};
+  bad["repeats"] = 1;
+  CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning: not with an ensemble"));
+  bad = plan;
+  bad["lines"][1]["tuning"] = {{{"mujoco_solref_time", 0.001}}};  // dt 1e-3: MuJoCo would raise it to 2 dt
+  CHECK_THAT(planError(bad), Catch::Contains("lines: iftomm_a04.mujoco.rk4.0.001.mujoco_solref_time-0.001: mujoco_solref_time 0.001: "
+                                             "below two steps"));
 }
 
 TEST_CASE("a case file says how far its scene's start was assembled, as simulate's sidecar does", "[sweep][mechanism][cli]") {

@@ -11,6 +11,7 @@ void augmentedLagrangianFigures(const LoopStats& s, const LoopOptions& o, std::v
   out.push_back({"newton_steps", double(s.newton_solves), true});
   out.push_back({"newton_iterations", double(s.newton_iterations), true});
   out.push_back({"newton_unconverged", double(s.newton_unconverged), true});
+  out.push_back({"newton_at_roundoff", double(s.newton_at_roundoff), true});
   out.push_back({"newton_tol", o.al_tol});
   out.push_back({"penalty_ratio", o.penalty_ratio});
 }
