@@ -214,14 +214,27 @@ UrdfOptions urdfOptionsAt(const json& v, const std::string& at) {
   return u;
 }
 
-// The URDF import's errors name the CLI's options; a plan spells them as keys of the scene's entry.
+// Errors from the import and the engines name the CLI's options; a plan
+// spells them as keys: the URDF flags as its scene entry's keys, a method
+// option's flag (--mujoco-solref-time) as its own key (mujoco_solref_time).
 std::string planSpelling(std::string msg) {
-  const std::pair<const char*, const char*> names[] = {{"--balance-inertia", "\"balance_inertia\": true"},
-                                                       {"--lock-joint", "\"lock_joint\""},
-                                                       {"--floating-base", "\"floating_base\": true"}};
+  std::vector<std::pair<std::string, std::string>> names = {{"--balance-inertia", "\"balance_inertia\": true"},
+                                                            {"--lock-joint", "\"lock_joint\""},
+                                                            {"--floating-base", "\"floating_base\": true"}};
+  for (const MethodParam& m : methodParams()) {
+    std::string flag = std::string("--") + m.name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    names.emplace_back(flag, m.name);
+  }
+  std::stable_sort(names.begin(), names.end(), [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });  // --refine-tol before --refine
   for (const auto& [cli, key] : names)
-    for (size_t at = msg.find(cli); at != std::string::npos; at = msg.find(cli, at + 1)) msg.replace(at, std::strlen(cli), key);
+    for (size_t at = msg.find(cli); at != std::string::npos; at = msg.find(cli, at + key.size())) msg.replace(at, cli.size(), key);
   return msg;
+}
+
+// An option read only under another's > 0 (refine_tol under refine): refused at `path` where `under` is not.
+void requireReadWhen(const MethodParam& m, double under, const std::string& path) {
+  if (!(under > 0)) throw InputError(path, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
 }
 
 // Largest displacement sigma of a start (ensemble.perturb.q, start_offset.q):
@@ -374,8 +387,7 @@ void readMethodParams(const json& doc, MethodOptions& options) {
   for (const MethodParam& m : methodParams())  // an option read only under another's > 0 (refine_tol under refine)
     if (m.read_when && doc.contains(m.name)) {
       const auto it = options.params.find(m.read_when);
-      const double under = it != options.params.end() ? it->second : methodParam(m.read_when).fallback;
-      if (!(under > 0)) throw InputError(m.name, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
+      requireReadWhen(m, it != options.params.end() ? it->second : methodParam(m.read_when).fallback, m.name);
     }
 }
 
@@ -483,9 +495,8 @@ void readPlanKeys(const json& doc, Plan& p) {
         if (!m.read_when) continue;
         const auto in_set = std::find_if(t.values.begin(), t.values.end(), [&](const auto& kv) { return kv.first == m.read_when; });
         const auto in_plan = p.options.params.find(m.read_when);
-        const double under = in_set != t.values.end() ? in_set->second
-                             : in_plan != p.options.params.end() ? in_plan->second : methodParam(m.read_when).fallback;
-        if (!(under > 0)) throw InputError(at, std::string("read only with ") + m.read_when + " > 0, and " + m.read_when + " is " + gnum(under));
+        requireReadWhen(m, in_set != t.values.end() ? in_set->second
+                           : in_plan != p.options.params.end() ? in_plan->second : methodParam(m.read_when).fallback, at);
       }
     }
   }
@@ -509,13 +520,7 @@ void checkPlanRuns(const Plan& p) {
       try {
         requireSettingsTaken(c.spec, *models[c.scene]);
       } catch (const std::invalid_argument& e) {
-        std::string why = e.what();
-        for (const MethodParam& m : methodParams()) {  // the plan spells the CLI's --mujoco-solref-time as mujoco_solref_time
-          std::string flag = std::string("--") + m.name;
-          std::replace(flag.begin(), flag.end(), '_', '-');
-          for (size_t at = why.find(flag); at != std::string::npos; at = why.find(flag, at + 1)) why.replace(at, flag.size(), m.name);
-        }
-        throw InputError("lines", c.name + ": " + why);
+        throw InputError("lines", c.name + ": " + planSpelling(e.what()));
       }
       continue;
     }
