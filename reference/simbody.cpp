@@ -1,11 +1,13 @@
 #include "reference/simbody.hpp"
 
 #include "reference/engine.hpp"
+#include "reference/engine_messages.hpp"
 #include "solver/mechanism/loops.hpp"
 #include "solver/text.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <stdexcept>
 
@@ -404,10 +406,12 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
   I.system.realize(I.state, SimTK::Stage::Acceleration);
   I.sample(tr, 0.0, I.state);
   double cpu = 0;
+  EngineMessages said;  // CPodes prints its errors on stderr, one per failed call
   try {
     integ->initialize(I.state);
     for (long k = 1; k <= n_out; ++k) {
       const double t_out = k * spec.output_dt;
+      said.resume();
       const std::clock_t c0 = std::clock();
       // The first stepTo may return early (at an event or the first step): loop until t_out.
       while (integ->getTime() < t_out * (1 - 1e-14)) {
@@ -422,6 +426,7 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
           throw StepUnderflowError(h);
       }
       cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+      said.pause();
       I.sample(tr, t_out, integ->getState());
       if (observe) observe(t_out);
     }
@@ -429,6 +434,11 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
     markFailed(tr, integ->getTime(), Failure::StepUnderflow, "Simbody's step fell to " + gnum(e.h, 3) + " s");
   } catch (const std::exception& e) {
     markFailed(tr, integ->getTime(), Failure::Engine, "Simbody: " + oneLine(e.what()));
+  }
+  said.pause();
+  if (const std::string line = said.summary(std::string("Simbody's ") + integratorName(spec.integrator)); !line.empty()) {
+    if (tr.failed()) tr.failure += "; " + line;
+    else std::fprintf(stderr, "%s\n", line.c_str());
   }
   tr.run_time_s = cpu;
   tr.steps = integ->getNumStepsTaken();

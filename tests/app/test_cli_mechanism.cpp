@@ -325,6 +325,25 @@ TEST_CASE("a mechanism at rest: the energy scale is |E(0)|, said, and every ener
   }
 }
 
+TEST_CASE("an engine's own stderr messages are one line of the run's cause, not a flood (issue 73, item 11)", "[cli][mechanism]") {
+  // Simbody's CPodes on a parallelogram started at a singular position stops
+  // at 0.17 s; it printed 400+ "[CPODES ERROR]" lines on stderr for one
+  // compare (measured 35 messages for this run alone), now gathered.
+  const std::string out = tempDir() + "/cpodes_flood.csv";
+  std::remove(out.c_str());
+  std::remove((out + ".json").c_str());
+  const Run r = eigenmass("simulate " + em::test::sourcePath("tests/scenes/mechanisms/parallelogram_singular_start.json") +
+                              " --method simbody --integrator cpodes --tol 1e-10 --out " + out, true);
+  CHECK(r.status == 1);  // a numerical failure, with its time and cause
+  CHECK(r.out.find("[CPODES") == std::string::npos);
+  size_t lines = std::count(r.out.begin(), r.out.end(), '\n');
+  CHECK(lines < 10);
+  nlohmann::json sidecar;
+  std::ifstream(out + ".json") >> sidecar;
+  const std::string cause = sidecar["failure"]["cause"];
+  CHECK_THAT(cause, Catch::Contains("Simbody's cpodes printed") && Catch::Contains("mxstep steps taken"));
+}
+
 TEST_CASE("formulation options a run would not read are refused in one line, never recorded as if used (issue 73, item 7)", "[cli][mechanism]") {
   const std::string andrews = scene("mechanisms/andrews.json") + " --t-end 0.001 --out " + tempDir() + "/x.csv ";
   const struct {
