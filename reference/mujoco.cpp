@@ -42,7 +42,7 @@ std::string settingsRefusal(const Model& m, const RunSpec& spec) {
 class MujocoStepper : public FixedStepEngine {
  public:
   MujocoStepper(const Model& m, const RunSpec& spec) : peer_(m) {
-    peer_.configure(scheme(spec), spec.dt);
+    peer_.configure(scheme(spec), spec.dt, false);  // energies only at the samples, outside the timer
     if (!m.loops.empty()) {
       const MethodInfo& row = info(spec.method);
       const double solref[2] = {row.param("mujoco_solref_time", spec.options), row.param("mujoco_solref_damping", spec.options)};
@@ -65,7 +65,9 @@ class MujocoStepper : public FixedStepEngine {
   long evaluations() const override { return evaluations_; }
   void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { peer_.getState(q, u); }
   void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
+    peer_.computeEnergies(true);
     peer_.forward();  // positions, energies of the current state (a step leaves them a stage behind)
+    peer_.computeEnergies(false);
     poses = peer_.poses();
     kinetic = peer_.kineticEnergy();
     potential = peer_.potentialEnergy();

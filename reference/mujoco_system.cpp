@@ -479,10 +479,15 @@ void MujocoSystem::configure(int scheme, double dt, bool energies) {
   mjModel* mm = impl_->mm;
   mm->opt.integrator = scheme;
   mm->opt.timestep = dt;
-  if (energies) mm->opt.enableflags |= mjENBL_ENERGY;
-  else mm->opt.enableflags &= ~mjENBL_ENERGY;
+  computeEnergies(energies);
   mj_resetData(mm, impl_->d);
   impl_->applyDrives();
+}
+
+void MujocoSystem::computeEnergies(bool on) {
+  mjModel* mm = impl_->mm;
+  if (on) mm->opt.enableflags |= mjENBL_ENERGY;
+  else mm->opt.enableflags &= ~mjENBL_ENERGY;
 }
 
 void MujocoSystem::step() { mj_step(impl_->mm, impl_->d); }
