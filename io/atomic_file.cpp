@@ -1,5 +1,7 @@
 #include "io/atomic_file.hpp"
 
+#include "solver/text.hpp"
+
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -41,8 +43,9 @@ extern "C" void removeTemporaryAndDie(int sig) {
   // One line, as every ending of the tool (write(2) is async-signal-safe).
   static const char kInt[] = "eigenmass: interrupted (SIGINT); no output was left half-written\n";
   static const char kTerm[] = "eigenmass: terminated (SIGTERM); no output was left half-written\n";
-  if (sig == SIGINT) (void)!::write(STDERR_FILENO, kInt, sizeof kInt - 1);
-  else (void)!::write(STDERR_FILENO, kTerm, sizeof kTerm - 1);
+  const int fd = g_stderr_fd;  // stderr itself, not an engine's gathered messages
+  if (sig == SIGINT) (void)!::write(fd, kInt, sizeof kInt - 1);
+  else (void)!::write(fd, kTerm, sizeof kTerm - 1);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }

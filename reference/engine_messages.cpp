@@ -1,5 +1,7 @@
 #include "reference/engine_messages.hpp"
 
+#include "solver/text.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -40,13 +42,16 @@ EngineMessages::~EngineMessages() {
 void EngineMessages::resume() {
   if (capturing_ || file_ < 0 || saved_ < 0) return;
   std::fflush(stderr);
+  g_stderr_fd = saved_;  // before fd 2 moves: an interrupt's last line still reaches stderr
   if (dup2(file_, 2) >= 0) capturing_ = true;
+  else g_stderr_fd = 2;
 }
 
 void EngineMessages::pause() {
   if (!capturing_) return;
   std::fflush(stderr);
   dup2(saved_, 2);
+  g_stderr_fd = 2;
   capturing_ = false;
 }
 

@@ -16,4 +16,6 @@ std::pair<std::string, std::string> gnumApart(double x, double bound, int digits
   return {gnum(x, x != bound ? 17 : digits), gnum(bound, x != bound ? 17 : digits)};
 }
 
+volatile std::sig_atomic_t g_stderr_fd = 2;
+
 }  // namespace em
