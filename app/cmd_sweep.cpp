@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "app/cli.hpp"
@@ -29,7 +30,17 @@ int mergeInto(const Plan& plan, const std::string& dir) {
     std::fprintf(stderr, "sweep: no case result of plan '%s' in %s: nothing merged\n", plan.name.c_str(), dir.c_str());
     return 2;
   }
-  std::fputs(writeMerged(plan, dir, records, missing).c_str(), stdout);
+  // An engine study's margins: its contenders timed in interleaved rounds (read
+  // back from <dir>/margins.json when it holds these runs), once every case is in.
+  std::optional<Interleaved> timed;
+  if (plan.hasTable(PlanTable::EngineStudy) && missing.empty()) {
+    std::vector<std::string> scenes;
+    for (const PlanScene& ps : plan.scenes) scenes.push_back(ps.stem());
+    const std::vector<std::string> contenders = engineStudyContenders(records, scenes, plan.t_end);
+    std::fprintf(stderr, "sweep: %zu runs timed over %d interleaved rounds for the margins\n", contenders.size(), kInterleavedRounds);
+    timed = timeInterleaved(plan, contenders, dir, kInterleavedRounds);
+  }
+  std::fputs(writeMerged(plan, dir, records, missing, timed ? &*timed : nullptr).c_str(), stdout);
   std::printf("merged: %s, %s\n", (fs::path(dir) / (plan.name + ".csv")).string().c_str(),
               (fs::path(dir) / (plan.name + ".md")).string().c_str());
   if (missing.empty()) return 0;

@@ -111,6 +111,7 @@ ComparisonResult compareTrajectories(const Trajectory& reference, const Trajecto
   r.tight = tight;
   r.horizon = referenceHorizon(reference, tight, opt.thresholds);
   const EnergyScale scale = energyScaleOf(reference);
+  for (double e : errorSeries(reference, tight, scale.joules).pose_rad) r.reference_check_pose_rad = std::max(r.reference_check_pose_rad, e);
   r.energy_scale = scale.joules;
   r.energy_scale_definition = scale.definition;
   r.reference_metrics = measureRun(reference, reference, opt.thresholds, r.horizon, r.energy_scale);
@@ -227,26 +228,29 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
 // (its index-2 rows lose rank there). The reference and its twin then run
 // again under the index-3 augmented Lagrangian at penalty ratio 1e6
 // (docs/theory.md eq. (M13)), which keeps the branch through singular
-// positions and converges as its step falls (A02, N = 2, over 20 s: 1.1e-5 m
-// at h = 1e-3, 2.7e-6 at 5e-4, 1.3e-7 at 1e-4). Its step follows the
-// tolerance as the trapezoidal rule's local error does, h = tol^(1/3), cut to
-// divide the output step (tol 1e-10: h = 4.6e-4; the twin at 1e-12: 1e-4), so
-// the twin measures the reference's error as for any adaptive reference. The
-// projection under rk8pd, the replacement until now, drifts off the branch's
-// motion as its tolerance tightens (1.0e-2 m at 1e-10; fails at 1e-12). A
-// scene the rule refuses (quaternion joints) keeps that route, and the note
-// says which ran. IDA's run is kept as the check over IDA's span; where the
-// replacement also stops, the comparison says so as for any failed reference.
+// positions and converges as its step falls. Its step follows the tolerance,
+// h = (tol / 100)^(1/3) cut to divide the output step (the trapezoidal rule's
+// local error is O(h^3); tol 1e-10: h = 1e-4), and its twin halves it, so the
+// two differ by about half the reference's error or more (on A02, N = 2, over
+// 20 s the error is first order in h through the passes: 2.6e-7, 1.3e-7,
+// 6.5e-8 m at h = 2e-4, 1e-4, 5e-5; over 5 s on a row of three four-bars,
+// second). The projection under rk8pd, the replacement until now, drifts off
+// the branch's motion as its tolerance tightens (A02: 1.0e-2 m at 1e-10; fails
+// at 1e-12). A scene the rule refuses (quaternion joints) keeps that route, and
+// the note says which ran. IDA's run is kept as the check over IDA's span;
+// where the replacement also stops, the comparison says so as for any failed
+// reference.
 constexpr double kReplacementPenaltyRatio = 1e6;
 
-RunSpec replacementSpec(const RunSpec& s, bool trapezoidal) {
+// The replacement of `s` (the reference's spec); `halved`: its twin.
+RunSpec replacementSpec(const RunSpec& s, bool trapezoidal, bool halved) {
   RunSpec r = s;
   if (trapezoidal) {
     r.integrator = Integrator::Trapezoidal;
     r.options.loops.formulation = Formulation::AugmentedLagrangian;
     r.options.loops.penalty_ratio = kReplacementPenaltyRatio;
     r.options.loops.alpha = r.options.loops.beta = 0;
-    r.dt = s.output_dt / std::ceil(s.output_dt / std::cbrt(s.tol) - 1e-9);
+    r.dt = s.output_dt / std::ceil(s.output_dt / std::cbrt(s.tol / 100) - 1e-9) / (halved ? 2 : 1);
   } else {
     r.integrator = Integrator::RK8PD;
     r.options.loops.formulation = Formulation::Projection;
@@ -256,7 +260,7 @@ RunSpec replacementSpec(const RunSpec& s, bool trapezoidal) {
 
 bool takesTrapezoidal(const RunSpec& s) {
   try {
-    checked(replacementSpec(s, true));
+    checked(replacementSpec(s, true, false));
     return true;
   } catch (const std::exception&) {
     return false;  // a joint the rule cannot integrate (its q' is not u)
@@ -267,17 +271,14 @@ void replaceStoppedReference(const Scene& scene, const CompareOptions& opt, cons
                              ReferenceRuns& out, void (*progress)(const std::string&)) {
   if (!opt.mechanism_reference || !out.reference.failed() || !scene.model.isMechanism() || scene.model.loops.empty()) return;
   const bool al = takesTrapezoidal(specs[0].spec());
-  const std::string route = al ? "classical/trapezoidal with the augmented Lagrangian (penalty ratio 1e6, h = tol^(1/3))"
-                               : "classical/rk8pd with the projection (the scene's joints refuse the augmented Lagrangian)";
-  const auto rerun = [&](const RunSpec& s, const std::string& label) {
-    return runLabelled(scene, checked(replacementSpec(s, al)), label, progress);
-  };
+  const std::string route = al ? "classical/trapezoidal with the augmented Lagrangian (penalty ratio 1e6, h = (tol/100)^(1/3), its twin at h/2)"
+                               : "classical/rk8pd with the projection at the same tolerances (the scene's joints refuse the augmented Lagrangian)";
   out.reference_note = "IDA ended at t = " + gnum(out.reference.failure_time) + " s (" + out.reference.failure +
-                       "); the reference is " + route + " at the same tolerance, which passes singular positions, "
-                       "checked against IDA over IDA's span";
+                       "); the reference is " + route + ", which passes singular positions, checked against IDA over IDA's span";
   out.stopped = std::move(out.reference);
-  out.reference = rerun(specs[0].spec(), "reference " + route + ": IDA ended early");
-  out.tight = rerun(specs[1].spec(), "horizon run, the same route at tolerance / " + gnum(opt.tight_factor));
+  out.reference = runLabelled(scene, checked(replacementSpec(specs[0].spec(), al, false)), "reference " + route + ": IDA ended early", progress);
+  out.tight = runLabelled(scene, checked(al ? replacementSpec(specs[0].spec(), true, true) : replacementSpec(specs[1].spec(), false, false)),
+                          "horizon run of the same route", progress);
 }
 
 // The reference runs of checked specs (reference, its twin: specs[0], specs[1]).
@@ -416,14 +417,16 @@ void tableRow(std::ostream& o, const MethodMetrics& m, bool loops) {
 
 void referenceLine(std::ostream& o, const ComparisonResult& r) {
   const Trajectory& ref = r.reference;
-  o << "reference: " << ref.method() << "/" << ref.integrator() << " tol " << gnum(ref.run.tol);
+  o << "reference: " << ref.method() << "/" << ref.integrator() << " " << settingKindName(ref.run.settingKind()) << " "
+    << gnum(ref.run.setting());
   if (ref.failed())
     o << " FAILED at t = " << gnum(ref.failure_time) << " s: " << ref.failure
       << " (errors are measured against its samples only)";
-  o << "; horizon (reference vs tol/" << gnum(r.options.tight_factor) << "):";
+  o << "; horizon (reference vs its twin at " << settingKindName(r.tight.run.settingKind()) << " " << gnum(r.tight.run.setting()) << "):";
   for (size_t i = 0; i < r.horizon.size(); ++i)
     o << " " << gnum(r.options.thresholds[i]) << " rad " << (r.horizon[i] ? gnum(*r.horizon[i]) + " s" : "not within t_end");
-  o << "\n";
+  o << "; the two differ by at most " << gnum(r.reference_check_pose_rad, 3)
+    << " rad: a method's error near or below that is the reference's as much as its own\n";
   if (r.stopped_reference_metrics)
     o << "reference: " << r.reference_note << ": IDA against it over [0, " << gnum(r.stopped_reference->failure_time)
       << "] s: max pose " << gnum(r.stopped_reference_metrics->pose.value, 3) << " rad\n";
@@ -432,7 +435,7 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
     const RunSpec& run = r.second_engine->run;
     o << "second engine: " << r.second_engine->method() << "/" << r.second_engine->integrator() << " "
       << settingKindName(run.settingKind()) << " " << gnum(run.setting()) << " against the reference: max pose "
-      << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time) + " s)" : "")
+      << gnum(m.pose.value, 3) << " rad" << (r.second_engine->failed() ? " (FAILED at t = " + gnum(m.failure_time) + " s: over [0, " + gnum(m.failure_time) + "] s only)" : "")
       << ", the two independent engines' distance: errors below it are not resolved\n";
   } else if (!r.second_engine_skipped.empty()) {
     o << "second engine: not run (" << r.second_engine_skipped << ")\n";
@@ -443,7 +446,10 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
       if (illConditioned(*s, th)) ill.push_back(gnum(th) + " rad");
     o << "sensitivity twin (the reference from a start " << gnum(s->sigma) << " away): "
       << (s->failed_at ? "stopped at t = " + gnum(*s->failed_at) + " s where the reference did not"
-                       : "max pose difference " + gnum(s->max_pose_rad, 3) + " rad")
+                       : "max pose difference " + gnum(s->max_pose_rad, 3) + " rad" +
+                             (s->saturated() ? " (beyond its linear regime: amplification at least " + gnum(s->amplification(), 3) + ")"
+                                             : ", amplification " + gnum(s->amplification(), 3) + ": round-off grows to " +
+                                                   gnum(s->roundoffPoseRad(), 3) + " rad"))
       << (ill.empty() ? ": every threshold is well-conditioned\n"
                       : "; ILL-CONDITIONED at " + joined(ill) + ": errors of that size are the scene's amplification of "
                         "round-off, not a method's, and rank none\n");

@@ -106,6 +106,7 @@ struct ComparisonResult {
   double t_end = 0, output_dt = 0;             ///< the common grid (the reference run's)
   Trajectory reference, tight;
   std::vector<std::optional<double>> horizon;  ///< per threshold
+  double reference_check_pose_rad = 0;  ///< the reference against its twin over the grid: the largest pose difference (rad)
   double energy_scale = 1;
   std::string energy_scale_definition;  ///< what energy_scale is (energyScaleOf)
   MethodMetrics reference_metrics;             ///< the reference's own energy error and cost

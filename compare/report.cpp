@@ -214,9 +214,16 @@ json sensitivityJson(const ComparisonResult& r) {
   for (double th : r.options.thresholds)
     if (illConditioned(s, th)) ill.push_back(th);
   return {{"how", "the reference again from a start displaced by sigma N(0, 1) on every coordinate and speed (seed " +
-                      std::to_string(kSensitivitySeed) + "); a threshold it exceeds is ill-conditioned"},
+                      std::to_string(kSensitivitySeed) + "); amplification = max_pose_rad / sigma; round-off (" + gnum(kRoundoffScale) +
+                      " relative) grows to amplification x " + gnum(kRoundoffScale) + " rad; a threshold is ill-conditioned where that exceeds " +
+                      gnum(kRoundoffShare) + " of it, where the twin left the linear regime (max_pose_rad > " + gnum(kTwinLinearRad) +
+                      " rad: the amplification is at least gap / sigma), or where the twin stopped"},
           {"sigma", s.sigma},
           {"max_pose_rad", finiteOrNull(s.max_pose_rad)},
+          {"amplification", finiteOrNull(s.amplification())},
+          {"roundoff_scale", kRoundoffScale},
+          {"roundoff_pose_rad", finiteOrNull(s.roundoffPoseRad())},
+          {"saturated", s.saturated()},
           {"failed_at_s", s.failed_at ? json(*s.failed_at) : json(nullptr)},
           {"ill_conditioned_at_rad", ill}};
 }
@@ -280,8 +287,11 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
             {"method", r.reference.method()},
             {"integrator", r.reference.integrator()},
             {"tolerance", ref.tol},
+            {"dt", r.reference.run.settingKind() == SettingKind::Dt ? json(r.reference.run.dt) : json(nullptr)},
             {"horizon_tolerance", r.tight.run.tol},
+            {"horizon_dt", r.tight.run.settingKind() == SettingKind::Dt ? json(r.tight.run.dt) : json(nullptr)},
             {"horizon_s", horizon},
+            {"check_max_pose_rad", finiteOrNull(r.reference_check_pose_rad)},
             {"status", outcomeName(r.reference.status())},
             {"failure", r.reference.failed() ? failureJson(r.reference_metrics) : json(nullptr)},
             {"run_time_s", r.reference.run_time_s},

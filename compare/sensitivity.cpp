@@ -19,6 +19,8 @@ std::optional<Sensitivity> sensitivityTwin(const Model& m, const CheckedRunSpec&
   return s;
 }
 
-bool illConditioned(const Sensitivity& s, double accuracy) { return s.failed_at || s.max_pose_rad > accuracy; }
+bool illConditioned(const Sensitivity& s, double accuracy) {
+  return s.failed_at || s.saturated() || s.roundoffPoseRad() > kRoundoffShare * accuracy;
+}
 
 }  // namespace em

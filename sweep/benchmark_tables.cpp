@@ -198,10 +198,8 @@ std::string runTable(const std::vector<BRoute>& routes, double t_end) {
 }
 
 // Per level: eigenmass's fastest run and the other owners' fastest runs, cheapest (by their medians) first.
-struct LevelCell {
-  const CaseRecord* mine = nullptr;
+struct LevelCell : Contest {
   const BRoute* mine_route = nullptr;
-  std::vector<std::pair<std::string, const CaseRecord*>> others;  // owner, run
 };
 
 LevelCell levelCell(const std::vector<OwnerBest>& best, size_t k) {
@@ -216,50 +214,6 @@ LevelCell levelCell(const std::vector<OwnerBest>& best, size_t k) {
   return cell;
 }
 
-// How many of the cheapest other owners a margin is timed against: the next
-// owner by the consecutive repeats' medians may not be the next by the
-// interleaved rounds (issue 75 found the next owner changing between reruns).
-constexpr size_t kContendersPerLevel = 2;
-
-// An owner this many times dearer than eigenmass by the medians is not timed
-// again: the margin is not in doubt, and rounds of it would cost the most (ODE's
-// 96 s runs on A02 at N = 40). Its interval is the extremes of the consecutive
-// repeats, other's min / eigenmass's max to other's max / eigenmass's min.
-constexpr double kRetimeWithin = 10;
-
-// The margin of `other` over `mine`: from the interleaved rounds, else (an owner
-// kRetimeWithin dearer, or no rounds) from the consecutive repeats' extremes.
-std::optional<Margin> marginOf(const Interleaved& t, const CaseRecord& mine, const CaseRecord& other) {
-  if (std::optional<Margin> m = interleavedMargin(t, mine.name, other.name)) return m;
-  if (other.cpuMedian() <= kRetimeWithin * mine.cpuMedian() || mine.cpu_s.empty() || other.cpu_s.empty()) return std::nullopt;
-  return Margin{other.cpuMedian() / mine.cpuMedian(), other.cpuMin() / mine.cpuMax(), other.cpuMax() / mine.cpuMin(), 0};
-}
-
-// The summary's verdict from the interleaved rounds: met when every contender's
-// 10th percentile ratio exceeds 1, missed when one's 90th falls below 1, else
-// tied; the nearest contender is named with its interval.
-std::string verdict(const LevelCell& cell, const Interleaved& t) {
-  if (cell.others.empty()) return "met (no other owner reached it)";
-  std::string nearest_owner;
-  std::optional<Margin> nearest;
-  bool missed = false, tied = false;
-  for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) {
-    const std::optional<Margin> m = marginOf(t, *cell.mine, *cell.others[i].second);
-    if (!m) {  // no interleaved rounds: the medians' ratio, said to have no interval
-      const double r = cell.others[0].second->cpuMedian() / cell.mine->cpuMedian();
-      return std::string(r > 1 ? "met" : "missed") + " (no interval: not timed interleaved): next " + cell.others[0].first + " " +
-             gnum(r > 1 ? r : 1 / r, 3) + "x " + (r > 1 ? "dearer" : "cheaper");
-    }
-    missed = missed || m->p90 < 1;
-    tied = tied || (m->p10 <= 1 && m->p90 >= 1);
-    if (!nearest || m->median < nearest->median) nearest = m, nearest_owner = cell.others[i].first;
-  }
-  const std::string interval = " [" + gnum(nearest->p10, 3) + ", " + gnum(nearest->p90, 3) + "]";
-  if (missed) return "missed: " + nearest_owner + " " + gnum(1 / nearest->median, 3) + "x cheaper (ratio " + gnum(nearest->median, 3) + interval + ")";
-  if (tied) return "tied: " + nearest_owner + " " + gnum(nearest->median, 3) + "x" + interval;
-  return "met: next " + nearest_owner + " " + gnum(nearest->median, 3) + "x dearer" + interval;
-}
-
 }  // namespace
 
 std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& rs, const std::string& scene, const BenchmarkSpec& spec) {
@@ -269,13 +223,7 @@ std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& rs, 
   auto add = [&](const CaseRecord* r) {
     if (r && std::find(out.begin(), out.end(), r->name) == out.end()) out.push_back(r->name);
   };
-  for (size_t k = 0; k < spec.levels.size(); ++k) {
-    const LevelCell cell = levelCell(best, k);
-    if (!cell.mine) continue;
-    add(cell.mine);
-    for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i)
-      if (cell.others[i].second->cpuMedian() <= kRetimeWithin * cell.mine->cpuMedian()) add(cell.others[i].second);
-  }
+  for (size_t k = 0; k < spec.levels.size(); ++k) addContenders(levelCell(best, k), out);
   return out;
 }
 
@@ -372,7 +320,7 @@ std::string benchmarkSummary(const std::vector<BenchmarkProblem>& problems) {
       if (!p.complete) o << "not judged (incomplete)";
       else if (!why.empty()) o << "not judged: " << why;
       else if (!cell.mine) o << "missed: not reached";
-      else o << verdict(cell, p.interleaved);
+      else o << marginVerdict(cell, p.interleaved);
       o << " |\n";
     }
   }

@@ -95,12 +95,24 @@ std::optional<double> smallestError(const Route& x) {
   return e;
 }
 
+// The error of a route's finest run that completed (runs are coarse to fine),
+// or none: its converged error, which an under-resolved run's may understate
+// where integration error cancels part of the model's (issue 75: MuJoCo's
+// floor on the hand read 2.45e-3 rad from rk4 at dt 5e-4; its converged runs,
+// rk4 at 1e-4 and rk8pd at 1e-8 and 1e-10, all give about 9.0e-3).
+std::optional<double> finestError(const Route& x) {
+  for (auto r = x.runs.rbegin(); r != x.runs.rend(); ++r)
+    if ((*r)->status == Outcome::Ok && (*r)->has_error && std::isfinite((*r)->max_pose)) return (*r)->max_pose;
+  return std::nullopt;
+}
+
 // Above this many times what the in-house methods reach under the same
 // integrators, an engine's own u' is held back by its model, not by them.
 constexpr double kFloorFactor = 10;
 
-// An engine's floor on this scene: the smallest error of its own u' under the
-// in-house integrators (MethodInfo::dynamics_of) over every run of it: how far
+// An engine's floor on this scene: the error of its own u' under the in-house
+// integrators (MethodInfo::dynamics_of) at each scheme's finest run, the
+// smallest over the schemes: how far
 // its dynamics, integrated as well as the study integrates, lie from the exact
 // motion (MuJoCo's inertias rounded at compile time). Only where that exceeds
 // kFloorFactor times the in-house methods' best under the same schemes: else
@@ -112,7 +124,7 @@ std::optional<double> dynamicsFloor(const std::vector<Route>& routes, const std:
   for (const Route& x : routes) {
     Method m;
     if (!findMethod(x.method, m) || !info(m).dynamics_of || engine != info(m).dynamics_of) continue;
-    if (const std::optional<double> e = smallestError(x)) floor = std::min(floor.value_or(INFINITY), *e);
+    if (const std::optional<double> e = finestError(x)) floor = std::min(floor.value_or(INFINITY), *e);
     schemes.push_back(x.integrator);
   }
   for (const Route& x : routes)
@@ -149,20 +161,31 @@ std::string settingText(const CaseRecord& r) { return (r.setting_kind == Setting
 // sensitivity twin (compare/sensitivity.hpp) parts from it by more.
 struct Conditioning {
   bool ill[2] = {false, false};
-  std::optional<double> twin_rad, twin_failed_at;
+  std::optional<Sensitivity> twin;
 };
 
 Conditioning conditioningOf(const std::vector<CaseRecord>& rs, const std::string& scene) {
   Conditioning c;
   const auto ref = std::find_if(rs.begin(), rs.end(), [&](const CaseRecord& r) { return r.scene == scene && r.role == CaseRole::Reference; });
   if (ref == rs.end() || !ref->sensitivity_rad) return c;
-  c.twin_rad = ref->sensitivity_rad, c.twin_failed_at = ref->sensitivity_failed_at;
-  const Sensitivity twin{kSensitivitySigma, *ref->sensitivity_rad, ref->sensitivity_failed_at};
-  for (int a = 0; a < 2; ++a) c.ill[a] = illConditioned(twin, kAccuracies[a]);
+  c.twin = Sensitivity{kSensitivitySigma, *ref->sensitivity_rad, ref->sensitivity_failed_at};
+  for (int a = 0; a < 2; ++a) c.ill[a] = illConditioned(*c.twin, kAccuracies[a]);
   return c;
 }
 
 constexpr const char* kIll = "ill-conditioned | -";
+
+// What the reference's twin measured, at round-off's scale (compare/sensitivity.hpp).
+std::string twinText(const Sensitivity& t) {
+  const std::string start = "the reference's sensitivity twin, started " + sci(t.sigma) + " away in every coordinate and speed, ";
+  if (t.failed_at) return start + "stopped at " + gnum(*t.failed_at, 4) + " s where the reference did not";
+  if (t.saturated())
+    return start + "parts from it by " + sci(t.max_pose_rad) + " rad, beyond its linear regime (" + sci(kTwinLinearRad) +
+           " rad): the amplification of a start's error is at least " + sci(t.amplification()) + " and round-off's reach unknown";
+  return start + "parts from it by " + sci(t.max_pose_rad) + " rad: an amplification of " + sci(t.amplification()) +
+         ", so round-off (" + sci(kRoundoffScale) + " relative) grows to " + sci(t.roundoffPoseRad()) +
+         " rad (an accuracy is ill-conditioned where that exceeds a tenth of it)";
+}
 
 // One owner's fastest route to each accuracy.
 struct Fastest {
@@ -181,6 +204,27 @@ std::vector<std::pair<std::string, Fastest>> fastestByOwner(const std::vector<Ro
         it->second.route[a] = &x, it->second.run[a] = r;
   }
   return out;
+}
+
+// Whether an owner is an engine's u' under the in-house integrators (a "-udot" row).
+bool hybridOwner(const std::string& owner) {
+  Method m;
+  return findMethod(owner, m) && info(m).dynamics_of;
+}
+
+// eigenmass's fastest run at accuracy a against the other owners' (every
+// owner, or the engines' u' under the in-house integrators alone: `hybrid_only`).
+Contest contestOf(const std::vector<std::pair<std::string, Fastest>>& by_owner, int a, double t_end, bool hybrid_only) {
+  Contest c;
+  for (const auto& [owner, f] : by_owner) {
+    if (!f.run[a]) continue;
+    if (owner == kInHouseOwner) c.mine = f.run[a];
+    else if (!hybrid_only || hybridOwner(owner)) c.others.emplace_back(owner, f.run[a]);
+  }
+  std::stable_sort(c.others.begin(), c.others.end(), [&](const auto& x, const auto& y) {
+    return perSimulatedSecond(*x.second, t_end) < perSimulatedSecond(*y.second, t_end);
+  });
+  return c;
 }
 
 std::string routeCell(const Fastest& f, int a, double t_end, const Conditioning& c) {
@@ -216,8 +260,8 @@ std::string floorLines(const Floors& floors) {
   std::ostringstream o;
   for (const auto& [engine, floor] : floors) {
     if (floor <= kAccuracies[1]) continue;
-    o << "- " << engine << ": floor " << sci(floor) << " rad, the smallest error of its own u' under the in-house "
-      << "integrators here. No scheme of it gets below that: the difference is its dynamics' (its model of the scene), "
+    o << "- " << engine << ": floor " << sci(floor) << " rad, the error of its own u' under the in-house "
+      << "integrators at their finest settings here (the smallest over the schemes). No scheme of it gets below that: the difference is its dynamics' (its model of the scene), "
       << "not its integrator's.\n";
   }
   const std::string lines = o.str();
@@ -257,8 +301,14 @@ std::string routeTable(const std::vector<Route>& routes, double t_end, const Con
   return o.str() + "\n";
 }
 
-// Whether eigenmass's fastest route is cheaper than every other owner's, per accuracy, said in one line each.
-std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end, const Conditioning& c) {
+// Whether eigenmass's fastest route is cheaper than every other owner's, per
+// accuracy, said in one line each: with `timed`, the verdict of the
+// interleaved rounds with its interval (met, tied, missed), and beside it the
+// verdict against the engines' own u' under the in-house integrators alone
+// (issue 75, item 5: at 1e-6 rad the win over native engines is the
+// integrator's; the -udot rows run the same integrators).
+std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_owner, double t_end, const Conditioning& c,
+                      const Interleaved* timed) {
   std::ostringstream o;
   const auto self = std::find_if(by_owner.begin(), by_owner.end(), [](const auto& p) { return p.first == kInHouseOwner; });
   if (self == by_owner.end()) return "";
@@ -268,13 +318,24 @@ std::string goalLines(const std::vector<std::pair<std::string, Fastest>>& by_own
       continue;
     }
     const CaseRecord* mine = self->second.run[a];
-    std::vector<std::string> cheaper;
-    for (const auto& [owner, f] : by_owner)
-      if (owner != kInHouseOwner && f.run[a] && (!mine || perSimulatedSecond(*f.run[a], t_end) < perSimulatedSecond(*mine, t_end)))
-        cheaper.push_back(owner + (mine ? " (" + gnum(perSimulatedSecond(*mine, t_end) / perSimulatedSecond(*f.run[a], t_end), 3) + "x cheaper)" : ""));
-    o << "- To " << sci(kAccuracies[a]) << " rad: eigenmass's fastest route is "
-      << (!mine ? "none (not reached)" : cheaper.empty() ? "the cheapest of all: goal met" : "beaten by " + joined(cheaper) + ": goal missed")
-      << ".\n";
+    if (!timed) {
+      std::vector<std::string> cheaper;
+      for (const auto& [owner, f] : by_owner)
+        if (owner != kInHouseOwner && f.run[a] && (!mine || perSimulatedSecond(*f.run[a], t_end) < perSimulatedSecond(*mine, t_end)))
+          cheaper.push_back(owner + (mine ? " (" + gnum(perSimulatedSecond(*mine, t_end) / perSimulatedSecond(*f.run[a], t_end), 3) + "x cheaper)" : ""));
+      o << "- To " << sci(kAccuracies[a]) << " rad: eigenmass's fastest route is "
+        << (!mine ? "none (not reached)" : cheaper.empty() ? "the cheapest of all: goal met" : "beaten by " + joined(cheaper) + ": goal missed")
+        << ".\n";
+      continue;
+    }
+    o << "- To " << sci(kAccuracies[a]) << " rad: ";
+    if (!mine) {
+      o << "eigenmass's fastest route is none (not reached).\n";
+      continue;
+    }
+    const Contest all = contestOf(by_owner, a, t_end, false), same = contestOf(by_owner, a, t_end, true);
+    o << marginVerdict(all, *timed) << "; against the engines' u' under the same integrators (-udot rows): "
+      << (same.others.empty() ? std::string("none reached it") : marginVerdict(same, *timed)) << ".\n";
   }
   return o.str() + "\n";
 }
@@ -305,14 +366,14 @@ std::string runTable(const std::vector<Route>& routes, double t_end) {
 }
 
 // Per accuracy: each scene's cheapest route and how much dearer the next owner's is; owners that never got there.
-std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end) {
+std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end, const Interleaved* timed) {
   std::ostringstream o;
   for (int a = 0; a < 2; ++a) {
     o << "Within " << sci(kAccuracies[a]) << " rad over the horizon, the cheapest route:\n\n";
     std::vector<std::string> owners, reached;
     for (const std::string& s : scenes) {
       if (conditioningOf(rs, s).ill[a]) {
-        o << "- " << s << ": ill-conditioned (the reference's sensitivity twin parts by more): no route ranked\n";
+        o << "- " << s << ": ill-conditioned (round-off, amplified as the reference's sensitivity twin measures, reaches a tenth of it): no route ranked\n";
         continue;
       }
       const std::vector<Route> routes = routesOf(rs, s);
@@ -335,7 +396,11 @@ std::string cheapestLines(const std::vector<CaseRecord>& rs, const std::vector<s
         << ", " << sci(perSimulatedSecond(*f.run[a], t_end)) << " CPU s / s)";
       if (by_owner.size() > 1)
         o << "; next " << by_owner[1].first << ", "
-          << gnum(perSimulatedSecond(*by_owner[1].second.run[a], t_end) / perSimulatedSecond(*f.run[a], t_end), 3) << "x dearer";
+          << gnum(perSimulatedSecond(*by_owner[1].second.run[a], t_end) / perSimulatedSecond(*f.run[a], t_end), 3) << "x dearer by the medians";
+      if (timed) {  // eigenmass's verdict there, from the interleaved rounds
+        const Contest c = contestOf(by_owner, a, t_end, false);
+        if (c.mine) o << "; eigenmass: " << marginVerdict(c, *timed);
+      }
       o << "\n";
     }
     std::vector<std::string> never;
@@ -361,7 +426,7 @@ std::string benchmarkOwner(const std::string& method, const std::string& integra
 }
 
 std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::string& scene, double t_end, double output_dt,
-                             double floor, bool judge) {
+                             double floor, bool judge, const Interleaved* timed) {
   const std::vector<Route> routes = routesOf(rs, scene);
   const auto by_owner = fastestByOwner(routes, t_end);
   const Conditioning cond = conditioningOf(rs, scene);
@@ -369,12 +434,11 @@ std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::strin
   std::ostringstream o;
   for (int a = 0; a < 2; ++a)
     if (cond.ill[a])
-      o << "**Ill-conditioned at " << sci(kAccuracies[a]) << " rad: the reference's sensitivity twin, started "
-        << sci(kSensitivitySigma) << " away in every coordinate and speed, "
-        << (cond.twin_failed_at ? "stopped at " + gnum(*cond.twin_failed_at, 4) + " s where the reference did not"
-                                : "parts from it by " + sci(*cond.twin_rad) + " rad")
+      o << "**Ill-conditioned at " << sci(kAccuracies[a]) << " rad: " << twinText(*cond.twin)
         << ". An error of that size here is the scene's amplification of round-off, not a method's: no route is ranked "
         << "at " << sci(kAccuracies[a]) << " rad.**\n\n";
+  if (cond.twin && !cond.ill[0] && !cond.ill[1])
+    o << "Conditioning: " << twinText(*cond.twin) << ": both accuracies are resolved.\n\n";
   for (double a : kAccuracies)
     if (floor > a / 10)
       o << "**The reference and its check differ by " << sci(floor) << " rad, more than a tenth of " << sci(a)
@@ -386,12 +450,25 @@ std::string engineStudyScene(const std::vector<CaseRecord>& rs, const std::strin
     << "|---|---|---|---|---|\n";
   for (const auto& [owner, f] : by_owner)
     o << "| " << owner << " | " << routeCell(f, 0, t_end, cond) << " | " << routeCell(f, 1, t_end, cond) << " |\n";
-  o << "\n" << (judge ? goalLines(by_owner, t_end, cond) : "- Goals not judged: the study's results are incomplete (above).\n\n");
+  o << "\n" << (judge ? goalLines(by_owner, t_end, cond, timed) : "- Goals not judged: the study's results are incomplete (above).\n\n");
   o << "#### Every run\n\n" << runTable(routes, t_end);
   return o.str();
 }
 
-std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end) {
+std::vector<std::string> engineStudyContenders(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end) {
+  std::vector<std::string> out;
+  for (const std::string& s : scenes) {
+    const auto by_owner = fastestByOwner(routesOf(rs, s), t_end);
+    const Conditioning cond = conditioningOf(rs, s);
+    for (int a = 0; a < 2; ++a)
+      if (!cond.ill[a])
+        for (bool hybrid_only : {false, true}) addContenders(contestOf(by_owner, a, t_end, hybrid_only), out);
+  }
+  return out;
+}
+
+std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vector<std::string>& scenes, double t_end,
+                               const Interleaved* timed) {
   struct Tally {
     int reached[2] = {0, 0}, fastest[2] = {0, 0};
     std::vector<double> cost[2];
@@ -421,7 +498,7 @@ std::string engineStudySummary(const std::vector<CaseRecord>& rs, const std::vec
     }
   }
   std::ostringstream o;
-  o << cheapestLines(rs, scenes, t_end);
+  o << cheapestLines(rs, scenes, t_end, timed);
   if (judged[0] < scenes.size() || judged[1] < scenes.size())
     o << "\"of N\" counts the scenes where that accuracy is not ill-conditioned: " << judged[0] << " of " << scenes.size()
       << " at 1e-3 rad, " << judged[1] << " of " << scenes.size() << " at 1e-6 rad.\n\n";

@@ -22,7 +22,7 @@ namespace em {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string PlanScene::stem() const { return fs::path(file).stem().string(); }
+std::string PlanScene::stem() const { return name.empty() ? fs::path(file).stem().string() : name; }
 
 namespace {
 
@@ -269,13 +269,17 @@ StartOffset startOffsetAt(const json& v, const std::string& at) {
   return o;
 }
 
-// An entry of `scenes`: "path" or {"file": path, "balance_inertia", "lock_joint", "floating_base", "start_offset"}.
+// An entry of `scenes`: "path" or {"file": path, "name", "balance_inertia", "lock_joint", "floating_base", "start_offset"}.
 PlanScene sceneAt(const json& v, const std::string& at, const fs::path& base) {
   PlanScene s;
   std::string file;
   if (v.is_object()) {
-    onlyKeys(v, at, {"file", "balance_inertia", "lock_joint", "floating_base", "start_offset"});
+    onlyKeys(v, at, {"file", "name", "balance_inertia", "lock_joint", "floating_base", "start_offset"});
     file = stringAt(v.value("file", json()), jsonPath(at, "file"));
+    if (v.contains("name")) {
+      s.name = stringAt(v["name"], jsonPath(at, "name"));
+      if (!isSceneName(s.name)) throw InputError(jsonPath(at, "name"), "must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
+    }
     s.urdf = urdfOptionsAt(v, at);
     if (v.contains("start_offset")) s.start_offset = startOffsetAt(v["start_offset"], jsonPath(at, "start_offset"));
   } else {

@@ -69,7 +69,8 @@ struct PlanScene {
   /// joint kind an engine lacks): a line's cases of them are left out on it,
   /// and the tables say so (leftOutLines). Read when the plan is loaded.
   std::map<std::string, std::string> refusals;
-  std::string stem() const;  ///< the file's stem: it names the cases
+  std::string name;  ///< "name": the scene's name in the plan where one file appears twice (other starts), else ""
+  std::string stem() const;  ///< its name, else the file's stem: it names the cases
 };
 
 struct Plan {

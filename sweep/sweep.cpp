@@ -329,6 +329,50 @@ std::optional<Margin> interleavedMargin(const Interleaved& t, const std::string&
   return Margin{*quantile(ratios, 0.5), *quantile(ratios, 0.1), *quantile(ratios, 0.9), static_cast<int>(ratios.size())};
 }
 
+// The margin of `other` over `mine`: from the interleaved rounds, else (an owner
+// kRetimeWithin dearer, or no rounds) from the consecutive repeats' extremes.
+std::optional<Margin> contestMargin(const Interleaved& t, const CaseRecord& mine, const CaseRecord& other) {
+  if (std::optional<Margin> m = interleavedMargin(t, mine.name, other.name)) return m;
+  if (other.cpuMedian() <= kRetimeWithin * mine.cpuMedian() || mine.cpu_s.empty() || other.cpu_s.empty()) return std::nullopt;
+  return Margin{other.cpuMedian() / mine.cpuMedian(), other.cpuMin() / mine.cpuMax(), other.cpuMax() / mine.cpuMin(), 0};
+}
+
+// The summary's verdict from the interleaved rounds: met when every contender's
+// 10th percentile ratio exceeds 1, missed when one's 90th falls below 1, else
+// tied; the nearest contender is named with its interval.
+std::string marginVerdict(const Contest& cell, const Interleaved& t) {
+  if (cell.others.empty()) return "met (no other owner reached it)";
+  std::string nearest_owner;
+  std::optional<Margin> nearest;
+  bool missed = false, tied = false;
+  for (size_t i = 0; i < cell.others.size() && i < kContendersPerLevel; ++i) {
+    const std::optional<Margin> m = contestMargin(t, *cell.mine, *cell.others[i].second);
+    if (!m) {  // no interleaved rounds: the medians' ratio, said to have no interval
+      const double r = cell.others[0].second->cpuMedian() / cell.mine->cpuMedian();
+      return std::string(r > 1 ? "met" : "missed") + " (no interval: not timed interleaved): next " + cell.others[0].first + " " +
+             gnum(r > 1 ? r : 1 / r, 3) + "x " + (r > 1 ? "dearer" : "cheaper");
+    }
+    missed = missed || m->p90 < 1;
+    tied = tied || (m->p10 <= 1 && m->p90 >= 1);
+    if (!nearest || m->median < nearest->median) nearest = m, nearest_owner = cell.others[i].first;
+  }
+  const std::string interval = " [" + gnum(nearest->p10, 3) + ", " + gnum(nearest->p90, 3) + "]";
+  if (missed) return "missed: " + nearest_owner + " " + gnum(1 / nearest->median, 3) + "x cheaper (ratio " + gnum(nearest->median, 3) + interval + ")";
+  if (tied) return "tied: " + nearest_owner + " " + gnum(nearest->median, 3) + "x" + interval;
+  return "met: next " + nearest_owner + " " + gnum(nearest->median, 3) + "x dearer" + interval;
+}
+
+
+void addContenders(const Contest& c, std::vector<std::string>& names) {
+  auto add = [&](const CaseRecord* r) {
+    if (r && std::find(names.begin(), names.end(), r->name) == names.end()) names.push_back(r->name);
+  };
+  if (!c.mine) return;
+  add(c.mine);
+  for (size_t i = 0; i < c.others.size() && i < kContendersPerLevel; ++i)
+    if (c.others[i].second->cpuMedian() <= kRetimeWithin * c.mine->cpuMedian()) add(c.others[i].second);
+}
+
 std::vector<std::string> listCommands(const Plan& plan, const std::string& plan_path, const std::string& dir) {
   auto quoted = [](const std::string& s) {
     std::string q = "'";

@@ -16,6 +16,8 @@
 
 namespace em {
 
+struct Interleaved;  // below: interleaved timings of a few runs
+
 /// The thresholds (rad) a case records its first times beyond, in this order;
 /// its files name each after compare's thresholdKey ("pose_beyond_1e-3_s").
 inline constexpr std::array<double, 2> kCaseThresholds = {1e-3, 1e-1};
@@ -142,12 +144,14 @@ std::string predictionTable(const std::vector<Prediction>& rows);
 /// fitted exponents) as Markdown.
 /// `missing`: the plan's cases without a result, said at the top of the page
 /// (and no goal judged) when there are any.
-std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing = {});
+/// `timed`: the engine study's contenders timed in interleaved rounds (its margins' intervals).
+std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing = {},
+                        const Interleaved* timed = nullptr);
 
 /// Write `<plan>.csv` and `<plan>.md` into `dir` (and `<plan>-ensemble.csv`
 /// for a plan with an ensemble); returns the Markdown.
 std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records,
-                        const std::vector<std::string>& missing = {});
+                        const std::vector<std::string>& missing = {}, const Interleaved* timed = nullptr);
 
 // Pieces of the tables, tested on their own.
 
@@ -171,10 +175,18 @@ bool routeOwningIntegrator(const IntegratorInfo& i);
 /// `floor`: the reference's check's largest pose difference (an accuracy below ten times it is said unresolved).
 /// `judge`: false where cases are missing (a goal is then not judged, said so).
 /// `output_dt`: the plan's, named where the output grid set an adaptive route's steps.
+/// `timed`: interleaved rounds of the contenders (engineStudyContenders), which
+/// give each margin its interval; none: margins from the medians, said so.
 std::string engineStudyScene(const std::vector<CaseRecord>& records, const std::string& scene, double t_end, double output_dt,
-                             double floor, bool judge = true);
-/// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest.
-std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
+                             double floor, bool judge = true, const Interleaved* timed = nullptr);
+/// Across `scenes`: per owner, on how many each accuracy was reached and where its route was the fastest;
+/// eigenmass's verdicts with their intervals where `timed`.
+std::string engineStudySummary(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end,
+                               const Interleaved* timed = nullptr);
+/// The runs the engine study's margins compare: on each scene, at each accuracy
+/// it judges, eigenmass's fastest run and the cheapest other owners' (every
+/// route, and the engines' own u' under the in-house integrators alone).
+std::vector<std::string> engineStudyContenders(const std::vector<CaseRecord>& records, const std::vector<std::string>& scenes, double t_end);
 
 /// The benchmark's tables of one scene (sweep/benchmark_tables.cpp): each
 /// route's (method, formulation, scheme) cheapest run within each of `spec`'s
@@ -211,6 +223,33 @@ struct Margin {
   int rounds = 0;
 };
 std::optional<Margin> interleavedMargin(const Interleaved& t, const std::string& mine, const std::string& other);
+
+/// eigenmass's fastest run at one accuracy (a benchmark level, an engine
+/// study's accuracy) and the other owners' fastest runs there, cheapest by
+/// their medians first: what a margin with its interval is measured on.
+struct Contest {
+  const CaseRecord* mine = nullptr;
+  std::vector<std::pair<std::string, const CaseRecord*>> others;  ///< owner, run
+};
+/// How many of the cheapest other owners a margin is timed against: the next
+/// owner by the consecutive repeats' medians may not be the next by the
+/// interleaved rounds (issue 75 found the next owner changing between reruns).
+constexpr size_t kContendersPerLevel = 2;
+/// An owner this many times dearer than eigenmass by the medians is not timed
+/// again: the margin is not in doubt, and rounds of it would cost the most (ODE's
+/// 96 s runs on A02 at N = 40). Its interval is the extremes of the consecutive
+/// repeats, other's min / eigenmass's max to other's max / eigenmass's min.
+constexpr double kRetimeWithin = 10;
+/// The runs of `c` to time in interleaved rounds (eigenmass's and the first
+/// kContendersPerLevel others within kRetimeWithin), appended to `names` once each.
+void addContenders(const Contest& c, std::vector<std::string>& names);
+/// The margin of `other` over `mine`: from the interleaved rounds, else (an
+/// owner kRetimeWithin dearer) from the consecutive repeats' extremes.
+std::optional<Margin> contestMargin(const Interleaved& t, const CaseRecord& mine, const CaseRecord& other);
+/// The verdict from the interleaved rounds: "met" when every contender's 10th
+/// percentile ratio exceeds 1, "missed" when one's 90th falls below 1, else
+/// "tied"; the nearest contender is named with its interval. c.mine must be set.
+std::string marginVerdict(const Contest& c, const Interleaved& t);
 
 /// One benchmark problem's merged results, for the summary across problems.
 struct BenchmarkProblem {

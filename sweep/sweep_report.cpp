@@ -236,9 +236,9 @@ std::optional<double> logSlope(const std::vector<double>& x, const std::vector<d
 }
 
 std::string writeMerged(const Plan& plan, const std::string& dir, const std::vector<CaseRecord>& records,
-                        const std::vector<std::string>& missing) {
+                        const std::vector<std::string>& missing, const Interleaved* timed) {
   const std::string csv = mergedCsv(records, plan.ensemble.has_value());
-  std::string md = sweepTables(plan, records, missing);
+  std::string md = sweepTables(plan, records, missing, timed);
   writeAtomic((fs::path(dir) / (plan.name + ".csv")).string(), "merged CSV", [&](std::ostream& o) { o << csv; });
   if (plan.ensemble) {
     const std::vector<EnsembleRow> rows = ensembleRows(records);

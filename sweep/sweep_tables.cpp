@@ -217,7 +217,8 @@ std::string sciCell(double x, int digits) {
 
 double cpuPerSimulatedSecond(const CaseRecord& r, double t_end) { return r.cpuMedian() / r.failure_time.value_or(t_end); }
 
-std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing) {
+std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records, const std::vector<std::string>& missing,
+                        const Interleaved* timed) {
   std::ostringstream o;
   o << "## " << plan.name << "\n\n" << (plan.description.empty() ? "" : plan.description + "\n\n");
   if (!missing.empty())
@@ -239,9 +240,9 @@ std::string sweepTables(const Plan& plan, const std::vector<CaseRecord>& records
     for (const std::string& s : scenesOf(records)) {
       double floor = 0;
       o << "### " << s << "\n\n" << referenceLine(records, s, floor);
-      o << engineStudyScene(records, s, plan.t_end, plan.output_dt, floor, missing.empty());
+      o << engineStudyScene(records, s, plan.t_end, plan.output_dt, floor, missing.empty(), timed);
     }
-    o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end);
+    o << "### Which engine for what: across the scenes\n\n" << engineStudySummary(records, scenesOf(records), plan.t_end, timed);
   }
   if (plan.hasTable(PlanTable::Benchmark))
     for (const PlanScene& ps : plan.scenes) {

@@ -98,15 +98,20 @@ TEST_CASE("a four-bar turning through singular positions is judged over the whol
   CHECK(r.stopped_reference->integrator() == "ida");
   CHECK(r.stopped_reference->failure_time == Approx(0.714).margin(2e-3));
   // Over IDA's span the two references are the same motion to the
-  // replacement's second-order error at h = tol^(1/3) = 4.6e-4 (measured 4.6e-7 rad).
-  CHECK(r.stopped_reference_metrics->pose.value < 2e-6);
+  // replacement's second-order error at h = (tol/100)^(1/3) = 1e-4 (measured 2.5e-8 rad).
+  CHECK(r.stopped_reference_metrics->pose.value < 1e-7);
   // On the problem's parallel branch over the whole horizon, through two
   // singular positions (the one-body solution every 0.05 s; measured
-  // 2.8e-7 m, its twin 1.3e-8 m).
+  // 1.3e-8 m, its twin at h/2 3.3e-9 m).
   const BenchmarkError branch = solutionError(*scene.benchmark, r.reference), twin = solutionError(*scene.benchmark, r.tight);
   CHECK(branch.steps == 40);
-  CHECK(branch.max_abs < 1e-6);
-  CHECK(twin.max_abs < branch.max_abs / 4);  // the twin at h = 1e-4 resolves it: the horizon measure is honest
+  CHECK(branch.max_abs < 1e-7);
+  CHECK(twin.max_abs < branch.max_abs / 2);  // the twin at h/2 resolves it: the horizon measure is honest
+  CHECK(r.tight.run.dt == Approx(r.reference.run.dt / 2));
+  // The reference's own error, as the distance to its twin, is stated (measured 1.7e-8 rad).
+  CHECK(r.reference_check_pose_rad > 1e-9);
+  CHECK(r.reference_check_pose_rad < 1e-7);
+  CHECK_THAT(summaryTable(r), Catch::Contains("the two differ by at most"));
   for (const Trajectory& t : r.runs) CHECK(t.t.size() == r.reference.t.size());  // every sample judged
   // Judged past 0.7 s, MuJoCo's soft closures show (measured 1.55e-2 rad over 2 s, 1.2e-3 over IDA's 0.7 s).
   CHECK(r.metrics[1].pose.value > 5e-3);

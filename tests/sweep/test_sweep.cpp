@@ -372,6 +372,21 @@ TEST_CASE("a plan sweeps robots with their import options: the Allegro hand with
   const json ref = json::parse(rin);
   CHECK(ref["start"] == o["start"]);  // the reference starts there too
   CHECK(ref["result"]["sensitivity_twin_max_pose_rad"].is_number());
+  // One file at two starts (issue 75, item 3: the hand over several starts): each entry named; a name
+  // twice, or one that cannot name files, refused in one line.
+  p["scenes"] = {{{"file", hand}, {"name", "hand_seed1"}, {"balance_inertia", true}, {"start_offset", {{"q", 0.3}, {"seed", 1}}}},
+                 {{"file", hand}, {"name", "hand_seed2"}, {"balance_inertia", true}, {"start_offset", {{"q", 0.3}, {"seed", 2}}}}};
+  const Plan two = loadPlan(writePlan(p, "hand_two.json"));
+  REQUIRE(two.scenes.size() == 2);
+  CHECK(two.scenes[1].stem() == "hand_seed2");
+  CHECK(planCases(two).front().name.rfind("hand_seed1.", 0) == 0);
+  p["scenes"][1]["name"] = "hand_seed1";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[1]: a second scene named 'hand_seed1'"));
+  p["scenes"][1]["name"] = "../up";
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[1].name: must be letters, digits"));
+  p["scenes"][0].erase("name");
+  p["scenes"][1].erase("name");
+  CHECK_THAT(planError(p), Catch::Contains("bad.json: scenes[1]: a second scene named 'allegro_right_hand'"));
 }
 
 TEST_CASE("a plan names a plugin and a recorded run: their cases equal classical's", "[sweep][cli][outside]") {
