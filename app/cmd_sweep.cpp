@@ -56,11 +56,14 @@ void refuseSweepOverInputs(const Plan& plan, const std::string& plan_path, const
   for (const PlanScene& s : plan.scenes) inputs.push_back(s.file);
   for (const char* tail : {".csv", ".md", "-ensemble.csv", "-prediction.csv"})
     written.push_back((fs::path(dir) / (plan.name + tail)).string());
+  std::vector<std::string> merged = written, cases;  // the merge reads every case file: none may be a merged output
   for (const SweepCase& c : planCases(plan)) {
     written.push_back(caseFile(dir, c));
     written.push_back(caseCsv(dir, c));
+    cases.push_back(caseFile(dir, c));
   }
   refuseInputs("--results", dir, written, inputs);
+  refuseInputs("--results", dir, merged, cases);
 }
 
 namespace {

@@ -220,7 +220,7 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
   try {
     out.second_engine = runLabelled(scene, checked(s), "second engine " + label, progress);
   } catch (const std::exception& e) {
-    out.second_engine_skipped = std::string(second.name) + ": " + e.what();
+    out.second_engine_skipped = engineName(s.engine()) + std::string(": ") + e.what();  // the engine that was to run
   }
 }
 
@@ -241,6 +241,10 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
 // where the replacement also stops, the comparison says so as for any failed
 // reference.
 constexpr double kReplacementPenaltyRatio = 1e6;
+// The replacement's smallest step: below it the rule's error rises again (its
+// Newton works at round-off; A02 over 20 s: 6.5e-8 m at h = 5e-5, 3.8e-7 at
+// 2e-5; at 4.6e-6, 44 unconverged steps and an energy error of 6.7e-3).
+constexpr double kReplacementMinStep = 5e-5;
 
 // The replacement of `s` (the reference's spec); `halved`: its twin.
 RunSpec replacementSpec(const RunSpec& s, bool trapezoidal, bool halved) {
@@ -250,7 +254,8 @@ RunSpec replacementSpec(const RunSpec& s, bool trapezoidal, bool halved) {
     r.options.loops.formulation = Formulation::AugmentedLagrangian;
     r.options.loops.penalty_ratio = kReplacementPenaltyRatio;
     r.options.loops.alpha = r.options.loops.beta = 0;
-    r.dt = s.output_dt / std::ceil(s.output_dt / std::cbrt(s.tol / 100) - 1e-9) / (halved ? 2 : 1);
+    const double h = std::max(std::cbrt(s.tol / 100), kReplacementMinStep);
+    r.dt = s.output_dt / std::ceil(s.output_dt / h - 1e-9) / (halved ? 2 : 1);
   } else {
     r.integrator = Integrator::RK8PD;
     r.options.loops.formulation = Formulation::Projection;
@@ -258,27 +263,26 @@ RunSpec replacementSpec(const RunSpec& s, bool trapezoidal, bool halved) {
   return r;
 }
 
-bool takesTrapezoidal(const RunSpec& s) {
-  try {
-    checked(replacementSpec(s, true, false));
-    return true;
-  } catch (const std::exception&) {
-    return false;  // a joint the rule cannot integrate (its q' is not u)
-  }
-}
+// The rule integrates q' = u: a ball or free joint's quaternion refuses it.
+bool takesTrapezoidal(const Model& m) { return m.nq == m.nu; }
 
 void replaceStoppedReference(const Scene& scene, const CompareOptions& opt, const std::vector<CheckedRunSpec>& specs,
                              ReferenceRuns& out, void (*progress)(const std::string&)) {
   if (!opt.mechanism_reference || !out.reference.failed() || !scene.model.isMechanism() || scene.model.loops.empty()) return;
-  const bool al = takesTrapezoidal(specs[0].spec());
-  const std::string route = al ? "classical/trapezoidal with the augmented Lagrangian (penalty ratio 1e6, h = (tol/100)^(1/3), its twin at h/2)"
-                               : "classical/rk8pd with the projection at the same tolerances (the scene's joints refuse the augmented Lagrangian)";
+  const bool al = takesTrapezoidal(scene.model);
+  const std::string route = al ? "classical/trapezoidal with the augmented Lagrangian (penalty ratio 1e6, h = max((tol/100)^(1/3), " +
+                                     gnum(kReplacementMinStep) + " s) = " + gnum(replacementSpec(specs[0].spec(), true, false).dt) + " s, its twin at h/2)"
+                               : "classical/rk8pd with the projection at the same tolerances (the scene's ball or free joints refuse the augmented Lagrangian)";
   out.reference_note = "IDA ended at t = " + gnum(out.reference.failure_time) + " s (" + out.reference.failure +
                        "); the reference is " + route + ", which passes singular positions, checked against IDA over IDA's span";
   out.stopped = std::move(out.reference);
   out.reference = runLabelled(scene, checked(replacementSpec(specs[0].spec(), al, false)), "reference " + route + ": IDA ended early", progress);
   out.tight = runLabelled(scene, checked(al ? replacementSpec(specs[0].spec(), true, true) : replacementSpec(specs[1].spec(), false, false)),
                           "horizon run of the same route", progress);
+  for (const Trajectory* t : {&out.reference, &out.tight})
+    if (const long n = t->loops.newton_unconverged; n > 0)
+      out.reference_note += "; its " + std::string(t == &out.reference ? "" : "twin's ") + "Newton stopped unconverged at " +
+                            std::to_string(n) + " steps";
 }
 
 // The reference runs of checked specs (reference, its twin: specs[0], specs[1]).
@@ -297,7 +301,7 @@ ReferenceRuns referenceOf(const Scene& scene, const CompareOptions& opt, const s
     if (opt.lyapunov_starts > 1) out.lyapunov_long_starts = std::move(st);
   }
   if (opt.sensitivity_twin) {
-    if (progress) progress("sensitivity twin (the reference from a start " + gnum(kSensitivitySigma) + " away)");
+    if (progress && scene.model.loops.empty()) progress("sensitivity twin (the reference from a start " + gnum(kSensitivitySigma) + " away)");
     out.sensitivity = sensitivityTwin(scene.model, specs[0], out.reference);
   }
   if (opt.second_engine) runSecondEngine(scene, specs[0], out, progress);
@@ -325,7 +329,9 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   r.reference_note = reference.reference_note;
   if (reference.stopped) {
     r.stopped_reference = reference.stopped;
-    r.stopped_reference_metrics = measureRun(*reference.stopped, r.reference, opt.thresholds, r.horizon, r.energy_scale);
+    // A check needs a sample past t = 0 (the start is the same by construction).
+    if (reference.stopped->t.size() > 1)
+      r.stopped_reference_metrics = measureRun(*reference.stopped, r.reference, opt.thresholds, r.horizon, r.energy_scale);
   }
   if (r.second_engine)
     r.second_engine_metrics = measureRun(*r.second_engine, r.reference, opt.thresholds, r.horizon, r.energy_scale);
@@ -430,6 +436,9 @@ void referenceLine(std::ostream& o, const ComparisonResult& r) {
   if (r.stopped_reference_metrics)
     o << "reference: " << r.reference_note << ": IDA against it over [0, " << gnum(r.stopped_reference->failure_time)
       << "] s: max pose " << gnum(r.stopped_reference_metrics->pose.value, 3) << " rad\n";
+  else if (r.stopped_reference)
+    o << "reference: " << r.reference_note << ": IDA's span [0, " << gnum(r.stopped_reference->failure_time)
+      << "] s holds no output sample after t = 0: not checked\n";
   if (r.second_engine_metrics) {
     const MethodMetrics& m = *r.second_engine_metrics;
     const RunSpec& run = r.second_engine->run;

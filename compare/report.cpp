@@ -232,12 +232,13 @@ json sensitivityJson(const ComparisonResult& r) {
 // singular position): why it was replaced, and its distance from the
 // replacement over its own span (null where the reference ran as asked).
 json stoppedReferenceJson(const ComparisonResult& r) {
-  if (!r.stopped_reference_metrics) return nullptr;
+  if (!r.stopped_reference) return nullptr;
   const Trajectory& ida = *r.stopped_reference;
   return {{"why", r.reference_note},
           {"checked_by", {{"method", ida.method()}, {"integrator", ida.integrator()}, {"tolerance", ida.run.tol},
                           {"until_s", ida.failure_time}, {"failure", ida.failure},
-                          {"max_pose_rad", finiteOrNull(r.stopped_reference_metrics->pose.value)}}}};
+                          {"max_pose_rad", r.stopped_reference_metrics ? finiteOrNull(r.stopped_reference_metrics->pose.value) : json(nullptr)},
+                          {"samples_checked", r.stopped_reference_metrics ? json(ida.t.size() - 1) : json(0)}}}};
 }
 
 // MuJoCo at a small step against the reference: the two independent engines' distance.
@@ -286,9 +287,9 @@ json makeReport(const ComparisonResult& r, const json& gate, int max_series_poin
            {{"engine", engineName(ref.engine())},
             {"method", r.reference.method()},
             {"integrator", r.reference.integrator()},
-            {"tolerance", ref.tol},
+            {"tolerance", r.reference.run.settingKind() == SettingKind::Tolerance ? json(ref.tol) : json(nullptr)},
             {"dt", r.reference.run.settingKind() == SettingKind::Dt ? json(r.reference.run.dt) : json(nullptr)},
-            {"horizon_tolerance", r.tight.run.tol},
+            {"horizon_tolerance", r.tight.run.settingKind() == SettingKind::Tolerance ? json(r.tight.run.tol) : json(nullptr)},
             {"horizon_dt", r.tight.run.settingKind() == SettingKind::Dt ? json(r.tight.run.dt) : json(nullptr)},
             {"horizon_s", horizon},
             {"check_max_pose_rad", finiteOrNull(r.reference_check_pose_rad)},

@@ -407,12 +407,13 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
   I.sample(tr, 0.0, I.state);
   double cpu = 0;
   EngineMessages said;  // CPodes prints its errors on stderr, one per failed call
+  std::clock_t c0 = 0;    // the interval's start: a failing interval's time counts too
   try {
     integ->initialize(I.state);
     for (long k = 1; k <= n_out; ++k) {
       const double t_out = k * spec.output_dt;
       said.resume();
-      const std::clock_t c0 = std::clock();
+      c0 = std::clock();
       // The first stepTo may return early (at an event or the first step): loop until t_out.
       while (integ->getTime() < t_out * (1 - 1e-14)) {
         const SimTK::Integrator::SuccessfulStepStatus st = integ->stepTo(t_out);
@@ -431,8 +432,10 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
       if (observe) observe(t_out);
     }
   } catch (const StepUnderflowError& e) {
+    if (c0) cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     markFailed(tr, integ->getTime(), Failure::StepUnderflow, "Simbody's step fell to " + gnum(e.h, 3) + " s");
   } catch (const std::exception& e) {
+    if (c0) cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     markFailed(tr, integ->getTime(), Failure::Engine, "Simbody: " + oneLine(e.what()));
   }
   said.pause();

@@ -53,6 +53,10 @@ void checkRunSpec(const RunSpec& s, const char* long_run_hint) {
   }
   if (!s.fixedStep()) {
     requirePositive("tol", s.tol);
+    // Below double's rounding a tolerance means nothing, and a step derived from it underflows (a hostile
+    // pass's --reference-tol 1e-300: IDA stopped at t = 0, its replacement at 1.4e-269 s, and compare said ok).
+    if (s.tol < kMinTolerance)
+      throw SettingError("tol", gnum(s.tol) + " is below " + gnum(kMinTolerance) + ", double precision's rounding: no integrator resolves it");
     // An engine may bound it (Simbody asserts, SIGABRT, on an accuracy >= 1): before any run.
     if (const double max = info(s.engine()).max_tol; !(s.tol < max))
       throw SettingError("tol", std::string(engineName(s.engine())) + "'s tolerance must be < " + gnum(max) + ", got " + gnum(s.tol));

@@ -11,6 +11,9 @@
 
 namespace em {
 
+/// The tightest tolerance a run may ask (relative): double precision's rounding.
+inline constexpr double kMinTolerance = 1e-16;
+
 /// The fixed step when none is asked (s): the in-house rk4's and every fixed-step engine's.
 inline constexpr double kDefaultDt = 1e-3;
 

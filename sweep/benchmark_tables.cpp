@@ -220,9 +220,6 @@ std::vector<std::string> benchmarkContenders(const std::vector<CaseRecord>& rs, 
   const std::vector<BRoute> routes = routesOf(rs, scene);
   const std::vector<OwnerBest> best = fastestByOwner(routes, spec);
   std::vector<std::string> out;
-  auto add = [&](const CaseRecord* r) {
-    if (r && std::find(out.begin(), out.end(), r->name) == out.end()) out.push_back(r->name);
-  };
   for (size_t k = 0; k < spec.levels.size(); ++k) addContenders(levelCell(best, k), out);
   return out;
 }

@@ -655,7 +655,10 @@ std::vector<Tuning> tuningsOf(const PlanLine& line, Method m, const std::optiona
   std::vector<Tuning> out;
   bool for_m = false;
   for (const Tuning& t : line.tunings) {
-    for_m = for_m || setFor(line, m, t);
+    // Per formulation: the augmented Lagrangian's penalty is not for the
+    // projection beside it, which then runs untuned (and is refused where it
+    // cannot run, as without the set: a hostile pass found it silently dropped).
+    for_m = for_m || (f ? readsTuning(m, f, t, true) : setFor(line, m, t));
     if (readsTuning(m, f, t, has_loops)) out.push_back(t);
   }
   if (!for_m) out.emplace_back();

@@ -42,16 +42,34 @@ timer (~4 % on a 5-link chain); they are now computed at the samples alone.
 Three things the page says where they hold, so that no route is ranked on a number that is not its own:
 
 - *Ill-conditioned.* Every reference has a sensitivity twin: the same run from a start 1e-10 away in every
-  coordinate and speed (compare/sensitivity.hpp). Where the twin parts from the reference by more than an
-  accuracy, errors of that size are the scene's amplification of round-off, not a method's, and no route is
-  ranked there. (The Allegro hand at rest on q = 0, an unstable equilibrium, amplified a 1e-10 start to π:
-  its start is now displaced, \`start_offset\` q 0.3 rad, seed 2 of the two tried; seed 1 started in a region
-  whose twin parts by 3.7e-2 rad.)
+  coordinate and speed (compare/sensitivity.hpp). Its gap over the horizon divided by 1e-10 is the motion's
+  amplification of a start's error; round-off (taken as 1e-14 relative: 100 times double's rounding, for what a
+  reference accumulates over its steps) grows to that amplification times 1e-14. Where that exceeds a tenth of
+  an accuracy, errors of that size are the scene's amplification of round-off, not a method's, and no route is
+  ranked there; where the twin leaves its linear regime (a gap beyond 1e-2 rad) the amplification is only a
+  lower bound and no accuracy is ranked. (Until 2026-12-07 the raw gap was compared with the accuracy, six
+  orders too coarse: the Z1's twin parts by 8.2e-6 rad, an amplification of 8e4, so round-off reaches ~8e-10
+  rad and 1e-6 rad is resolved, as its converged runs and the Simbody check show.)
+- *Starts.* The Allegro hand rests at q = 0 on an unstable equilibrium, which amplified a 1e-10 start to π. It
+  runs from four starts displaced by \`start_offset\` q 0.3 rad, seeds 1 to 4 (\`allegro_seed1\` to
+  \`allegro_seed4\`), none picked: each start's sections say whether it can be ranked at each accuracy, and the
+  summary counts the starts that can.
+- *Margins with intervals.* Consecutive repeats of one run differ by up to ~1.4x on this shared machine. Each
+  verdict comes from 11 interleaved rounds (eigenmass's fastest run and the two cheapest other owners' fastest
+  runs, each once per round, results/engines/margins.json): the median of the per-round ratios with its
+  10th-90th percentile. *met* where every interval lies above 1, *missed* where one lies below, *tied* where
+  one includes 1. Each accuracy is judged twice: against every owner's fastest route, and against the
+  engines' own u′ under the in-house integrators alone (the \`-udot\` rows), which run the same rk4 and rk8pd
+  as eigenmass: a win over the native engines at 1e-6 rad is largely the integrator's, a win over the
+  \`-udot\` rows the formulation's.
 - *Floor.* \`mujoco-udot\`, \`dart-udot\` and \`bullet-udot\` are the engines' own u′ under the in-house
   rk4 and rk8pd, the steps and tolerances eigenmass's methods get: they separate better dynamics from a
-  better integrator. An engine whose own u′ under rk8pd never comes within an accuracy cannot reach it with
-  any scheme: its route says *floor* and the smallest error of its u′ (MuJoCo's compiled inertias), not
-  *not reached*.
+  better integrator. An engine whose own u′ never comes within an accuracy cannot reach it with any scheme:
+  its route says *floor* and the error of its u′ at each scheme's finest setting, the smaller of the two
+  (MuJoCo's compiled inertias), not *not reached*. (Until 2026-12-07 the floor was the smallest error over
+  all runs, which an under-resolved run understated where its integration error cancelled part of the
+  model's: MuJoCo's floor on the hand read 2.45e-3 rad from rk4 at dt 5e-4, against ~9.0e-3 at every
+  converged setting.)
 - *Tolerances that name one run.* GSL's adaptive steppers end a step at every output time (0.01 s) and have no
   dense output to sample by; where the steps the controller asks for are longer than that, every tolerance loose
   enough gives the same run step for step. The page names such tolerances once, by the loosest.

@@ -148,13 +148,20 @@ def report_figures(rep, out, csv_dir, source):
     t = s["t"]
     methods = {m["name"]: m for m in rep["methods"]}
     inhouse = rep["options"]["inhouse"]
-    subtitle = "%s, in-house %s %s; reference %s %s tol %g; %s" % (
+    subtitle = "%s, in-house %s %s; reference %s %s %s; %s" % (
         scene, inhouse["integrator"], " ".join("%s %g" % (k, v) for k, v in inhouse.items() if k != "integrator"),
-        rep["reference"]["engine"], rep["reference"]["integrator"], rep["reference"]["tolerance"],
+        rep["reference"]["engine"], rep["reference"]["integrator"], reference_setting(rep["reference"]),
         rep["provenance"].get("date_utc", ""))
     divergence(rep, t, s, methods, subtitle, out, scene)
     energy(t, s, methods, subtitle, out, scene)
     coordinate_figure(rep, t, s, methods, csv_dir, subtitle, out, scene)
+
+
+def reference_setting(ref, twin=False):
+    """The reference's (or its twin's) step or tolerance: a fixed-step reference
+    (a mechanism's replacement) has a dt and no tolerance."""
+    dt = ref.get("horizon_dt" if twin else "dt")
+    return "dt %g" % dt if dt is not None else "tol %g" % ref["horizon_tolerance" if twin else "tolerance"]
 
 
 def method_label(m):
@@ -171,8 +178,7 @@ def divergence(rep, t, s, methods, subtitle, out, scene):
     check = s.get("reference_check")
     if check:
         ax.semilogy(t[: len(check["pose_error_rad"])], positive(check["pose_error_rad"]), color="k", lw=2.5,
-                    alpha=0.25, label="floor: reference vs its tol/%g run" % (
-                        rep["reference"]["tolerance"] / rep["reference"]["horizon_tolerance"]))
+                    alpha=0.25, label="floor: reference vs its twin at %s" % reference_setting(rep["reference"], True))
     for name, m in methods.items():
         y = positive(s["methods"][name]["pose_error_rad"])
         ax.semilogy(t[: len(y)], y, color=color(name), lw=1.2, label=method_label(m))

@@ -299,6 +299,9 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --methods classical --t-end 1e5 --output-dt 0.01 --reference-tol 1e-6", "samples, more than the budget of 1e+06"},
       {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
       {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
+      // A tolerance below double's rounding (a hostile pass: 1e-300 ran, IDA stopped at t = 0, compare said ok).
+      {"compare " + s + " --methods classical --reference-tol 1e-300", "--reference-tol: 1e-300 is below 1e-16, double precision's rounding"},
+      {"simulate " + s + " --integrator rk8pd --tol 1e-17", "--tol: 1e-17 is below 1e-16"},
       {"compare " + s + " --out /proc/r.json", "--out /proc: cannot write into this folder"},
       {"simulate " + s + " --method newton", "--method: newton not in {classical,articulated,eigen,"},
       {"compare " + s + " --simbody-integrator rk4", "--simbody-integrator: rk4 not in {rkmerson,rk3,cpodes}"},
@@ -843,7 +846,7 @@ TEST_CASE("plot draws a new robot's report: a series and a legend entry per meth
   CHECK(drawsText(div, "max pose error against the reference, rad"));
   CHECK(drawsText(div, "0.001 rad"));
   CHECK(drawsText(div, "0.1 rad"));
-  CHECK(drawsText(div, "floor: reference vs its tol/100 run"));
+  CHECK(drawsText(div, "floor: reference vs its twin at tol 1e-12"));
   CHECK(drawsText(energy, "|E(t) + W_diss(t) - E(0)| / max kinetic energy of the reference"));
   CHECK(drawsText(coord, rep["series"]["coordinate"]["name"].get<std::string>() + ", rad"));
   CHECK(div.find("failed-") == std::string::npos);  // nothing failed on this robot: no x drawn

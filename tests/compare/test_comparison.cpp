@@ -118,6 +118,38 @@ TEST_CASE("a four-bar turning through singular positions is judged over the whol
   CHECK_THAT(summaryTable(r), Catch::Contains("IDA against it over [0, 0.71"));
 }
 
+TEST_CASE("a replaced reference on ball joints falls back to the projection, and a check with no sample says so", "[comparison][mechanism]") {
+  // The RSSR four-bar's ball joints (quaternions) refuse the trapezoidal rule:
+  // a hostile pass found compare choosing it anyway and ending in exit 2 after
+  // IDA had run (IDA at 1e-3 stops early here).
+  const Scene rssr = loadScene(test::sourcePath("tests/scenes/mechanisms/rssr_fourbar.json"));
+  CompareOptions o;
+  o.grid.t_end = 0.5;
+  o.methods = {Method::Classical};
+  o.sensitivity_twin = false;
+  o.second_engine = false;
+  o.reference.tol = 1e-3;
+  o.useMechanismReference(rssr.model);
+  const ComparisonResult r = runComparison(rssr, o);
+  REQUIRE(r.stopped_reference);
+  CHECK(r.reference.integrator() == "rk8pd");
+  CHECK_THAT(r.reference_note, Catch::Contains("ball or free joints refuse the augmented Lagrangian"));
+  // A02 on a 1-s output grid: IDA's 0.71 s span holds only t = 0, the same start by construction: not checked.
+  const Scene a02 = test::sceneData("mechanisms/iftomm_a02_n2.json");
+  CompareOptions g;
+  g.grid.t_end = 1.0;
+  g.grid.output_dt = 1.0;
+  g.methods = {Method::Classical};
+  g.sensitivity_twin = false;
+  g.second_engine = false;
+  g.useMechanismReference(a02.model);
+  const ComparisonResult c = runComparison(a02, g);
+  REQUIRE(c.stopped_reference);
+  CHECK_FALSE(c.stopped_reference_metrics);
+  CHECK_THAT(summaryTable(c), Catch::Contains("holds no output sample after t = 0: not checked"));
+  CHECK(makeReport(c)["reference"]["replaced"]["checked_by"]["max_pose_rad"].is_null());
+}
+
 TEST_CASE("a reference whose loops open is a failure, replaced, and its loops are in the report", "[comparison][mechanism]") {
   // A parallelogram started at a singular position (issue 73, item 2): IDA
   // keeps the rows it chose at the start, which stop describing the loop; it

@@ -291,6 +291,19 @@ TEST_CASE("a sweep resumes without rerunning a case, and refuses a result made b
     CHECK(readFile(part + "/small.md", "tables").find("**Incomplete: 1 of 4 cases have no result in this folder (the first: "
                                          "pendulum5.classical.rk4.0.01). The tables cover the 3 that do") != std::string::npos);
   }
+  {  // A merged output linked to a case file the merge reads is refused, naming it (a hostile pass: the merged
+     // CSV was written into the reference's case file through the link, destroying it).
+    const std::string linked = kDir + "/resume-linked";
+    fs::remove_all(linked);
+    fs::copy(dir, linked);
+    fs::remove(linked + "/small.csv");
+    fs::create_symlink("pendulum5.reference.json", linked + "/small.csv");
+    const std::string before = readFile(linked + "/pendulum5.reference.json", "case");
+    const std::string lerr = kDir + "/resume-linked.err";
+    CHECK(shell(eigenmass() + " sweep " + plan + " --merge " + linked + " >/dev/null 2>" + lerr) == 2);
+    CHECK_THAT(readFile(lerr, "stderr"), Catch::Contains("small.csv, which is an input file; refusing to overwrite it"));
+    CHECK(readFile(linked + "/pendulum5.reference.json", "case") == before);
+  }
   p["t_end"] = 0.2;
   const std::string other = writePlan(p, "resume2.json");
   const std::string err = kDir + "/resume.err";
@@ -528,6 +541,11 @@ TEST_CASE("a line's tuning sets are routes of their own: named, applied, recorde
   bad["lines"][2]["formulations"] = {"projection"};
   bad["lines"][2]["integrator"] = "rk4";
   CHECK_THAT(planError(bad), Catch::Contains("lines[2].tuning[0].al_penalty_ratio: read by the formulation augmented-lagrangian only"));
+  // The penalty's set beside a formulation the line's integrator cannot run: refused as without the set
+  // (a hostile pass found the projection's case silently dropped).
+  bad = plan;
+  bad["lines"][2]["formulations"] = {"augmented-lagrangian", "projection"};
+  CHECK_THAT(planError(bad), Catch::Contains("runs the formulation augmented-lagrangian, not projection"));
   bad = plan;
   bad["lines"][1]["tuning"][1] = {{"mujoco_solref_time", 0.005}};
   CHECK_THAT(planError(bad), Catch::Contains("lines[1].tuning[1]: the same set twice"));
