@@ -170,7 +170,7 @@ TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-condition
   CHECK(lineOf(md, "- To 1.00e-03 rad") == "- To 1.00e-03 rad: eigenmass's fastest route is the cheapest of all: goal met.");
   std::string across = engineStudySummary(rs, {"s"}, 2);
   CHECK_THAT(across, Catch::Contains("- s: ill-conditioned (round-off, amplified as the reference's sensitivity twin measures, reaches a tenth of it): no route ranked"));
-  CHECK(lineOf(across, "\"of N\"") == "\"of N\" counts the scenes where that accuracy is not ill-conditioned: 1 of 1 at 1e-3 rad, 0 of 1 at 1e-6 rad.");
+  CHECK(lineOf(across, "\"of N\"") == "\"of N\" counts the scenes where that accuracy is judged (not ill-conditioned, and resolved by the reference's check): 1 of 1 at 1e-3 rad, 0 of 1 at 1e-6 rad.");
   // A twin that stopped where the reference did not: ill-conditioned at every accuracy.
   rs[0].sensitivity_rad = 1e-9, rs[0].sensitivity_failed_at = 1.25;
   md = engineStudyScene(rs, "s", 2, 0.01, 1e-12);
@@ -182,6 +182,15 @@ TEST_CASE("an accuracy the reference's sensitivity twin exceeds is ill-condition
   CHECK(md.find("**Ill-conditioned") == std::string::npos);
   CHECK(md.find("ill-conditioned |") == std::string::npos);
   CHECK_THAT(md, Catch::Contains("grows to 8.18e-10 rad") && Catch::Contains("both accuracies are resolved"));
+  // A reference whose check differs by more than a tenth of 1e-6 (the hand at seed 2: 1.12e-6 rad): no
+  // verdict there, and the summary does not count it as judged.
+  CaseRecord check = rs[0];
+  check.role = CaseRole::Check, check.method = "simbody", check.max_pose = 1.12e-6, check.max_coord = 8.4e-7;
+  rs.push_back(check);
+  md = engineStudyScene(rs, "s", 2, 0.01, 1.12e-6);
+  CHECK(lineOf(md, "- To 1.00e-06 rad") == "- To 1.00e-06 rad: not judged: the reference and its check differ by 1.12e-06 rad, more than a tenth of it.");
+  CHECK_THAT(engineStudySummary(rs, {"s"}, 2), Catch::Contains("- s: not resolved (the reference and its check differ by 1.12e-06 rad): no route ranked"));
+  rs.pop_back();
   // A twin beyond its linear regime (the hand at one start parted by 3.07 rad): every accuracy.
   rs[0].sensitivity_rad = 3.07;
   md = engineStudyScene(rs, "s", 2, 0.01, 1e-12);
