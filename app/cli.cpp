@@ -133,6 +133,13 @@ void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneS
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
   if (tr.has_loops) meta["loops"] = loopsJson(tr, tr.run);
+  if (tr.impact_count > 0 || !tr.impacts.empty()) {  // joint limits: every impact (the first kImpactsKept), docs/report-format.md
+    nlohmann::json list = nlohmann::json::array();
+    for (const Impact& i : tr.impacts)
+      list.push_back({{"t", i.t}, {"coordinate", i.coordinate}, {"u_before", i.u_before}, {"u_after", i.u_after},
+                      {"energy_lost_J", i.energy_lost}, {"rests", i.rests}});
+    meta["impacts"] = {{"count", tr.impact_count}, {"kept", tr.impacts.size()}, {"each", list}};
+  }
   const MethodInfo& row = info(r.method);
   for (const MethodParam& p : row.params)  // the method's own options as run (an engine's: its joints' or closures' stabilization)
     if (!p.loops_only || tr.has_loops) meta["options"][p.name] = row.param(p.name, r.options);

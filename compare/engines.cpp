@@ -54,6 +54,8 @@ std::string methodRefusal(Method method, const Model& m) {
   // plugin's, a recorded run's) is a tree's: it knows no point springs or drives.
   if (m.isMechanism() && row.tree_only)
     return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
+  if (!m.limited.empty() && (row.engine != Engine::InHouse || row.isolated))
+    return "joint limits are in-house events (docs/theory.md §17): not yet mapped to this method's own stops";
   if (row.engine == Engine::InHouse) return "";
   const EngineCode& code = engineCode(row.engine);
   if (std::string why = mechanismRefusal(row.engine, m); !why.empty()) return why;

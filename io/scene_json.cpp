@@ -171,11 +171,36 @@ void readJointAxes(const json& v, const std::string& path, Joint& j) {
   }
 }
 
+// "limits": {"lower": [...], "upper": [...], "restitution": e}, one bound per
+// coordinate of a joint whose q' = u (docs/scene-format.md); its q0 within them.
+JointLimits jointLimits(const json& v, const std::string& path, const Joint& j) {
+  if (!v.is_object()) throw Err(path, "expected an object {\"lower\", \"upper\", \"restitution\"}");
+  onlyKeys(v, path, {"lower", "upper", "restitution"});
+  const int nq = jointNq(j.type), nt = jointNt(j.type);
+  if (jointQuat(j.type) >= 0 || nq != jointNu(j.type))
+    throw Err(path, std::string("a ") + jointTypeName(j.type) + " joint's coordinates are not integrated as q' = u (a quaternion): no limits");
+  JointLimits l;
+  l.lower = numbers(requireKey(v, path, "lower"), at(path, "lower"), nq, nq);
+  l.upper = numbers(requireKey(v, path, "upper"), at(path, "upper"), nq, nq);
+  for (int k = 0; k < nq; ++k) {
+    const double bound = k < nt ? kMaxDisplacement : kMaxAngle;
+    for (const auto& [x, key] : {std::pair{l.lower[k], "lower"}, std::pair{l.upper[k], "upper"}})
+      if (std::abs(x) > bound) throw Err(at(at(path, key), k), gnumApart(x, std::copysign(bound, x)).first + " beyond +-" + gnum(bound) + (k < nt ? " m" : " rad"));
+    if (!(l.lower[k] < l.upper[k]))
+      throw Err(at(at(path, "lower"), k), gnum(l.lower[k]) + " is not below upper " + gnum(l.upper[k]));
+    if (!(j.q0[k] >= l.lower[k] && j.q0[k] <= l.upper[k]))
+      throw Err(at(at(path, "lower"), k), "q0 " + gnum(j.q0[k]) + " lies outside [" + gnum(l.lower[k]) + ", " + gnum(l.upper[k]) + "]");
+  }
+  l.restitution = numberAt(requireKey(v, path, "restitution"), at(path, "restitution"));
+  if (!(l.restitution >= 0 && l.restitution <= 1)) throw Err(at(path, "restitution"), "must be in [0, 1], got " + gnum(l.restitution));
+  return l;
+}
+
 Joint joint(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   Joint j;
   j.type = jointType(requireKey(v, path, "type"), at(path, "type"));
-  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring", "torque"});
+  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring", "torque", "limits"});
   if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
   readJointAxes(v, path, j);
   j.in_parent = vec3(requireKey(v, path, "in_parent"), at(path, "in_parent"));
@@ -210,6 +235,7 @@ Joint joint(const json& v, const std::string& path) {
     j.torque = t.is_array() ? numbers(t, at(path, "torque"), nu) : Eigen::VectorXd::Constant(nu, numberAt(t, at(path, "torque")));
     for (int i = 0; i < nu; ++i) forceCoefficient(j.torque[i], t.is_array() ? at(at(path, "torque"), i) : at(path, "torque"));
   }
+  if (v.contains("limits")) j.limits = jointLimits(v["limits"], at(path, "limits"), j);
   return j;
 }
 
@@ -423,6 +449,10 @@ SceneSpec spec(const json& doc) {
   if (bodies.empty()) throw Err("bodies", "empty body list");
   for (size_t i = 0; i < bodies.size(); ++i) s.bodies.push_back(body(bodies[i], at("bodies", i)));
   s.loops = namedList<LoopSpec>(doc, "loops", loop);
+  if (!s.loops.empty())
+    for (size_t i = 0; i < s.bodies.size(); ++i)
+      if (s.bodies[i].joint.limits)
+        throw Err(at(at(at("bodies", i), "joint"), "limits"), "joint limits run on trees: a scene with loops takes none (not built)");
   s.forces = namedList<ForceSpec>(doc, "forces", force);
   if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
   if (doc.contains("benchmark")) s.benchmark = benchmark(doc["benchmark"], s.bodies);
@@ -506,6 +536,7 @@ json jointJson(const Joint& j) {
   if (j.has_spring)
     o["spring"] = {{"k", numbersJson(j.spring.k)}, {"c", numbersJson(j.spring.c)}, {"q_rest", numbersJson(j.spring.q_rest)}};
   if (j.torque.size()) o["torque"] = numbersJson(j.torque);
+  if (j.limits) o["limits"] = {{"lower", numbersJson(j.limits->lower)}, {"upper", numbersJson(j.limits->upper)}, {"restitution", j.limits->restitution}};
   return o;
 }
 

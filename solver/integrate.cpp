@@ -12,6 +12,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "solver/limits.hpp"
+
 #include "solver/augmented_lagrangian.hpp"
 #include "solver/ida.hpp"
 #include "solver/ode_bdf.hpp"
@@ -28,7 +30,8 @@ double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
 class Integration {
  public:
   Integration(Dynamics& dyn, const RunSpec& spec, Trajectory& tr, const SampleObserver& observe)
-      : dyn_(dyn), spec_(spec), tr_(tr), observe_(observe), poses_(dyn.model().n()) {
+      : dyn_(dyn), spec_(spec), tr_(tr), observe_(observe), poses_(dyn.model().n()), limits_(dyn.model()),
+        y0_(dyn.size()), yt_(dyn.size()), free_(dyn.size()) {
     stats_.min_gap = std::numeric_limits<double>::infinity();
   }
 
@@ -46,6 +49,58 @@ class Integration {
       return fail(s);
     }
     stats_.max_abs_Omega = std::max(stats_.max_abs_Omega, ev.max_Omega);
+    if (limits_.anyHeld()) limits_.constrain(y, dydt);  // a coordinate resting on its stop
+    return true;
+  }
+
+  bool limitsActive() const { return limits_.active(); }
+  bool limitsCrossed(const double* y) const { return limits_.beyond(y) >= 0; }
+
+  // The stops a step from (t0, y0) to (t0 + h, y) crossed (docs/theory.md §17):
+  // each crossing located on `advance(start, tau, out)` (the scheme's own step
+  // of tau from the state at `start`) to kLimitTimeTol, the impact applied
+  // there, the rest of the step taken from it. y0 is consumed. False on a failure.
+  template <class Advance>
+  bool limitEvents(double t0, double h, Eigen::VectorXd& y0, Eigen::VectorXd& y, Advance advance) {
+    double start = t0, rem = h;
+    for (int impacts = 0;; ++impacts) {
+      int c = limits_.beyond(y.data());
+      if (c < 0) break;
+      if (impacts >= kImpactsPerStepMax)
+        return fail(Status::failure(start, Failure::BlowUp, "more than " + std::to_string(kImpactsPerStepMax) +
+                                                                  " impacts within one step (a stop hit without end)"));
+      double a = 0, b = rem, ga = limits_.inside(y0.data(), static_cast<size_t>(c)), gb = limits_.inside(y.data(), static_cast<size_t>(c));
+      yt_ = y;
+      int last_side = 0;
+      while (b - a > kLimitTimeTol) {  // Illinois: regula falsi that halves the stale end's weight
+        double tau = b - gb * (b - a) / (gb - ga);
+        if (!(tau > a && tau < b)) tau = 0.5 * (a + b);
+        if (!advance(start, tau, y0, yt_)) return false;
+        const int d = limits_.beyond(yt_.data());
+        if (d >= 0 && d != c) c = d, ga = limits_.inside(y0.data(), static_cast<size_t>(c));  // another stop, earlier
+        const double g = limits_.inside(yt_.data(), static_cast<size_t>(c));
+        if (g < 0) {
+          b = tau, gb = g;
+          if (last_side == -1) ga *= 0.5;
+          last_side = -1;
+        } else {
+          a = tau, ga = g;
+          if (last_side == 1) gb *= 0.5;
+          last_side = 1;
+        }
+      }
+      if (!advance(start, b, y0, yt_)) return false;  // the state at the crossing (its coordinate then put on the stop)
+      if (!freeUdot(start + b, yt_.data())) return false;
+      limits_.impact(start + b, yt_.data(), c, free_.data() + dyn_.model().nq);
+      start += b, rem -= b;
+      y0 = yt_;
+      y = yt_;
+      if (rem > kLimitTimeTol && !advance(start, rem, y0, y)) return false;
+    }
+    if (limits_.anyHeld()) {  // a held coordinate whose contact force would pull is let go
+      if (!freeUdot(t0 + h, y.data())) return false;
+      limits_.release(y.data(), free_.data() + dyn_.model().nq);
+    }
     return true;
   }
 
@@ -94,7 +149,7 @@ class Integration {
     const Workspace& ws = dyn_.workspace();
     for (int i = 0; i < m.n(); ++i) poses_[i] = {ws.r[i], matrixToQuat(ws.R[i])};
     if (!m.loops.empty()) dyn_.recordLoopsAt(y);  // after the poses: it re-forms the workspace at the same y
-    appendSample(tr_, m, t, y, y + m.nq, poses_, {ws.energy(), ws.kinetic, dyn_.dissipated(y)});
+    appendSample(tr_, m, t, y, y + m.nq, poses_, {ws.energy(), ws.kinetic, dyn_.dissipated(y) + limits_.energyLost()});
     if (spec_.diagnostics && dyn_.eigenfactor()) {
       const EigenDiagnostics d = dyn_.diagnosticsAt(y);
       tr_.diag.push_back({d.orth_err, d.offdiag_rel, d.min_gap, d.max_Omega, d.inv_err});
@@ -110,6 +165,8 @@ class Integration {
     if (dyn_.eigenfactor()) tr_.eigen = stats_;
     tr_.has_loops = !dyn_.model().loops.empty();
     if (tr_.has_loops) tr_.loops = dyn_.loopStats();
+    tr_.impacts = limits_.impacts();
+    tr_.impact_count = limits_.impactCount();
     if (failure_.ok) return;
     markFailed(tr_, failure_.t, failure_.kind, failure_.cause);
     tr_.failure_cond_A = dyn_.conditionAt(y);
@@ -119,6 +176,13 @@ class Integration {
   void countEvaluations(long n) { rhs_evals_ += n; }
 
  private:
+  // The free u' at y (no stop held) into free_, counted as an evaluation.
+  bool freeUdot(double t, const double* y) {
+    ++rhs_evals_;
+    const Status st = dyn_.rhs(t, y, free_.data());
+    return st ? true : fail(st);
+  }
+  static constexpr int kImpactsPerStepMax = 10000;
   Dynamics& dyn_;
   const RunSpec& spec_;
   Trajectory& tr_;
@@ -129,6 +193,8 @@ class Integration {
   Status failure_;
   bool retrying_ = false;
   Status trial_failure_;
+  JointLimitEvents limits_;
+  Eigen::VectorXd y0_, yt_, free_;  // (n): a step's start, a located state, a free u'
 };
 
 // Fixed step: exact multiples of dt, output every `per_output` steps, each
@@ -139,11 +205,20 @@ void runFixed(Integration& run, const RunSpec& spec, long n_out, long per_output
   StepScratch w(n);
   auto evaluate = [&run](double t, const double* yy, double* dy) { return run.evaluate(t, yy, dy); };
   const Derivative f(evaluate);
+  const bool limits = run.limitsActive();
+  Eigen::VectorXd y0(limits ? n : 0);
+  // The scheme's own step of tau from `from` at `start` into `out` (a stop's location, the rest of a step).
+  auto advance = [&](double start, double tau, const Eigen::VectorXd& from, Eigen::VectorXd& out) {
+    out = from;
+    return step(f, start, tau, out.data(), n, w);
+  };
   for (long k = 1; k <= n_out; ++k) {
     for (long s = 0; s < per_output; ++s) {
       const long i = (k - 1) * per_output + s;
       const double t = i * spec.dt;
+      if (limits) y0 = y;
       if (!step(f, t, spec.dt, y.data(), n, w)) return;
+      if (limits && !run.limitEvents(t, spec.dt, y0, y, advance)) return;
       if (!run.accept(t + spec.dt, y.data())) return;
     }
     run.sample(k * spec.output_dt, y.data());
@@ -217,10 +292,23 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
   double t = 0, h = std::min(1e-3, spec.output_dt);
   const bool corrects = run.dynamics().correctsAfterStep();
   run.retryTrialFailures(spec.options.retry_failed_steps);
+  const bool limits = run.limitsActive();
+  Eigen::VectorXd y0(limits ? n : 0), yerr(limits ? n : 0);
+  // The stepper's own step of tau from `from` at `start` into `out` (a stop's location, the rest of a step).
+  auto advance = [&](double start, double tau, const Eigen::VectorXd& from, Eigen::VectorXd& out) {
+    out = from;
+    gsl_odeiv2_step_reset(step.get());
+    const int st = gsl_odeiv2_step_apply(step.get(), start, tau, out.data(), yerr.data(), nullptr, nullptr, &sys);
+    if (const Status trial = run.takeTrialFailure(); !trial.ok) return run.fail(trial);
+    if (st != GSL_SUCCESS) return run.fail(Status::failure(start, Failure::IntegratorStopped, std::string("integrator stopped: ") + gsl_strerror(st)));
+    return true;
+  };
   for (long k = 1; k <= n_out; ++k) {
     const double t_out = k * spec.output_dt;
     while (t < t_out) {
       const bool cut = h > t_out - t;  // GSL ends such a step at t_out (when it is accepted at that length)
+      const double t0 = t;
+      if (limits) y0 = y;
       const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
       const Status trial = run.takeTrialFailure();
       if (!trial.ok) {  // GSL restored t and y: retry smaller, or give up
@@ -232,6 +320,14 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
       if (status != GSL_SUCCESS) {
         run.fail(Status::failure(t, Failure::IntegratorStopped, std::string("integrator stopped: ") + gsl_strerror(status)));
         return;
+      }
+      if (limits) {  // a stop within the step: located, applied, the rest stepped; a held coordinate let go
+        const bool crossed = run.limitsCrossed(y.data());
+        if (!run.limitEvents(t0, t - t0, y0, y, advance)) return;
+        if (crossed) {  // the state jumped: the stepper and evolve start afresh
+          gsl_odeiv2_step_reset(step.get());
+          gsl_odeiv2_evolve_reset(evo.get());
+        }
       }
       if (!run.accept(t, y.data())) return;
       if (cut && t == t_out) ++run.gridCutSteps();
@@ -371,6 +467,9 @@ void refuseUnrunnable(const Model& m, const RunSpec& spec) {
       throw std::invalid_argument("integrator trapezoidal integrates q' = u: body '" + m.bodies[b].name + "' has a " +
                                   jointRow(m.bodies[b].joint.type).name + " joint (a quaternion)");
   if (scheme.multistep) refuseCorrections(m, spec, scheme);
+  if (!m.limited.empty() && !(scheme.fixed_step || scheme.gsl) )
+    throw std::invalid_argument(std::string("integrator ") + scheme.name + ": joint limits are events of the in-house one-step "
+                                "integrators (rk4 and the fixed-step rows, rk8pd, rkf45, bsimp), which locate each stop on their own step");
   if (m.loops.empty() || scheme.dae) return;
   // A formulation that brings its own integrator runs under no other, and that integrator runs no other formulation.
   const FormulationInfo& f = formulationRow(spec.options.loops.formulation);

@@ -107,6 +107,11 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.body_nu.push_back(b.nu());
     m.body_nt.push_back(b.nt());
   }
+  for (const Body& b : m.bodies)
+    if (const std::optional<JointLimits>& l = b.joint.limits)
+      for (int k = 0; k < b.nq(); ++k)
+        m.limited.push_back({b.iq + k, b.iu + k, l->lower[k], l->upper[k], l->restitution,
+                             b.joint.prefix(b.name) + ".q" + std::to_string(k)});
   int fq = 0, fu = 0;
   for (int f = 0; f < n; ++f) {
     Body& b = m.bodies[m.file_to_internal[f]];

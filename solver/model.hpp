@@ -5,6 +5,7 @@
 /// order; reading them from a file is a format's business (io/).
 #include <random>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -138,6 +139,13 @@ struct MechanismDef {
   std::vector<PointSpring> springs;
 };
 
+/// A joint's limits (docs/theory.md §17): per coordinate, lower < upper, and
+/// Newton's restitution e in [0, 1] at every stop of the joint.
+struct JointLimits {
+  Eigen::VectorXd lower, upper;  ///< (nq): rad or m
+  double restitution = 0;
+};
+
 /// One joint: the inboard joint of its body.
 struct Joint {
   JointType type = JointType::Revolute;
@@ -148,6 +156,7 @@ struct Joint {
   bool has_spring = false;
   Spring spring;
   Eigen::VectorXd torque;         ///< a drive: constant generalized force per speed (nu), empty without one
+  std::optional<JointLimits> limits;  ///< stops (joints whose q' = u: no quaternion), else none
   std::string name;               ///< optional (a URDF joint's): coordinates are then named after it, not the body
   /// Prefix of this joint's coordinate names ("<prefix>.q0"): its name, else the body's.
   const std::string& prefix(const std::string& body) const { return name.empty() ? body : name; }
@@ -187,6 +196,13 @@ struct Body {
   int nt() const { return jointNt(joint.type); }
 };
 
+/// A coordinate with stops, in internal numbering (Model::limited).
+struct LimitedCoordinate {
+  int q = 0, u = 0;        ///< its index in q and in u (equal kinds: q' = u on it)
+  double lower = 0, upper = 0, restitution = 0;
+  std::string name;        ///< "<joint or body>.q<k>"
+};
+
 /// Immutable model built once (Pinocchio's Model, MuJoCo's mjModel).
 struct Model {
   std::string name;
@@ -201,6 +217,7 @@ struct Model {
   std::vector<Loop> loops;     ///< closures, bodies in internal numbering (theory.md §15)
   std::vector<PointSpring> point_springs;  ///< point-to-point spring-dampers, internal numbering
   int loop_rows = 0;           ///< sum of the loops' equations: the rows of g and G
+  std::vector<LimitedCoordinate> limited;  ///< coordinates with stops (joint.limits), internal order
   /// Per loop, the speeds its rows can touch (G's nonzero columns): those of
   /// both bodies' paths to the ground, ascending (docs/theory.md §16).
   std::vector<std::vector<int>> loop_speeds;

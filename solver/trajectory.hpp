@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "solver/model.hpp"
+#include "solver/limits.hpp"
 #include "solver/run_spec.hpp"
 
 namespace em {
@@ -120,6 +121,8 @@ struct Trajectory : RunEnd {
   std::vector<SampleDiagnostics> diag;     ///< per sample (eigenfactor methods), else empty
   std::vector<LoopSample> loop_samples;    ///< per sample on a model with loops (recordLoopSamples), else empty
   std::vector<std::string> lambda_names;   ///< "lambda.<loop>.<row>", one per closure row, with loop_samples
+  std::vector<Impact> impacts;             ///< joint limits: the first kImpactsKept impacts (solver/limits.hpp)
+  long impact_count = 0;                   ///< all of them
   // Run summary: how it ended and its cost are RunEnd's.
   /// The largest distance (m) between a joint's two points over the steps:
   /// a maximal-coordinate engine's constraint violation (ODE); NaN otherwise.
