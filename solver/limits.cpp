@@ -8,12 +8,7 @@
 namespace em {
 
 JointLimitEvents::JointLimitEvents(const Model& m)
-    : m_(m), held_(m.limited.size(), 0) {
-  if (m.limited.empty()) return;  // nothing to locate: no scratch
-  ws_.emplace(m);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(m.nu);
-  col_.resize(m.nu);
-  u_.resize(m.nu);
+    : m_(m), ws_(m), llt_(m.nu), col_(m.nu), u_(m.nu), held_(m.limited.size(), 0) {
   held_u_.reserve(m.limited.size());
 }
 
@@ -33,15 +28,15 @@ bool JointLimitEvents::anyHeld() const {
 }
 
 void JointLimitEvents::formA(const double* y) {
-  formKinematics(m_, y, y + m_.nq, *ws_);
-  formSubtrees(m_, *ws_);
-  em::formA(m_, *ws_);
-  llt_.compute(ws_->A);
+  formKinematics(m_, y, y + m_.nq, ws_);
+  formSubtrees(m_, ws_);
+  em::formA(m_, ws_);
+  llt_.compute(ws_.A);
 }
 
 double JointLimitEvents::kinetic(const double* u) const {
   const Eigen::Map<const Eigen::VectorXd> v(u, m_.nu);
-  return 0.5 * v.dot(ws_->A * v);
+  return 0.5 * v.dot(ws_.A * v);
 }
 
 // Newton's law on speed k = l.u: u_k+ = -e u_k-. The impulse iota on that

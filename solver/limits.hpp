@@ -5,7 +5,6 @@
 /// coordinate that comes to rest on its stop (e = 0, or a Zeno sequence of
 /// impacts) is held there, a unilateral constraint, until its contact force
 /// would pull. Depends on the formation only.
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,7 +65,7 @@ class JointLimitEvents {
   void formA(const double* y);
   double kinetic(const double* u) const;  // after formA
   const Model& m_;
-  std::optional<Workspace> ws_;  // built only where the model has stops (its A: nu x nu)
+  Workspace ws_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd col_, u_;  // (nu)
   std::vector<int> held_;    // per limited coordinate: 0 free, -1 on its lower stop, +1 on its upper
