@@ -196,11 +196,133 @@ JointLimits jointLimits(const json& v, const std::string& path, const Joint& j) 
   return l;
 }
 
+// Bounds of a controller's inputs (docs/scene-format.md, joint.control): a
+// table's points, a sine's frequency and the sampling period.
+constexpr size_t kMaxTablePoints = 100000;
+constexpr double kMaxFrequencyHz = 1e4;
+constexpr double kMinControlPeriod = 1e-6, kMaxControlPeriod = 1e3;
+constexpr double kMaxTableTime = 1e6;
+
+// A coordinate's value of a joint's: a displacement (the first nt) or an angle, within the state's bounds.
+double coordinateValue(const json& v, const std::string& path, const Joint& j, int k) {
+  const double x = numberAt(v, path), bound = k < jointNt(j.type) ? kMaxDisplacement : kMaxAngle;
+  if (std::abs(x) > bound) throw Err(path, gnumApart(x, std::copysign(bound, x)).first + " beyond +-" + gnum(bound) + (k < jointNt(j.type) ? " m" : " rad"));
+  return x;
+}
+
+// One value per coordinate ("q", "offset", "amplitude"): a list, or one number for every coordinate.
+Eigen::VectorXd coordinateValues(const json& v, const std::string& path, const Joint& j) {
+  const int nu = jointNu(j.type);
+  if (!v.is_array()) {
+    const double x = coordinateValue(v, path, j, nu - 1);
+    for (int k = 0; k < nu; ++k) coordinateValue(v, path, j, k);
+    return Eigen::VectorXd::Constant(nu, x);
+  }
+  if (static_cast<int>(v.size()) != nu) throw Err(path, "expected " + std::to_string(nu) + " numbers, got " + std::to_string(v.size()));
+  Eigen::VectorXd x(nu);
+  for (int k = 0; k < nu; ++k) x[k] = coordinateValue(v[k], at(path, k), j, k);
+  return x;
+}
+
+// A table: "t" strictly increasing in [0, kMaxTableTime], and its rows under
+// `key`, one per time, each nu values (one number where nu is 1); `value`
+// checks each entry.
+template <class Check>
+void table(const json& v, const std::string& path, const char* key, int nu, std::vector<double>& t, Eigen::MatrixXd& rows, Check value) {
+  const json& times = requireKey(v, path, "t");
+  const json& values = requireKey(v, path, key);
+  const std::string pt = at(path, "t"), pv = at(path, key);
+  if (!times.is_array() || times.empty()) throw Err(pt, "expected a list of times");
+  if (times.size() > kMaxTablePoints) throw Err(pt, std::to_string(times.size()) + " points, over the bound " + std::to_string(kMaxTablePoints));
+  if (!values.is_array() || values.size() != times.size())
+    throw Err(pv, "expected one row per time (" + std::to_string(times.size()) + ")");
+  rows.resize(static_cast<Eigen::Index>(times.size()), nu);
+  for (size_t i = 0; i < times.size(); ++i) {
+    const double ti = numberAt(times[i], at(pt, i));
+    if (!(ti >= 0 && ti <= kMaxTableTime)) throw Err(at(pt, i), gnum(ti) + " s outside [0, " + gnum(kMaxTableTime) + "]");
+    if (i > 0 && !(ti > t.back())) throw Err(at(pt, i), gnum(ti) + " s is not after the previous time " + gnum(t.back()) + " s (a table in order)");
+    t.push_back(ti);
+    const json& row = values[i];
+    const std::string pr = at(pv, i);
+    if (nu == 1 && !row.is_array()) {
+      rows(static_cast<Eigen::Index>(i), 0) = value(row, pr, 0);
+      continue;
+    }
+    if (!row.is_array() || static_cast<int>(row.size()) != nu) throw Err(pr, "expected " + std::to_string(nu) + " numbers");
+    for (int k = 0; k < nu; ++k) rows(static_cast<Eigen::Index>(i), k) = value(row[k], at(pr, k), k);
+  }
+}
+
+ControlTarget controlTarget(const json& v, const std::string& path, const Joint& j) {
+  if (!v.is_object()) throw Err(path, "expected an object {\"type\": \"constant\" | \"sine\" | \"table\", ...}");
+  const std::string type = stringAt(requireKey(v, path, "type"), at(path, "type"));
+  const int nu = jointNu(j.type);
+  ControlTarget T;
+  if (type == "constant") {
+    onlyKeys(v, path, {"type", "q"});
+    T.type = TargetType::Constant;
+    T.q = coordinateValues(requireKey(v, path, "q"), at(path, "q"), j);
+  } else if (type == "sine") {
+    onlyKeys(v, path, {"type", "offset", "amplitude", "frequency_hz"});
+    T.type = TargetType::Sine;
+    T.offset = coordinateValues(requireKey(v, path, "offset"), at(path, "offset"), j);
+    T.amplitude = coordinateValues(requireKey(v, path, "amplitude"), at(path, "amplitude"), j);
+    const json& f = requireKey(v, path, "frequency_hz");
+    T.frequency_hz = f.is_array() ? numbers(f, at(path, "frequency_hz"), nu) : Eigen::VectorXd::Constant(nu, numberAt(f, at(path, "frequency_hz")));
+    for (int k = 0; k < nu; ++k)
+      if (!(T.frequency_hz[k] >= 0 && T.frequency_hz[k] <= kMaxFrequencyHz))
+        throw Err(f.is_array() ? at(at(path, "frequency_hz"), k) : at(path, "frequency_hz"), gnum(T.frequency_hz[k]) + " Hz outside [0, " + gnum(kMaxFrequencyHz) + "]");
+  } else if (type == "table") {
+    onlyKeys(v, path, {"type", "t", "q"});
+    T.type = TargetType::Table;
+    table(v, path, "q", nu, T.t, T.rows, [&j](const json& x, const std::string& p, int k) { return coordinateValue(x, p, j, k); });
+  } else {
+    throw Err(at(path, "type"), "unknown target type '" + printable(type, 40) + "' (constant, sine, table)");
+  }
+  return T;
+}
+
+// "control": a PD loop toward a target, or a torque table, continuous or
+// sampled every "period" s (docs/scene-format.md, theory.md §18).
+JointControl jointControl(const json& v, const std::string& path, const Joint& j) {
+  if (!v.is_object()) throw Err(path, "expected an object {\"type\": \"pd\" | \"table\", ...}");
+  if (jointQuat(j.type) >= 0 || jointNq(j.type) != jointNu(j.type))
+    throw Err(path, std::string("a ") + jointTypeName(j.type) + " joint's coordinates are not integrated as q' = u (a quaternion): no joint-space control");
+  const std::string type = stringAt(requireKey(v, path, "type"), at(path, "type"));
+  const int nu = jointNu(j.type);
+  JointControl c;
+  if (type == "pd") {
+    onlyKeys(v, path, {"type", "kp", "kd", "target", "effort", "period"});
+    c.type = ControlType::Pd;
+    c.kp = perCoordinate(requireKey(v, path, "kp"), at(path, "kp"), nu);
+    c.kd = perCoordinate(requireKey(v, path, "kd"), at(path, "kd"), nu);
+    c.target = controlTarget(requireKey(v, path, "target"), at(path, "target"), j);
+    c.effort = Eigen::VectorXd::Constant(nu, std::numeric_limits<double>::infinity());
+    if (v.contains("effort")) {
+      c.effort = perCoordinate(v["effort"], at(path, "effort"), nu);
+      for (int k = 0; k < nu; ++k)
+        if (!(c.effort[k] > 0)) throw Err(at(path, "effort"), "must be > 0 (leave the key out for no clamp)");
+    }
+  } else if (type == "table") {
+    onlyKeys(v, path, {"type", "t", "tau", "period"});
+    c.type = ControlType::TorqueTable;
+    table(v, path, "tau", nu, c.t, c.tau, [](const json& x, const std::string& p, int) { return forceCoefficient(numberAt(x, p), p); });
+  } else {
+    throw Err(at(path, "type"), "unknown control type '" + printable(type, 40) + "' (pd, table)");
+  }
+  if (v.contains("period")) {
+    c.period = numberAt(v["period"], at(path, "period"));
+    if (!(c.period >= kMinControlPeriod && c.period <= kMaxControlPeriod))
+      throw Err(at(path, "period"), gnum(c.period) + " s outside [" + gnum(kMinControlPeriod) + ", " + gnum(kMaxControlPeriod) + "] (leave it out for a continuous loop)");
+  }
+  return c;
+}
+
 Joint joint(const json& v, const std::string& path) {
   if (!v.is_object()) throw Err(path, "expected an object");
   Joint j;
   j.type = jointType(requireKey(v, path, "type"), at(path, "type"));
-  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring", "torque", "limits"});
+  onlyKeys(v, path, {"type", "name", "axis", "axes", "in_parent", "in_body", "q0", "u0", "spring", "torque", "limits", "control"});
   if (v.contains("name")) j.name = name(v["name"], at(path, "name"));
   readJointAxes(v, path, j);
   j.in_parent = vec3(requireKey(v, path, "in_parent"), at(path, "in_parent"));
@@ -236,6 +358,7 @@ Joint joint(const json& v, const std::string& path) {
     for (int i = 0; i < nu; ++i) forceCoefficient(j.torque[i], t.is_array() ? at(at(path, "torque"), i) : at(path, "torque"));
   }
   if (v.contains("limits")) j.limits = jointLimits(v["limits"], at(path, "limits"), j);
+  if (v.contains("control")) j.control = jointControl(v["control"], at(path, "control"), j);
   return j;
 }
 
@@ -453,6 +576,15 @@ SceneSpec spec(const json& doc) {
     for (size_t i = 0; i < s.bodies.size(); ++i)
       if (s.bodies[i].joint.limits)
         throw Err(at(at(at("bodies", i), "joint"), "limits"), "joint limits run on trees: a scene with loops takes none (not built)");
+  const BodySpec* controller = nullptr;  // one controller: every controlled joint's period is one
+  for (size_t i = 0; i < s.bodies.size(); ++i)
+    if (const std::optional<JointControl>& c = s.bodies[i].joint.control) {
+      if (controller && c->period != controller->joint.control->period)
+        throw Err(at(at(at(at("bodies", i), "joint"), "control"), "period"),
+                  gnum(c->period) + " s, but body '" + controller->name + "' is sampled every " + gnum(controller->joint.control->period) +
+                      " s: every controlled joint shares one period (one controller; 0 or absent: continuous)");
+      controller = &s.bodies[i];
+    }
   s.forces = namedList<ForceSpec>(doc, "forces", force);
   if (doc.contains("simulate")) simulateDefaults(doc["simulate"], s);
   if (doc.contains("benchmark")) s.benchmark = benchmark(doc["benchmark"], s.bodies);
@@ -524,6 +656,34 @@ namespace {
 json numbersJson(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 json vecJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
+json tableJson(const std::vector<double>& t, const Eigen::MatrixXd& rows) {
+  json r = json::array();
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) r.push_back(numbersJson(rows.row(i).transpose()));
+  return {{"t", t}, {"rows", r}};
+}
+
+json controlJson(const JointControl& c) {
+  json o;
+  if (c.type == ControlType::TorqueTable) {
+    const json tab = tableJson(c.t, c.tau);
+    o = {{"type", "table"}, {"t", tab["t"]}, {"tau", tab["rows"]}};
+  } else {
+    const ControlTarget& T = c.target;
+    json target;
+    if (T.type == TargetType::Constant) target = {{"type", "constant"}, {"q", numbersJson(T.q)}};
+    if (T.type == TargetType::Sine)
+      target = {{"type", "sine"}, {"offset", numbersJson(T.offset)}, {"amplitude", numbersJson(T.amplitude)}, {"frequency_hz", numbersJson(T.frequency_hz)}};
+    if (T.type == TargetType::Table) {
+      const json tab = tableJson(T.t, T.rows);
+      target = {{"type", "table"}, {"t", tab["t"]}, {"q", tab["rows"]}};
+    }
+    o = {{"type", "pd"}, {"kp", numbersJson(c.kp)}, {"kd", numbersJson(c.kd)}, {"target", target}};
+    if (std::isfinite(c.effort.maxCoeff())) o["effort"] = numbersJson(c.effort);
+  }
+  if (c.period > 0) o["period"] = c.period;
+  return o;
+}
+
 json jointJson(const Joint& j) {
   json o = {{"type", jointTypeName(j.type)}};
   if (!j.name.empty()) o["name"] = j.name;
@@ -537,6 +697,7 @@ json jointJson(const Joint& j) {
     o["spring"] = {{"k", numbersJson(j.spring.k)}, {"c", numbersJson(j.spring.c)}, {"q_rest", numbersJson(j.spring.q_rest)}};
   if (j.torque.size()) o["torque"] = numbersJson(j.torque);
   if (j.limits) o["limits"] = {{"lower", numbersJson(j.limits->lower)}, {"upper", numbersJson(j.limits->upper)}, {"restitution", j.limits->restitution}};
+  if (j.control) o["control"] = controlJson(*j.control);
   return o;
 }
 

@@ -47,6 +47,7 @@ void addAppliedForces(const Model& m, const Workspace& ws, const double* q, cons
 }
 
 void addMechanismForces(const Model& m, const Workspace& ws, Eigen::VectorXd& Q) {
+  if (m.has_control) Q += ws.control;  // the controllers' torques (theory.md eq. (C1))
   if (m.has_drives)
     for (const Body& b : m.bodies)
       if (b.joint.torque.size()) Q.segment(b.iu, b.nu()) += b.joint.torque;
@@ -119,6 +120,7 @@ double nonConservativePower(const Model& m, const Workspace& ws, const double* u
   if (m.has_drives)
     for (const Body& b : m.bodies)
       if (b.joint.torque.size()) P -= b.joint.torque.dot(Eigen::Map<const Eigen::VectorXd>(u + b.iu, b.nu()));
+  if (m.has_control) P -= ws.control.dot(Eigen::Map<const Eigen::VectorXd>(u, m.nu));  // theory.md eq. (C3)
   return P;
 }
 

@@ -26,7 +26,7 @@ std::unique_ptr<MethodImpl> make(const Model& m, Method method, const MethodOpti
 
 Dynamics::Dynamics(const Model& m, Method method, const MethodOptions& opt)
     : model_(m), method_(method), opt_(opt), f_(make(m, method, opt)),
-      size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), scratch_(Eigen::VectorXd::Zero(size_)),
+      size_(m.nq + m.nu + extraStateSize(info(method).extra, m.nu) + (m.has_dampers ? 1 : 0)), ws_(m), control_(m), scratch_(Eigen::VectorXd::Zero(size_)),
       form_(m.loops.empty() ? nullptr : formulationRow(opt.loops.formulation).make(m, opt.loops)), factors_(*this),
       Gt_(m.nu, m.loop_rows), AinvGt_(m.nu, m.loop_rows), M_(m.loops.empty() ? 0 : m.nu, m.loops.empty() ? 0 : m.nu), llt_(m.nu),
       tree_(!m.loops.empty() && !f_->treeFactor() && !f_->hasOwnInverse() && TreeCholesky::pays(m) ? std::make_unique<TreeCholesky>(m)
@@ -66,6 +66,7 @@ Status Dynamics::rhs(double t, const double* y_in, double* dydt, EvalInfo* info)
   if (form_)
     if (Status s = form_->evaluationState(t, ws_, y_in, size_, y); !s) return s;
   formQdot(model_, y, y + nq, dydt);
+  if (control_.active()) control_.torques(t, y, y + nq, ws_.control);  // B gains them (theory.md eq. (C1))
   // A mechanism needs A for its multipliers and the kinematics for its point forces.
   const bool mechanism = model_.isMechanism(), loops = !model_.loops.empty();
   if (f_->needsEquations() || mechanism) formEquations(model_, y, y + nq, ws_, f_->needsAdot(), f_->needsA() || loops);
@@ -74,7 +75,7 @@ Status Dynamics::rhs(double t, const double* y_in, double* dydt, EvalInfo* info)
   Status s = f_->rates(t, y, y + nq, ws_, y + offsetExtra(), dydt + nq, dydt + offsetExtra(), info ? *info : local);
   if (s && loops) s = form_->accelerations(t, ws_, y, y + offsetExtra(), factors_, dydt + nq);
   if (model_.has_dampers)
-    dydt[offsetDissipated()] = mechanism ? nonConservativePower(model_, ws_, y + nq) : dissipationRate(model_, y + nq);
+    dydt[offsetDissipated()] = mechanism || model_.has_control ? nonConservativePower(model_, ws_, y + nq) : dissipationRate(model_, y + nq);
   if (!s) s.cause += gimbalLockHint(model_, y);
   else if (!allFinite(dydt, size_)) return Status::failure(t, Failure::NonFinite, "non-finite derivative (NaN or Inf)");
   return s;

@@ -8,6 +8,7 @@
 /// dissipated work W_diss (1), with W_diss' = sum c u^2].
 #include <memory>
 
+#include "solver/control.hpp"
 #include "solver/mechanism/formulation.hpp"
 #include "solver/trajectory.hpp"
 #include "solver/method.hpp"
@@ -57,6 +58,10 @@ class Dynamics {
   /// Eigenfactor drift diagnostics at y (eigenfactor methods; allocates nothing).
   EigenDiagnostics diagnosticsAt(const double* y);
   Workspace& workspace() { return ws_; }
+  /// The joint controllers (theory.md §18): a sampled loop is sampled by the
+  /// integration at its instants (sampleControl), a continuous one at every rhs.
+  const ControlLoop& control() const { return control_; }
+  void sampleControl(double t, const double* y) { control_.sample(t, y, y + model_.nq); }
 
  private:
   // A^-1 G^T and A^(-1/2) from the method's own factors, else a Cholesky of the formed A.
@@ -79,6 +84,7 @@ class Dynamics {
   std::unique_ptr<MethodImpl> f_;
   int size_;
   Workspace ws_;
+  ControlLoop control_;
   Eigen::VectorXd scratch_;  // (size) derivative scratch of diagnosticsAt
   // A mechanism's loops (docs/theory.md §15): its formulation (none on a model
   // without loops), and the method's factors it asks for, sized once.

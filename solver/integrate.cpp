@@ -54,6 +54,8 @@ class Integration {
   }
 
   bool limitsActive() const { return limits_.active(); }
+  // A sampled controller's sample at t from y (theory.md §18): held until the next.
+  void sampleControl(double t, const double* y) { dyn_.sampleControl(t, y); }
   bool limitsCrossed(const double* y) const { return limits_.beyond(y) >= 0; }
 
   // The stops a step from (t0, y0) to (t0 + h, y) crossed (docs/theory.md §17):
@@ -212,10 +214,14 @@ void runFixed(Integration& run, const RunSpec& spec, long n_out, long per_output
     out = from;
     return step(f, start, tau, out.data(), n, w);
   };
+  // A sampled controller is sampled at the starts of the steps on its instants (refuseControl: dt divides its period).
+  const ControlLoop& control = run.dynamics().control();
+  const long per_sample = control.sampled() ? stepsPerControlPeriod(control.period(), spec.dt) : 0;
   for (long k = 1; k <= n_out; ++k) {
     for (long s = 0; s < per_output; ++s) {
       const long i = (k - 1) * per_output + s;
       const double t = i * spec.dt;
+      if (per_sample && i % per_sample == 0) run.sampleControl(t, y.data());
       if (limits) y0 = y;
       if (!step(f, t, spec.dt, y.data(), n, w)) return;
       if (limits && !run.limitEvents(t, spec.dt, y0, y, advance)) return;
@@ -263,6 +269,8 @@ struct GslDeleter {
 
 // Smallest adaptive step, relative to max(1, t): below it the run has stalled.
 constexpr double kMinStepRel = 1e-14;
+// Two instants (a control sample, an output) this close, relative to max(1, t), are one.
+constexpr double kSameInstantRel = 1e-12;
 
 // A trial stage of the step from t failed: shrink h fourfold, or end the run
 // when it would fall below the smallest step (the trial's cause kept). A
@@ -303,13 +311,20 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
     if (st != GSL_SUCCESS) return run.fail(Status::failure(start, Failure::IntegratorStopped, std::string("integrator stopped: ") + gsl_strerror(st)));
     return true;
   };
+  // A sampled controller's instants t_c = c period end steps as the outputs do; its torques jump there (theory.md §18).
+  const ControlLoop& control = run.dynamics().control();
+  long c = 0;
+  double t_c = std::numeric_limits<double>::infinity();
+  if (control.sampled()) run.sampleControl(0.0, y.data()), t_c = control.period();
   for (long k = 1; k <= n_out; ++k) {
     const double t_out = k * spec.output_dt;
     while (t < t_out) {
-      const bool cut = h > t_out - t;  // GSL ends such a step at t_out (when it is accepted at that length)
+      // (An instant within round-off of the output is the output's: no step of an ulp.)
+      const double t_to = t_c < t_out - kSameInstantRel * std::max(1.0, t_out) ? t_c : t_out;
+      const bool cut = h > t_to - t;  // GSL ends such a step at t_to (when it is accepted at that length)
       const double t0 = t;
       if (limits) y0 = y;
-      const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_out, &h, y.data());
+      const int status = gsl_odeiv2_evolve_apply(evo.get(), ctl.get(), step.get(), &sys, &t, t_to, &h, y.data());
       const Status trial = run.takeTrialFailure();
       if (!trial.ok) {  // GSL restored t and y: retry smaller, or give up
         if (!retrySmaller(run, trial, t, h)) return;
@@ -331,6 +346,12 @@ void runAdaptive(Integration& run, const RunSpec& spec, long n_out, Eigen::Vecto
       }
       if (!run.accept(t, y.data())) return;
       if (cut && t == t_out) ++run.gridCutSteps();
+      if (std::abs(t - t_c) <= kSameInstantRel * std::max(1.0, t)) {  // a control sample: the torques jump, the stepper and evolve start afresh
+        run.sampleControl(t, y.data());
+        t_c = static_cast<double>(++c + 1) * control.period();
+        gsl_odeiv2_step_reset(step.get());
+        gsl_odeiv2_evolve_reset(evo.get());
+      }
       // A corrected state is not the continuation of the step: the stepper and
       // the evolve object (which reuses the last derivative as the next step's
       // first stage) must both start afresh.
@@ -449,6 +470,22 @@ void refuseCorrections(const Model& m, const RunSpec& spec, const IntegratorInfo
     throw std::invalid_argument(why + "formulation " + f.name + " corrects q and u after every step (run " + stateKeepingFormulations() + ")");
 }
 
+// Joint control (theory.md §18): the one-step integrators sample it at its
+// instants; IDA and the trapezoidal rule form B themselves without it, and a
+// multistep integrator cannot stop at each sample.
+void refuseControl(const Model& m, const RunSpec& spec, const IntegratorInfo& scheme) {
+  if (!m.has_control) return;
+  const std::string why = std::string("integrator ") + scheme.name + ": ";
+  if (scheme.dae || scheme.augmented_lagrangian)
+    throw std::invalid_argument(why + "joint control is not built into its own formation (run rk4, rk8pd, rkf45, bsimp or cvode)");
+  if (m.control_period > 0 && !(scheme.fixed_step || scheme.gsl))
+    throw std::invalid_argument(why + "a sampled controller (joint.control.period " + gnum(m.control_period) +
+                                " s) needs an integrator that stops at each sample (rk4 and the fixed-step rows, rk8pd, rkf45, bsimp)");
+  if (m.control_period > 0 && spec.fixedStep() && stepsPerControlPeriod(m.control_period, spec.dt) == 0)
+    throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(m.control_period) +
+                                " s (a fixed-step run samples its controller at step starts)");
+}
+
 }  // namespace
 
 void refuseUnrunnable(const Model& m, const RunSpec& spec) {
@@ -470,6 +507,7 @@ void refuseUnrunnable(const Model& m, const RunSpec& spec) {
   if (!m.limited.empty() && !(scheme.fixed_step || scheme.gsl) )
     throw std::invalid_argument(std::string("integrator ") + scheme.name + ": joint limits are events of the in-house one-step "
                                 "integrators (rk4 and the fixed-step rows, rk8pd, rkf45, bsimp), which locate each stop on their own step");
+  refuseControl(m, spec, scheme);
   if (m.loops.empty() || scheme.dae) return;
   // A formulation that brings its own integrator runs under no other, and that integrator runs no other formulation.
   const FormulationInfo& f = formulationRow(spec.options.loops.formulation);

@@ -100,6 +100,13 @@ void placeBodies(const std::vector<BodyDef>& defs, const std::vector<int>& order
     m.has_springs = m.has_springs || b.joint.has_spring;
     m.has_dampers = m.has_dampers || (b.joint.has_spring && (b.joint.spring.c.array() != 0).any());
     m.has_drives = m.has_drives || b.joint.torque.size() > 0;
+    if (b.joint.control) {
+      if (m.has_control && b.joint.control->period != m.control_period)
+        throw ModelError(order[i], "joint.control.period", "every controlled joint shares one period (one controller): " +
+                                                                 gnum(b.joint.control->period) + " s against " + gnum(m.control_period) + " s");
+      m.has_control = true;
+      m.control_period = b.joint.control->period;
+    }
     m.has_sliding = m.has_sliding || b.nt() > 0;
     if (b.parent >= 0) m.bodies[b.parent].children.push_back(i);
     m.body_parent.push_back(b.parent);
@@ -143,7 +150,7 @@ void placeMechanism(const MechanismDef& def, Model& m) {
     m.point_springs.push_back(std::move(s));
   }
   // W_diss is the work the non-conservative forces take out: a drive's is counted negative.
-  m.has_dampers = m.has_dampers || m.has_drives;
+  m.has_dampers = m.has_dampers || m.has_drives || m.has_control;
 }
 
 // Every body's R (world <- body) at q0, parents first, as formKinematics forms it (docs/theory.md §3).

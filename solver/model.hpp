@@ -146,6 +146,33 @@ struct JointLimits {
   double restitution = 0;
 };
 
+/// A joint-space controller's reference q*(t) (docs/theory.md §18), per
+/// coordinate: constant; a sine offset + amplitude sin(2 pi f t); or a table
+/// of points (t_i, q_i), linear between them and held beyond its ends.
+enum class TargetType { Constant, Sine, Table };
+struct ControlTarget {
+  TargetType type = TargetType::Constant;
+  Eigen::VectorXd q, offset, amplitude, frequency_hz;  ///< (nu) each, as the type uses
+  std::vector<double> t;                               ///< table: strictly increasing times (s)
+  Eigen::MatrixXd rows;                                ///< table: one row per time  (points x nu)
+};
+
+/// A joint's controller (docs/theory.md §18): PD toward a target,
+/// tau = clamp(kp (q* - q) + kd (q*' - u), +-effort), or a torque table
+/// (t_i, tau_i), linear between points and held beyond its ends. Evaluated at
+/// every right-hand side (period 0: continuous) or sampled every `period`
+/// seconds from t = 0 and held (zero-order hold); every controlled joint of a
+/// model shares one period (one controller).
+enum class ControlType { Pd, TorqueTable };
+struct JointControl {
+  ControlType type = ControlType::Pd;
+  Eigen::VectorXd kp, kd, effort;  ///< (nu) each; effort +inf where unclamped
+  ControlTarget target;            ///< pd
+  std::vector<double> t;           ///< torque table: strictly increasing times (s)
+  Eigen::MatrixXd tau;             ///< torque table: one row per time  (points x nu)
+  double period = 0;               ///< s; 0: continuous
+};
+
 /// One joint: the inboard joint of its body.
 struct Joint {
   JointType type = JointType::Revolute;
@@ -157,6 +184,7 @@ struct Joint {
   Spring spring;
   Eigen::VectorXd torque;         ///< a drive: constant generalized force per speed (nu), empty without one
   std::optional<JointLimits> limits;  ///< stops (joints whose q' = u: no quaternion), else none
+  std::optional<JointControl> control;  ///< a joint-space controller (joints whose q' = u), else none
   std::string name;               ///< optional (a URDF joint's): coordinates are then named after it, not the body
   /// Prefix of this joint's coordinate names ("<prefix>.q0"): its name, else the body's.
   const std::string& prefix(const std::string& body) const { return name.empty() ? body : name; }
@@ -218,6 +246,8 @@ struct Model {
   std::vector<PointSpring> point_springs;  ///< point-to-point spring-dampers, internal numbering
   int loop_rows = 0;           ///< sum of the loops' equations: the rows of g and G
   std::vector<LimitedCoordinate> limited;  ///< coordinates with stops (joint.limits), internal order
+  bool has_control = false;    ///< some joint.control: B gains its torques, and W_diss counts their work negative (theory.md §18)
+  double control_period = 0;   ///< the controller's sampling period (s), 0: continuous
   /// Per loop, the speeds its rows can touch (G's nonzero columns): those of
   /// both bodies' paths to the ground, ascending (docs/theory.md §16).
   std::vector<std::vector<int>> loop_speeds;
@@ -232,7 +262,7 @@ struct Model {
   /// Whether it is more than a tree of joint springs: loops, point springs or drives.
   bool isMechanism() const { return !loops.empty() || !point_springs.empty() || has_drives; }
   /// Whether B gains applied forces beyond gravity (joint springs, drives, point springs).
-  bool hasAppliedForces() const { return has_springs || has_drives || !point_springs.empty(); }
+  bool hasAppliedForces() const { return has_springs || has_drives || has_control || !point_springs.empty(); }
   /// Initial state in internal order: q (nq), u (nu).
   Eigen::VectorXd q0() const;
   Eigen::VectorXd u0() const;

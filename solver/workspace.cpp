@@ -14,6 +14,7 @@ Workspace::Workspace(const Model& m) {
   A = Eigen::MatrixXd::Zero(nu, nu);
   Adot = Eigen::MatrixXd::Zero(nu, nu);
   B = Eigen::VectorXd::Zero(nu);
+  control = Eigen::VectorXd::Zero(m.has_control ? nu : 0);
   phi = Eigen::VectorXd::Zero(3 * n);
   psi = Eigen::VectorXd::Zero(3 * n);
 }

@@ -43,6 +43,7 @@ struct Workspace {
   Eigen::Matrix3Xd Pdot;    ///< axis rates p_jk'  (3 x nu)
   Eigen::MatrixXd A, Adot;  ///< mass matrix and its time derivative  (nu x nu)
   Eigen::VectorXd B;        ///< right-hand side  (nu)
+  Eigen::VectorXd control;  ///< the joint controllers' torques, set by the run before forming (theory.md §18); 0 at a bare state  (nu, or 0 without control)
   Eigen::VectorXd phi;      ///< phi = T^T f: velocity-product angular accelerations  (3n)
   Eigen::VectorXd psi;      ///< psi = K phi + M', then T psi  (3n)
   double kinetic = 0, potential = 0;
