@@ -1,4 +1,5 @@
 #include "compare/engines.hpp"
+#include "solver/control.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -54,6 +55,8 @@ std::string methodRefusal(Method method, const Model& m) {
   // plugin's, a recorded run's) is a tree's: it knows no point springs or drives.
   if (m.isMechanism() && row.tree_only)
     return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
+  if (m.has_control && row.tree_only)
+    return "its u' comes from outside the formation and knows no joint controller (the in-house methods and the engines' own steps run one)";
   if (!m.limited.empty() && (row.engine != Engine::InHouse || row.isolated))
     return "joint limits are in-house events (docs/theory.md §17): not yet mapped to this method's own stops";
   if (row.engine == Engine::InHouse) return "";
@@ -68,6 +71,9 @@ void requireMethodTakes(Method method, const Model& m) {
 
 void requireSettingsTaken(const RunSpec& spec, const Model& m) {
   if (spec.engine() == Engine::InHouse) return;
+  if (m.has_control && m.control_period > 0 && spec.fixedStep() && stepsPerControlPeriod(m.control_period, spec.dt) == 0)
+    throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(m.control_period) +
+                                " s (a fixed-step engine samples the controller at its step starts)");
   const EngineCode& code = engineCode(spec.engine());
   if (!code.settings_refusal) return;
   if (const std::string why = code.settings_refusal(m, spec); !why.empty()) throw std::invalid_argument(why);

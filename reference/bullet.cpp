@@ -173,9 +173,10 @@ class BulletChain {
   // Our u' at (q, u), the state last set: Bullet's forward dynamics under
   // gravity and the springs and dampers.  // udot: (nu)
   void forwardDynamics(const double* q, const double* u, double* udot);
-  // Gravity, and the springs', dampers' and drives' torques at (q, u), added to Bullet's forces.
+  // Gravity, and the springs', dampers' and drives' torques at (q, u), added
+  // to Bullet's forces, with a joint controller's held torques (nu, or empty).
   void addGravity();
-  void addJointTorques(const double* q, const double* u);
+  void addJointTorques(const double* q, const double* u, const Eigen::VectorXd& control = Eigen::VectorXd());
   // The point spring-dampers' forces at their points, tensions at (q, u), added to Bullet's forces.
   void addPointSpringForces(const double* q, const double* u);
   // The mechanism's closures as Bullet's constraints, made at the state the chain is in (assembled).
@@ -360,17 +361,18 @@ void BulletChain::addGravity() {
   for (int l = 0; l < mb_->getNumLinks(); ++l) mb_->addLinkForce(l, g * mb_->getLinkMass(l));
 }
 
-void BulletChain::addJointTorques(const double* q, const double* u) {
+void BulletChain::addJointTorques(const double* q, const double* u, const Eigen::VectorXd& control) {
   for (int i = 0; i < m_.n(); ++i) {
     const Body& b = m_.bodies[i];
-    const bool driven = b.joint.torque.size() > 0;
-    if (!b.joint.has_spring && !driven) continue;  // ball and free joints carry no spring (io/scene_json.cpp)
+    const bool driven = b.joint.torque.size() > 0, controlled = b.joint.control.has_value() && control.size();
+    if (!b.joint.has_spring && !driven && !controlled) continue;  // ball and free joints carry no spring nor control (io/scene_json.cpp)
     const BulletLink& l = links_[i];
     const double *qi = q + b.iq, *ui = u + b.iu;
     Eigen::Matrix<double, 6, 1> Q = Eigen::Matrix<double, 6, 1>::Zero();  // per speed of ours
     if (b.joint.has_spring)
       for (int k = 0; k < b.nu(); ++k) Q[k] = -b.joint.spring.k[k] * (qi[k] - b.joint.spring.q_rest[k]) - b.joint.spring.c[k] * ui[k];
     if (driven) Q.head(b.nu()) += b.joint.torque;
+    if (controlled) Q.head(b.nu()) += control.segment(b.iu, b.nu());
     if (l.link < 0) {  // the floating base, [v, w] ours: Q = G^T [tau, F] for [w, v_CM] = [w, v + (R c) x w]
       const Vec3 Rc = relativeRotation(b.joint, qi) * b.joint.in_body, F = Q.head<3>();
       mb_->addBaseForce(bt(F));
@@ -688,7 +690,7 @@ class BulletStepper : public FixedStepEngine {
   std::string step() override {
     if (forces_) {
       chain_.getState(q_, u_);
-      chain_.addJointTorques(q_.data(), u_.data());
+      chain_.addJointTorques(q_.data(), u_.data(), control_);
       chain_.addPointSpringForces(q_.data(), u_.data());
     }
     world_.stepSimulation(dt_, 0, dt_);
@@ -696,6 +698,7 @@ class BulletStepper : public FixedStepEngine {
     return "";
   }
   long evaluations() const override { return evaluations_; }
+  void applyControl(const Eigen::VectorXd& tau) override { control_ = tau; }
   void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { chain_.getState(q, u); }
   void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
     chain_.getState(q_, u_);
@@ -729,6 +732,7 @@ class BulletStepper : public FixedStepEngine {
   double dt_;
   Eigen::VectorXd q_, u_, udot_;  // (nq), (nu), (nu): the state the springs act at
   Workspace ws_{m_};              // a mechanism's read-back kinematics, for its power
+  Eigen::VectorXd control_;       // a joint controller's held torques (nu), empty before the first
   bool forces_, rk4_ = false;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> closures_;  // removed from the world before it goes
   long evaluations_ = 0;

@@ -440,7 +440,7 @@ class DartStepper : public FixedStepEngine {
       dart::constraint::DynamicJointConstraint::setConstraintForceMixing(row.param("dart_cfm", spec.options));
     }
     for (const Loop& l : m.loops) addClosure(l);  // assembled: the points meet
-    if (m.has_drives) G_.resize(m.nu, m.nu), g_.resize(m.nu), tau_.resize(m.nu), forces_.resize(m.nu);
+    if (m.has_drives || m.has_control) G_.resize(m.nu, m.nu), g_.resize(m.nu), tau_.resize(m.nu), forces_.resize(m.nu);
   }
   std::string step() override {
     addDrives();
@@ -450,6 +450,7 @@ class DartStepper : public FixedStepEngine {
     return "";
   }
   long evaluations() const override { return evaluations_; }
+  void applyControl(const Eigen::VectorXd& tau) override { control_ = tau; }
   void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override {
     dart_.getState(q, u);
     u_ = u;
@@ -514,12 +515,14 @@ class DartStepper : public FixedStepEngine {
   }
   void add(const dart::constraint::ConstraintBasePtr& c) { world_->getConstraintSolver()->addConstraint(c); }
 
-  // The drives as DART's joint forces, G tau (G orthogonal per joint).
+  // The drives and a joint controller's held torques as DART's joint forces,
+  // G tau (G orthogonal per joint; world_->step() clears them).
   void addDrives() {
-    if (!m_.has_drives) return;
+    if (!m_.has_drives && !control_.size()) return;
     tau_.setZero();
     for (const Body& b : m_.bodies)
       if (b.joint.torque.size()) tau_.segment(b.iu, b.nu()) = b.joint.torque;
+    if (control_.size()) tau_ += control_;
     dart_.speedMap(u_.data(), G_, g_);  // G depends on q alone
     forces_.noalias() = G_ * tau_;
     dart_.skeleton()->setForces(forces_);
@@ -552,6 +555,7 @@ class DartStepper : public FixedStepEngine {
   Workspace ws_{m_};                   // the read-back state's kinematics: point springs, a mechanism's power
   Eigen::MatrixXd G_;                  // (nu x nu): u_D = G u (drives)
   Eigen::VectorXd g_, tau_, forces_;   // (nu): G' u, our drives, DART's joint forces
+  Eigen::VectorXd control_;            // (nu): a joint controller's held torques, empty before the first
   long evaluations_ = 0;
 };
 

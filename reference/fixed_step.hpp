@@ -19,6 +19,10 @@ class FixedStepEngine {
   virtual ~FixedStepEngine() = default;
   /// One step of exactly the run's dt; "" or the engine's complaint, one line, naming it ("MuJoCo: ...").
   virtual std::string step() = 0;
+  /// A joint controller's generalized forces (theory.md §18), one per in-house
+  /// speed (internal order; 0 off the controlled joints), applied on top of
+  /// everything else and held over its steps until the next call.  // tau: (nu)
+  virtual void applyControl(const Eigen::VectorXd& tau) = 0;
   /// Evaluations of its equations so far (steps' stages, not the harness's own reads).
   virtual long evaluations() const = 0;
   /// The current state as in-house (q, u), internal order.  // q: (nq), u: (nu)
@@ -36,7 +40,10 @@ class FixedStepEngine {
 };
 
 /// Integrate `engine` from its initial state on the grid of `spec` (fixed
-/// step spec.dt). A failure ends the run with its time and cause; CPU time
+/// step spec.dt). A joint controller is sampled from the engine's state at
+/// the starts of the steps on its instants (every step for a continuous one:
+/// an engine holds it over its step) and its work, exact under the hold
+/// (tau . dq), is counted negative in W_diss. A failure ends the run with its time and cause; CPU time
 /// counts the steps alone, the harness's reads and W_diss apart.
 Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngine& engine, const SampleObserver& observe);
 

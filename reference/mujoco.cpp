@@ -63,6 +63,7 @@ class MujocoStepper : public FixedStepEngine {
     return warned.empty() ? "" : "MuJoCo: " + warned;
   }
   long evaluations() const override { return evaluations_; }
+  void applyControl(const Eigen::VectorXd& tau) override { peer_.applyControl(tau); }
   void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { peer_.getState(q, u); }
   void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
     peer_.computeEnergies(true);

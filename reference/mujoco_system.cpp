@@ -528,6 +528,13 @@ void MujocoSystem::soften(const double solref[2], const double solimp[3]) {
 
 double MujocoSystem::potentialEnergy() const { return impl_->d->energy[0]; }
 
+void MujocoSystem::applyControl(const Eigen::VectorXd& tau) {
+  auto& I = *impl_;
+  for (int at : I.dof) I.d->qfrc_applied[at] = 0;
+  I.applyDrives();
+  for (Eigen::Index i = 0; i < tau.size(); ++i) I.d->qfrc_applied[I.dof[static_cast<size_t>(i)]] += tau[i];
+}
+
 double MujocoSystem::dissipationRate() const {
   const mjModel* mm = impl_->mm;
   double P = 0;

@@ -78,6 +78,10 @@ class MujocoSystem {
   /// s, damping ratio) and solimp's first three (d0, d_width, width m); MuJoCo's
   /// own defaults are 0.02 1 and 0.9 0.95 0.001.
   void soften(const double solref[2], const double solimp[3]);
+  /// qfrc_applied = the drives + tau, a generalized force per in-house speed
+  /// (internal order) on joints whose speeds MuJoCo reads as ours (a joint
+  /// controller's: theory.md §18), held until the next call.  // tau: (nu)
+  void applyControl(const Eigen::VectorXd& tau);
   /// In-house q, u (internal order) from qpos, qvel.  // q: (nq), u: (nu)
   void getState(Eigen::VectorXd& q, Eigen::VectorXd& u) const;
   /// Body poses (CM position, orientation), internal order, as of the last forward.

@@ -194,11 +194,12 @@ class OdeSystem {
   // Q = -k (q - q_rest) - c u + tau at (q, u), as torques (a slider's: forces
   // at the joint point) on the body and the opposite on its parent:
   // Q = E^T f for f = E (E^T E)^-1 Q.
-  void addJointForces(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+  // A joint controller's held torques `control` (nu, or empty) join them (theory.md §18).
+  void addJointForces(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& control) {
     for (int i = 0; i < m_.n(); ++i) {
       const Body& b = m_.bodies[i];
-      const bool driven = b.joint.torque.size() > 0;
-      if (!b.joint.has_spring && !driven) continue;  // ball and free joints carry no spring (io/scene_json.cpp)
+      const bool driven = b.joint.torque.size() > 0, controlled = b.joint.control.has_value() && control.size();
+      if (!b.joint.has_spring && !driven && !controlled) continue;  // ball and free joints carry no spring nor control (io/scene_json.cpp)
       const int nu = b.nu();
       Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> Q = Eigen::VectorXd::Zero(nu);
       if (b.joint.has_spring) {
@@ -206,6 +207,7 @@ class OdeSystem {
         for (int k = 0; k < nu; ++k) Q[k] -= sp.k[k] * (q[b.iq + k] - sp.q_rest[k]) + sp.c[k] * u[b.iu + k];
       }
       if (driven) Q += b.joint.torque;
+      if (controlled) Q += control.segment(b.iu, nu);
       const Mat3 Rp = b.parent < 0 ? Mat3::Identity() : rotationOf(body_[b.parent]);
       Axes E;
       worldAxes(b.joint, Rp, q.data() + b.iq, E);  // world frame
@@ -380,12 +382,12 @@ class OdeStepper : public FixedStepEngine {
     const MethodInfo& row = info(spec.method);
     dWorldSetERP(ode_.world(), row.param("ode_erp", spec.options));
     dWorldSetCFM(ode_.world(), row.param("ode_cfm", spec.options));
-    for (const Body& b : m.bodies) joint_forces_ = joint_forces_ || b.joint.has_spring || b.joint.torque.size() > 0;
+    for (const Body& b : m.bodies) joint_forces_ = joint_forces_ || b.joint.has_spring || b.joint.torque.size() > 0 || b.joint.control;
   }
   std::string step() override {
     if (joint_forces_) {
       ode_.getState(q_, u_);
-      ode_.addJointForces(q_, u_);
+      ode_.addJointForces(q_, u_, control_);
     }
     ode_.addPointSpringForces();
     const int ok = quick_ ? dWorldQuickStep(ode_.world(), dt_) : dWorldStep(ode_.world(), dt_);
@@ -396,6 +398,7 @@ class OdeStepper : public FixedStepEngine {
     return said.empty() ? "" : "ODE: " + said;
   }
   long evaluations() const override { return evaluations_; }
+  void applyControl(const Eigen::VectorXd& tau) override { control_ = tau; }
   void state(Eigen::VectorXd& q, Eigen::VectorXd& u) override { apart_ = ode_.getState(q, u); }
   double jointSeparation() const override { return apart_; }
   void sample(std::vector<Pose>& poses, double& kinetic, double& potential) override {
@@ -418,6 +421,7 @@ class OdeStepper : public FixedStepEngine {
   OdeSystem ode_;
   double dt_;
   bool quick_, joint_forces_ = false;
+  Eigen::VectorXd control_;  // a joint controller's held torques (nu), empty before the first
   Eigen::VectorXd q_, u_;  // (nq), (nu): the state the springs act at
   Workspace ws_{m_};       // the read-back state's kinematics, for the point dampers' power
   double apart_ = 0;

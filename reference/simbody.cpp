@@ -2,12 +2,14 @@
 
 #include "reference/engine.hpp"
 #include "reference/engine_messages.hpp"
+#include "solver/control.hpp"
 #include "solver/mechanism/loops.hpp"
 #include "solver/text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <ctime>
 #include <stdexcept>
 
@@ -117,12 +119,52 @@ struct PointDamper {
   double c;
 };
 
+// A joint controller (docs/theory.md §18) as Simbody's custom force: its
+// torques on the controlled mobilities, computed from the state (continuous)
+// or held since the last sample (sampled: the run stops Simbody there).
+class JointControlForce : public SimTK::Force::Custom::Implementation {
+ public:
+  JointControlForce(const Model& m, const std::vector<int>& q_index, const std::vector<int>& u_index)
+      : m_(m), q_index_(q_index), u_index_(u_index), loop_(m), q_(m.nq), u_(m.nu), tau_(m.nu) {}
+  void calcForce(const State& s, SimTK::Vector_<SimTK::SpatialVec>&, SimTK::Vector_<SimTK::Vec3>&, SimTK::Vector& mobility) const override {
+    torquesAt(s);
+    for (int i = 0; i < m_.nu; ++i) mobility[u_index_[i]] += tau_[i];
+  }
+  SimTK::Real calcPotentialEnergy(const State&) const override { return 0; }
+  /// Its power tau . u at s (W_diss counts it negative).
+  double power(const State& s) const {
+    torquesAt(s);
+    return tau_.dot(u_);
+  }
+  /// A sample of a sampled loop at s (then held).
+  void sample(const State& s) {
+    read(s);
+    loop_.sample(s.getTime(), q_.data(), u_.data());
+  }
+  const ControlLoop& loop() const { return loop_; }
+
+ private:
+  void read(const State& s) const {
+    for (int i = 0; i < m_.nq; ++i) q_[i] = s.getQ()[q_index_[i]];
+    for (int i = 0; i < m_.nu; ++i) u_[i] = s.getU()[u_index_[i]];
+  }
+  void torquesAt(const State& s) const {
+    read(s);
+    loop_.torques(s.getTime(), q_.data(), u_.data(), tau_);
+  }
+  const Model& m_;
+  const std::vector<int>& q_index_;
+  const std::vector<int>& u_index_;  // filled after realizeTopology, before any evaluation
+  ControlLoop loop_;
+  mutable Eigen::VectorXd q_, u_, tau_;  // (nq), (nu), (nu): scratch, sized once
+};
+
 // W_diss' = sum c u^2 + sum c l'^2 - sum tau u (docs/theory.md eq. (M6)), a
 // Simbody measure of Velocity stage that Measure::Integrate turns into a z variable.
 class DissipationRate : public SimTK::Measure::Implementation {
  public:
-  DissipationRate(std::vector<Damper> dampers, std::vector<PointDamper> points)
-      : SimTK::Measure::Implementation(1), dampers_(std::move(dampers)), points_(std::move(points)) {}
+  DissipationRate(std::vector<Damper> dampers, std::vector<PointDamper> points, const JointControlForce* control)
+      : SimTK::Measure::Implementation(1), dampers_(std::move(dampers)), points_(std::move(points)), control_(control) {}
   Implementation* cloneVirtual() const override { return new DissipationRate(*this); }
   int getNumTimeDerivativesVirtual() const override { return 0; }
   SimTK::Stage getDependsOnStageVirtual(int) const override { return SimTK::Stage::Velocity; }
@@ -137,17 +179,19 @@ class DissipationRate : public SimTK::Measure::Implementation {
       const SimTK::Vec3 v = p.b.findStationVelocityInGround(s, p.pb) - p.a.findStationVelocityInGround(s, p.pa);
       value += p.c * SimTK::square(SimTK::dot(d, v) / d.norm());
     }
+    if (control_) value -= control_->power(s);  // theory.md eq. (C3)
   }
 
  private:
   std::vector<Damper> dampers_;
   std::vector<PointDamper> points_;
+  const JointControlForce* control_;  // owned by the force subsystem, or null
 };
 
 // Its handle (SetHandle, the tag that adopts an implementation, is protected).
 struct DissipationMeasure : SimTK::Measure {
-  DissipationMeasure(SimTK::Subsystem& sub, std::vector<Damper> dampers, std::vector<PointDamper> points)
-      : SimTK::Measure(sub, new DissipationRate(std::move(dampers), std::move(points)), SetHandle()) {}
+  DissipationMeasure(SimTK::Subsystem& sub, std::vector<Damper> dampers, std::vector<PointDamper> points, const JointControlForce* control)
+      : SimTK::Measure(sub, new DissipationRate(std::move(dampers), std::move(points), control), SetHandle()) {}
 };
 
 }  // namespace
@@ -168,8 +212,12 @@ struct SimbodySystem::Impl {
     for (const PointSpring& s : m.point_springs) addPointSpring(s);
     // Only what the scene declares (docs/theory.md §5).
     if (m.has_gravity) SimTK::Force::UniformGravity(forces, matter, toSimTK(m.gravity));
-    if (!dampers.empty() || !point_dampers.empty()) {
-      const DissipationMeasure rate(forces, dampers, point_dampers);
+    if (m.has_control) {  // Simbody owns the implementation; `control` is its address, for samples and power
+      control = new JointControlForce(m, q_index, u_index);
+      SimTK::Force::Custom(forces, control);
+    }
+    if (tracksWork()) {
+      const DissipationMeasure rate(forces, dampers, point_dampers, control);
       dissipated = SimTK::Measure::Integrate(forces, rate, SimTK::Measure::Zero(forces));
     }
     system.realizeTopology();
@@ -313,6 +361,8 @@ struct SimbodySystem::Impl {
   SimTK::Measure::Integrate dissipated;  // W_diss; empty handle without dampers
   State state;
   std::vector<int> q_index, u_index;  // Simbody index of in-house q[i], u[i]
+  JointControlForce* control = nullptr;  // a joint controller, owned by `forces`, or null
+  bool tracksWork() const { return !dampers.empty() || !point_dampers.empty() || control; }
   LoopMeter meter;                     // a mechanism's violation at the samples, by our g(q)
 };
 
@@ -377,7 +427,7 @@ void SimbodySystem::Impl::sample(Trajectory& tr, double t, const State& s) {
   Eigen::VectorXd q, u;
   getState(q, u);
   const double T = kineticEnergy();
-  const double W = dampers.empty() && point_dampers.empty() ? 0.0 : dissipated.getValue(state);
+  const double W = tracksWork() ? dissipated.getValue(state) : 0.0;
   appendSample(tr, model, t, q.data(), u.data(), poses(), {T + potentialEnergy(), T, W});
   if (!model.loops.empty()) {
     tr.has_loops = true;
@@ -408,6 +458,12 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
   double cpu = 0;
   EngineMessages said;  // CPodes prints its errors on stderr, one per failed call
   std::clock_t c0 = 0;    // the interval's start: a failing interval's time counts too
+  // A sampled controller: Simbody stops at each of its instants t_c (a
+  // scheduled event it does not step past), where the held torques jump.
+  const bool sampled = I.control && I.control->loop().sampled();
+  long c = 0;
+  double t_c = std::numeric_limits<double>::infinity();
+  if (sampled) I.control->sample(I.state), t_c = I.control->loop().period();
   try {
     integ->initialize(I.state);
     for (long k = 1; k <= n_out; ++k) {
@@ -416,14 +472,21 @@ Trajectory SimbodySystem::simulate(const CheckedRunSpec& run, const SampleObserv
       c0 = std::clock();
       // The first stepTo may return early (at an event or the first step): loop until t_out.
       while (integ->getTime() < t_out * (1 - 1e-14)) {
-        const SimTK::Integrator::SuccessfulStepStatus st = integ->stepTo(t_out);
+        const SimTK::Integrator::SuccessfulStepStatus st = integ->stepTo(t_out, t_c);
+        if (sampled && integ->getTime() >= t_c * (1 - 1e-14)) {  // at t_c: sample, hold, restart from the advanced state there
+          SimTK::State& at = integ->updAdvancedState();
+          I.control->sample(at);
+          at.invalidateAllCacheAtOrAbove(SimTK::Stage::Dynamics);
+          integ->reinitialize(SimTK::Stage::Dynamics, false);
+          t_c = static_cast<double>(++c + 1) * I.control->loop().period();
+        }
         if (st == SimTK::Integrator::EndOfSimulation) throw std::runtime_error("integrator ended the simulation early");
         // The budgets every run keeps (issue 73, item 11: CPodes at tol 1e-12 on a flat
         // parallelogram ran past 60 s): the steps of MethodOptions::max_steps, and a step
-        // no longer than 1e-14 of the time, the in-house adaptive runs' underflow.
+        // no longer than 1e-14 of the time, the in-house adaptive runs' underflow (h = 0: none since a restart at a control sample).
         if (static_cast<double>(integ->getNumStepsTaken()) > spec.options.max_steps)
           throw std::runtime_error("more than " + gnum(spec.options.max_steps) + " steps (the step budget; a plan's max_steps raises it)");
-        if (const double h = integ->getPreviousStepSizeTaken(); integ->getNumStepsTaken() > 0 && h < 1e-14 * std::max(1.0, integ->getTime()))
+        if (const double h = integ->getPreviousStepSizeTaken(); integ->getNumStepsTaken() > 0 && h > 0 && h < 1e-14 * std::max(1.0, integ->getTime()))
           throw StepUnderflowError(h);
       }
       cpu += static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;

@@ -61,6 +61,14 @@ void controlTorques(const Model& m, double t, const double* q, const double* u, 
   }
 }
 
+double controlWork(const Model& m, const Eigen::VectorXd& tau, const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) {
+  double W = 0;
+  for (const Body& b : m.bodies)
+    if (b.joint.control)
+      for (int k = 0; k < b.nu(); ++k) W += tau[b.iu + k] * (q1[b.iq + k] - q0[b.iq + k]);
+  return W;
+}
+
 long stepsPerControlPeriod(double period, double dt) {
   const double r = period / dt;
   const long n = std::lround(r);

@@ -48,6 +48,11 @@ class ControlLoop {
   Eigen::VectorXd held_;  // (nu)
 };
 
+/// The work of torques tau held over a step from q0 to q1 (internal order):
+/// sum over the controlled joints' coordinates of tau (q1 - q0), exact under
+/// a zero-order hold (their q' = u).  // tau: (nu), q0, q1: (nq)
+double controlWork(const Model& m, const Eigen::VectorXd& tau, const Eigen::VectorXd& q0, const Eigen::VectorXd& q1);
+
 /// The steps of dt in one control period, or 0 where the period is not a
 /// whole number of steps (to 1e-9 of it): a fixed-step run samples its
 /// controller at step starts.
