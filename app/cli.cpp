@@ -352,6 +352,15 @@ void addSceneArg(CLI::App* cmd, SceneArg& s) {
   cmd->add_option("--lock-joint", s.urdf.lock_joints,
                   "URDF: hold this joint at zero, merged like a fixed joint (repeatable or comma-separated)")
       ->delimiter(',');
+  cmd->add_flag("--urdf-damping", s.urdf.damping,
+                "URDF: import each joint's <dynamics damping> as a joint damper (a nonzero <dynamics friction> is then refused unless --urdf-ignore-friction)");
+  cmd->add_flag("--urdf-ignore-friction", s.urdf.ignore_friction, "URDF: with --urdf-damping, run without the <dynamics friction> it cannot model, noted");
+  cmd->add_option("--urdf-limits", s.urdf.limits_restitution,
+                  "URDF: import each revolute and prismatic joint's <limit lower upper> as stops of this restitution (0 to 1; docs/theory.md §17)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--control", s.urdf.control_file,
+                  "URDF: joint controllers by URDF joint name, an eigenmass-control/1 file (docs/scene-format.md, joint.control; "
+                  "\"effort\": \"urdf\" clamps at the joint's <limit effort>)");
   cmd->add_flag("--assemble", s.assemble,
                 "A mechanism: project the written start onto the loops (q0 by Gauss-Newton in A's metric, then u0), as the "
                 "scene's simulate.assemble does, and say by how much in the outputs; without it an open start is refused");

@@ -36,6 +36,10 @@ json templatePlan(const json& tmpl, const std::string& scene_path, const UrdfOpt
   if (urdf.balance_inertia) scene["balance_inertia"] = true;
   if (urdf.floating_base) scene["floating_base"] = true;
   if (!urdf.lock_joints.empty()) scene["lock_joint"] = urdf.lock_joints;
+  if (urdf.damping) scene["damping"] = true;
+  if (urdf.ignore_friction) scene["ignore_friction"] = true;
+  if (urdf.limits_restitution) scene["limits_restitution"] = *urdf.limits_restitution;
+  if (!urdf.control_file.empty()) scene["control"] = fs::absolute(urdf.control_file).lexically_normal().string();
   p["scenes"] = json::array({scene});
   p["name"] = name;
   p["description"] = description;

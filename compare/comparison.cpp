@@ -315,6 +315,8 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   for (size_t i = 2; i < specs.size(); ++i) runs.push_back(runLabelled(scene, specs[i], methodName(specs[i]->method), progress));
   ComparisonResult r = compareTrajectories(reference.reference, reference.tight, std::move(runs), opt);
   const Model& m = scene.model;
+  r.reference_metrics.tracking = trackingOf(m, r.reference);
+  for (size_t i = 0; i < r.metrics.size(); ++i) r.metrics[i].tracking = trackingOf(m, r.runs[i]);
   r.scene_name = m.name;
   r.scene_source = scene.source;
   r.nq = m.nq;
@@ -478,6 +480,16 @@ std::string summaryTable(const ComparisonResult& r) {
     if (std::isfinite(m.max_joint_separation))
       o << m.name() << ": its joints' two points drifted apart by up to " << gnum(m.max_joint_separation, 3)
         << " m (maximal coordinates: the constraint violation)\n";
+  if (r.reference_metrics.tracking) {  // a controlled robot: how each run followed the targets, and the controllers' period
+    o << "tracking |q - q*(t)| of the PD targets, max (coordinate, t) and rms: reference " << gnum(r.reference_metrics.tracking->max, 3) << ", "
+      << gnum(r.reference_metrics.tracking->rms, 3) << "\n";
+    for (const MethodMetrics& m : r.metrics)
+      if (m.tracking)
+        o << "  " << m.name() << ": " << gnum(m.tracking->max, 3) << " (" << m.tracking->worst << ", " << gnum(m.tracking->max_t, 3) << " s), rms "
+          << gnum(m.tracking->rms, 3) << "\n";
+  }
+  for (const MethodMetrics& m : r.metrics)
+    if (m.impacts) o << m.name() << ": " << m.impacts << " joint-limit impacts\n";
   referenceLine(o, r);
   if (r.lyapunov && std::isfinite(r.lyapunov->per_s))
     o << "reference motion: finite-time Lyapunov exponent " << gnum(r.lyapunov->per_s, 3) << " /s over the "

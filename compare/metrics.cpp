@@ -1,4 +1,5 @@
 #include "compare/metrics.hpp"
+#include "solver/control.hpp"
 
 #include "solver/text.hpp"
 
@@ -94,6 +95,7 @@ MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std
   static_cast<RunEnd&>(m) = run;  // how it ended and its cost, whole
   m.run = run.run;
   m.max_joint_separation = run.max_joint_separation;
+  m.impacts = run.impact_count;
   m.series = errorSeries(run, ref, energy_scale);
   const ErrorSeries& s = m.series;
   m.pose = peakOf(s.t, s.pose_rad);
@@ -132,6 +134,29 @@ Outcome outcomeOf(const MethodMetrics& m, const std::optional<double>& horizon) 
   for (size_t k = 0; k < s.t.size() && (!horizon || s.t[k] < *horizon); ++k)
     if (!(s.pose_rad[k] <= kWrongRad)) return Outcome::Wrong;  // NaN counts as beyond
   return Outcome::Ok;
+}
+
+std::optional<Tracking> trackingOf(const Model& m, const Trajectory& run) {
+  std::vector<const Body*> pd;
+  for (const Body& b : m.bodies)
+    if (b.joint.control && b.joint.control->type == ControlType::Pd) pd.push_back(&b);
+  if (pd.empty()) return std::nullopt;
+  Tracking tr;
+  const std::vector<std::string> names = m.qNames();
+  double sum = 0;
+  long count = 0;
+  double qs[6], qsdot[6];
+  for (size_t k = 0; k < run.t.size(); ++k)
+    for (const Body* b : pd) {
+      targetAt(b->joint.control->target, run.t[k], qs, qsdot);
+      for (int j = 0; j < b->nu(); ++j) {
+        const double e = std::abs(run.q[k][b->file_iq + j] - qs[j]);
+        sum += e * e, ++count;
+        if (e > tr.max) tr.max = e, tr.max_t = run.t[k], tr.worst = names[static_cast<size_t>(b->file_iq + j)];
+      }
+    }
+  tr.rms = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+  return tr;
 }
 
 }  // namespace em

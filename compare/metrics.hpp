@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/model.hpp"
 #include "solver/text.hpp"
 #include "solver/trajectory.hpp"
 
@@ -32,6 +33,14 @@ struct Peak {
 /// inside the reference horizon is `wrong` (outcomeOf).
 constexpr double kWrongRad = 0.1;
 
+/// How a run followed its joint controllers' targets (docs/theory.md §18): the
+/// largest and the root-mean-square |q - q*(t)| over the PD-controlled
+/// coordinates and the samples (rad, m for a slide), when and where the largest.
+struct Tracking {
+  double max = 0, rms = 0, max_t = 0;
+  std::string worst;  ///< the coordinate of the largest ("shoulder_lift_joint.q0")
+};
+
 struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajectory's, assigned whole
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
   Outcome outcome = Outcome::Ok;  ///< outcomeOf
@@ -40,6 +49,8 @@ struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajec
   bool coords_shared = false;
   double energy_error_final = 0;
   double dissipated_final = 0;  ///< W_diss at the run's last sample (J)
+  std::optional<Tracking> tracking;  ///< a model with PD-controlled joints (trackingOf), else none
+  long impacts = 0;                  ///< joint-limit impacts (in-house runs with stops)
   std::vector<std::optional<double>> divergence_time_s;        ///< per threshold (pose)
   std::vector<std::optional<double>> coord_divergence_time_s;  ///< per threshold (joint coordinates)
   std::vector<bool> divergence_meaningful;                     ///< below the reference horizon
@@ -79,6 +90,10 @@ std::optional<double> firstExceedance(const std::vector<double>& t, const std::v
 /// counts as diverged at its failure time.
 MethodMetrics measureRun(const Trajectory& run, const Trajectory& ref, const std::vector<double>& thresholds,
                          const std::vector<std::optional<double>>& horizon, double energy_scale);
+
+/// A run's tracking of the PD controllers' targets of `m` (file-order
+/// samples), or none where no joint is PD-controlled.
+std::optional<Tracking> trackingOf(const Model& m, const Trajectory& run);
 
 /// What a run amounts to: `failed` (stopped: status failed), `wrong`
 /// (completed, but beyond kWrongRad of the reference at a sample before

@@ -89,6 +89,10 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
             {"max_joint_separation_m", finiteOrNull(m.max_joint_separation)}};
   putSetting(j, m.run);
   if (m.has_loops) j["loops"] = loopsJson(m, m.run);
+  if (m.tracking)  // docs/report-format.md: the PD targets' tracking
+    j["tracking"] = {{"max", m.tracking->max}, {"max_t", m.tracking->max_t}, {"coordinate", m.tracking->worst}, {"rms", m.tracking->rms},
+                     {"how", "|q - q*(t)| over the PD-controlled coordinates at the output samples (rad; m for a slide)"}};
+  if (m.impacts) j["impacts"] = m.impacts;
   if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
     j["source"] = from;
     j["colour"] = methodColour(m.run.method);  // plot's process does not know the method

@@ -284,7 +284,7 @@ ControlTarget controlTarget(const json& v, const std::string& path, const Joint&
 
 // "control": a PD loop toward a target, or a torque table, continuous or
 // sampled every "period" s (docs/scene-format.md, theory.md §18).
-JointControl jointControl(const json& v, const std::string& path, const Joint& j) {
+JointControl jointControl(const json& v, const std::string& path, const Joint& j, std::optional<double> urdf_effort = std::nullopt) {
   if (!v.is_object()) throw Err(path, "expected an object {\"type\": \"pd\" | \"table\", ...}");
   if (jointQuat(j.type) >= 0 || jointNq(j.type) != jointNu(j.type))
     throw Err(path, std::string("a ") + jointTypeName(j.type) + " joint's coordinates are not integrated as q' = u (a quaternion): no joint-space control");
@@ -298,7 +298,10 @@ JointControl jointControl(const json& v, const std::string& path, const Joint& j
     c.kd = perCoordinate(requireKey(v, path, "kd"), at(path, "kd"), nu);
     c.target = controlTarget(requireKey(v, path, "target"), at(path, "target"), j);
     c.effort = Eigen::VectorXd::Constant(nu, std::numeric_limits<double>::infinity());
-    if (v.contains("effort")) {
+    if (v.contains("effort") && v["effort"] == "urdf") {  // the URDF joint's own <limit effort>
+      if (!urdf_effort) throw Err(at(path, "effort"), "\"urdf\" takes a URDF joint's <limit effort>, and this joint has none (> 0)");
+      c.effort = Eigen::VectorXd::Constant(nu, forceCoefficient(*urdf_effort, at(path, "effort")));
+    } else if (v.contains("effort")) {
       c.effort = perCoordinate(v["effort"], at(path, "effort"), nu);
       for (int k = 0; k < nu; ++k)
         if (!(c.effort[k] > 0)) throw Err(at(path, "effort"), "must be > 0 (leave the key out for no clamp)");
@@ -642,6 +645,10 @@ void checkMechanismStart(Model& m, bool assemble, Assembly* assembled) {
 }
 
 }  // namespace
+
+JointControl parseJointControl(const json& v, const std::string& path, const Joint& j, std::optional<double> urdf_effort) {
+  return jointControl(v, path, j, urdf_effort);
+}
 
 SceneSpec parseSceneSpec(const std::string& text) { return spec(parseJsonStrict(text)); }
 

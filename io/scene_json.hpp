@@ -114,6 +114,12 @@ struct SceneSpec {
 /// Parse and validate scene text. Throws InputError (JSON path: what) on any defect.
 SceneSpec parseSceneSpec(const std::string& text);
 
+/// A joint's "control" object at `path` (docs/scene-format.md): a PD loop or a
+/// torque table for joint j. `urdf_effort` is a URDF joint's <limit effort>,
+/// which a PD loop's "effort": "urdf" takes (refused without one).
+JointControl parseJointControl(const nlohmann::json& v, const std::string& path, const Joint& j,
+                               std::optional<double> urdf_effort = std::nullopt);
+
 /// The scene as `eigenmass-scene/1` text that parseSceneSpec reads back to
 /// the same spec: one body per line, numbers to 17 significant digits.
 std::string sceneJson(const SceneSpec& spec);

@@ -343,6 +343,60 @@ BodySpec body(const urdf::Joint& j, const Walk& w, const std::map<std::string, M
   return b;
 }
 
+// The joint dynamics a user asked for (docs/urdf.md, "Dynamics"): <dynamics
+// damping> as a damper (--urdf-damping; a friction it cannot model refused
+// unless --urdf-ignore-friction), <limit lower upper> as stops
+// (--urdf-limits E), each noted.
+void importDynamics(const urdf::Joint& j, const UrdfOptions& opt, BodySpec& b, std::vector<std::string>& notes) {
+  const int nu = jointNu(b.joint.type);
+  if (opt.damping && j.dynamics) {
+    if (j.dynamics->friction != 0 && !opt.ignore_friction)
+      throw Err(jointAt(j.name), "<dynamics friction=\"" + gnum(j.dynamics->friction) +
+                                     "\"> is not modelled (Coulomb friction): --urdf-ignore-friction runs without it, noted");
+    if (j.dynamics->friction != 0) notes.push_back(jointAt(j.name) + ": <dynamics friction> " + gnum(j.dynamics->friction) + " not modelled (--urdf-ignore-friction)");
+    if (!(j.dynamics->damping >= 0 && j.dynamics->damping <= kMaxForceCoefficient))
+      throw Err(jointAt(j.name), "<dynamics damping=\"" + gnum(j.dynamics->damping) + "\"> outside [0, " + gnum(kMaxForceCoefficient) + "]");
+    if (j.dynamics->damping > 0) {
+      b.joint.has_spring = true;
+      b.joint.spring = {Eigen::VectorXd::Zero(nu), Eigen::VectorXd::Constant(nu, j.dynamics->damping), Eigen::VectorXd::Zero(nu)};
+    }
+  }
+  const bool bounded = j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::PRISMATIC;
+  if (opt.limits_restitution && bounded && j.limits) {
+    const double lo = j.limits->lower, hi = j.limits->upper;
+    if (!(lo < hi)) throw Err(jointAt(j.name), "<limit lower=\"" + gnum(lo) + "\" upper=\"" + gnum(hi) + "\">: lower is not below upper");
+    if (!(lo <= 0 && hi >= 0))
+      throw Err(jointAt(j.name), "its start q = 0 lies outside <limit> [" + gnum(lo) + ", " + gnum(hi) + "]");
+    b.joint.limits = JointLimits{Eigen::VectorXd::Constant(1, lo), Eigen::VectorXd::Constant(1, hi), *opt.limits_restitution};
+  }
+}
+
+// A URDF joint's <limit effort> (N m or N), for a controller whose "effort" is "urdf".
+std::optional<double> urdfEffort(const urdf::Joint& j) {
+  if (!j.limits || !(j.limits->effort > 0)) return std::nullopt;
+  return j.limits->effort;
+}
+
+// --control FILE: {"format": "eigenmass-control/1", "joints": {"<URDF joint>": <a scene's joint.control>}}.
+void importControl(const urdf::ModelInterface& u, const std::string& file, const std::vector<std::string>& joints,
+                   std::vector<BodySpec>& bodies, std::vector<std::string>& notes) {
+  const json doc = readJsonFile(file, "control file");
+  const auto where = [&file](const std::string& key) { return "--control " + file + ": " + key; };
+  if (!doc.is_object() || doc.value("format", json()) != "eigenmass-control/1")
+    throw Err(where("format"), "expected \"eigenmass-control/1\"");
+  onlyKeys(doc, where(""), {"format", "joints"});
+  if (!doc.contains("joints") || !doc["joints"].is_object() || doc["joints"].empty())
+    throw Err(where("joints"), "expected an object of controllers by URDF joint name");
+  for (auto it = doc["joints"].begin(); it != doc["joints"].end(); ++it) {
+    const auto at = std::find(joints.begin(), joints.end(), it.key());
+    if (at == joints.end()) throw Err(where(jsonPath("joints", it.key())), "no moving joint of that name in the robot");
+    BodySpec& b = bodies[static_cast<size_t>(at - joints.begin())];
+    const std::optional<double> effort = urdfEffort(*u.getJoint(it.key()));
+    b.joint.control = parseJointControl(it.value(), where(jsonPath("joints", it.key())), b.joint, effort);
+  }
+  notes.push_back("joint controllers from " + file + " (" + std::to_string(doc["joints"].size()) + " joints)");
+}
+
 // Two URDF names that become one scene name would make two bodies (or coordinates) one.
 void requireDistinct(const std::vector<BodySpec>& bodies, const std::vector<std::string>& joints) {
   std::map<std::string, std::string> seen;
@@ -391,6 +445,11 @@ UrdfScene importUrdf(const std::string& text, const std::string& source, const U
                       (joint == kFloatingBaseJoint ? "" : std::string("; the URDF has a joint named '") + kFloatingBaseJoint + "'") + ")");
   }
   if (s.spec.bodies.empty()) throw Err("(urdf)", "no revolute, continuous, prismatic, planar or floating joint: nothing moves");
+  for (size_t i = 0; i < s.joint_names.size(); ++i)
+    if (const urdf::JointConstSharedPtr j = u->getJoint(s.joint_names[i]); j) importDynamics(*j, opt, s.spec.bodies[i], s.notes);
+  if (opt.damping) s.notes.push_back("<dynamics damping> imported as joint dampers (--urdf-damping)");
+  if (opt.limits_restitution) s.notes.push_back("<limit lower upper> imported as stops of restitution " + gnum(*opt.limits_restitution) + " (--urdf-limits)");
+  if (!opt.control_file.empty()) importControl(*u, opt.control_file, s.joint_names, s.spec.bodies, s.notes);
   requireDistinct(s.spec.bodies, s.joint_names);
   s.spec.name = sceneName(u->getName(), "robot name");
   s.spec.extra = {{"x-source", {{"format", "urdf"}, {"file", source}, {"sha256", sha256Hex(text)}, {"robot", u->getName()}}},

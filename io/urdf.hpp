@@ -5,6 +5,7 @@
 /// prismatic to prismatic, floating to free, fixed (and --lock-joint) joints merged into their
 /// parent with the parallel-axis theorem, every frame turned world-aligned at
 /// the zero configuration. Errors are one line naming the link or joint.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,10 +18,17 @@ struct UrdfOptions {
   bool balance_inertia = false;          ///< --balance-inertia: MuJoCo's balanceinertia repair
   std::vector<std::string> lock_joints;  ///< --lock-joint: held at zero and merged like a fixed joint
   bool floating_base = false;            ///< --floating-base: the root link moves on a free joint (kFloatingBaseJoint)
-  bool any() const { return balance_inertia || !lock_joints.empty() || floating_base; }
+  bool damping = false;                  ///< --urdf-damping: <dynamics damping> as joint dampers
+  bool ignore_friction = false;          ///< --urdf-ignore-friction: run without a <dynamics friction> (noted), refused otherwise under --urdf-damping
+  std::optional<double> limits_restitution;  ///< --urdf-limits E: <limit lower upper> as stops of restitution E
+  std::string control_file;              ///< --control FILE: joint controllers by URDF joint name (eigenmass-control/1)
+  bool any() const {
+    return balance_inertia || !lock_joints.empty() || floating_base || damping || ignore_friction || limits_restitution || !control_file.empty();
+  }
   /// The first option set, as the command line spells it (for "applies to URDF files only").
   std::string firstOption() const {
-    return balance_inertia ? "--balance-inertia" : floating_base ? "--floating-base" : "--lock-joint";
+    return balance_inertia ? "--balance-inertia" : floating_base ? "--floating-base" : !lock_joints.empty() ? "--lock-joint"
+         : damping ? "--urdf-damping" : ignore_friction ? "--urdf-ignore-friction" : limits_restitution ? "--urdf-limits" : "--control";
   }
 };
 

@@ -146,7 +146,7 @@ class PluginMethod final : public MethodImpl {
   Status rates(double t, const double* q, const double* u, const Workspace& ws, const double*, double* udot, double*,
                EvalInfo&) override {
     isolatedBeat(t);
-    if (m_.isMechanism()) {
+    if (m_.isMechanism() || m_.has_control) {  // a joint controller's torques: ws.control, set by Dynamics
       tau_.setZero();
       addMechanismForces(m_, ws, tau_);
     }

@@ -1,4 +1,5 @@
 #include "outside/recorded.hpp"
+#include "solver/control.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -365,10 +366,13 @@ void dissipatedWork(const Model& m, const Header& h, const std::vector<std::vect
   std::vector<double> power(r.t.size());
   for (size_t s = 0; s < r.t.size(); ++s) {
     formKinematics(m, r.q[s].data(), r.u[s].data(), ws);
+    if (m.has_control) controlTorques(m, r.t[s], r.q[s].data(), r.u[s].data(), ws.control);
     power[s] = nonConservativePower(m, ws, r.u[s].data());
   }
   for (size_t s = 1; s < r.t.size(); ++s) r.dissipated[s] = r.dissipated[s - 1] + 0.5 * (r.t[s] - r.t[s - 1]) * (power[s - 1] + power[s]);
   r.dissipated_from = "the trapezoid rule over the samples' non-conservative power (its error is second order in the spacing)";
+  if (m.has_control && m.control_period > 0)
+    r.dissipated_from += "; the sampled controller's torques as the law gives them at each sample, not as it held them";
 }
 
 RecordedRun readRecorded(const std::string& name, const std::string& path, const Model& m) {

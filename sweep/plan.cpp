@@ -211,6 +211,14 @@ UrdfOptions urdfOptionsAt(const json& v, const std::string& at) {
     const json joints = nonEmptyArrayAt(v["lock_joint"], lpath);
     for (size_t k = 0; k < joints.size(); ++k) u.lock_joints.push_back(stringAt(joints[k], jsonPath(lpath, k)));
   }
+  if (v.contains("damping")) u.damping = boolAt(v["damping"], jsonPath(at, "damping"));
+  if (v.contains("ignore_friction")) u.ignore_friction = boolAt(v["ignore_friction"], jsonPath(at, "ignore_friction"));
+  if (v.contains("limits_restitution")) {
+    const double e = numberAt(v["limits_restitution"], jsonPath(at, "limits_restitution"));
+    if (!(e >= 0 && e <= 1)) throw InputError(jsonPath(at, "limits_restitution"), "must be in [0, 1], got " + gnum(e));
+    u.limits_restitution = e;
+  }
+  if (v.contains("control")) u.control_file = stringAt(v["control"], jsonPath(at, "control"));  // resolved against the plan's folder by sceneAt
   return u;
 }
 
@@ -220,7 +228,11 @@ UrdfOptions urdfOptionsAt(const json& v, const std::string& at) {
 std::string planSpelling(std::string msg) {
   std::vector<std::pair<std::string, std::string>> names = {{"--balance-inertia", "\"balance_inertia\": true"},
                                                             {"--lock-joint", "\"lock_joint\""},
-                                                            {"--floating-base", "\"floating_base\": true"}};
+                                                            {"--floating-base", "\"floating_base\": true"},
+                                                            {"--urdf-damping", "\"damping\": true"},
+                                                            {"--urdf-ignore-friction", "\"ignore_friction\": true"},
+                                                            {"--urdf-limits", "\"limits_restitution\""},
+                                                            {"--control", "\"control\""}};
   for (const MethodParam& m : methodParams()) {
     std::string flag = std::string("--") + m.name;
     std::replace(flag.begin(), flag.end(), '_', '-');
@@ -269,18 +281,25 @@ StartOffset startOffsetAt(const json& v, const std::string& at) {
   return o;
 }
 
-// An entry of `scenes`: "path" or {"file": path, "name", "balance_inertia", "lock_joint", "floating_base", "start_offset"}.
+// An entry of `scenes`: "path" or {"file": path, "name", "balance_inertia", "lock_joint", "floating_base", "damping",
+// "ignore_friction", "limits_restitution", "control", "start_offset"}.
 PlanScene sceneAt(const json& v, const std::string& at, const fs::path& base) {
   PlanScene s;
   std::string file;
   if (v.is_object()) {
-    onlyKeys(v, at, {"file", "name", "balance_inertia", "lock_joint", "floating_base", "start_offset"});
+    onlyKeys(v, at, {"file", "name", "balance_inertia", "lock_joint", "floating_base", "damping", "ignore_friction", "limits_restitution", "control",
+                     "start_offset"});
     file = stringAt(v.value("file", json()), jsonPath(at, "file"));
     if (v.contains("name")) {
       s.name = stringAt(v["name"], jsonPath(at, "name"));
       if (!isSceneName(s.name)) throw InputError(jsonPath(at, "name"), "must be letters, digits, '_' or '-' (1 to 64): it names cases, files and CSV rows");
     }
     s.urdf = urdfOptionsAt(v, at);
+    if (!s.urdf.control_file.empty()) {
+      const fs::path c = base / s.urdf.control_file;
+      if (!fs::is_regular_file(c)) throw InputError(jsonPath(at, "control"), "no such file: " + c.string());
+      s.urdf.control_file = c.lexically_normal().string();
+    }
     if (v.contains("start_offset")) s.start_offset = startOffsetAt(v["start_offset"], jsonPath(at, "start_offset"));
   } else {
     file = stringAt(v, at);

@@ -14,6 +14,8 @@
 #include <stdexcept>
 
 #include "compare/benchmark.hpp"
+#include "io/digest.hpp"
+#include "io/json_input.hpp"
 #include "compare/lyapunov.hpp"
 #include "compare/momenta.hpp"
 #include "compare/progress.hpp"
@@ -63,8 +65,16 @@ json caseKey(const Plan& plan, const SweepCase& c, const std::string& scene_sha2
               {"reference", plan.reference ? specKey(*plan.reference) : json()}};
   const UrdfOptions& urdf = plan.scenes[c.scene].urdf;
   if (urdf.any())  // a URDF's import options make another model from the same bytes
+  {
     key["scene_import"] = {{"balance_inertia", urdf.balance_inertia}, {"lock_joint", urdf.lock_joints},
                            {"floating_base", urdf.floating_base}};
+    // The joint dynamics' options only when set: older results stay valid. A control file by its bytes.
+    json& imp = key["scene_import"];
+    if (urdf.damping) imp["damping"] = true;
+    if (urdf.ignore_friction) imp["ignore_friction"] = true;
+    if (urdf.limits_restitution) imp["limits_restitution"] = *urdf.limits_restitution;
+    if (!urdf.control_file.empty()) imp["control_sha256"] = sha256Hex(readFile(urdf.control_file, "control file"));
+  }
   if (const std::optional<StartOffset>& o = plan.scenes[c.scene].start_offset)  // absent without one
     key["start_offset"] = {{"q", o->q}, {"u", o->u}, {"seed", o->seed}};
   if (plan.ensemble) {  // absent without one: older results stay valid

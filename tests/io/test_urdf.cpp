@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "io/urdf.hpp"
@@ -195,4 +197,60 @@ TEST_CASE("xacro text inside XML comments does not make an expanded URDF a xacro
   const UrdfScene s = importUrdf(commented, "commented.urdf", {});
   CHECK(s.spec.bodies.size() == 1);
   CHECK_THROWS_WITH(importUrdf(robot("<xacro:arm parent=\"base\"/>"), "x.urdf", {}), Catch::Contains("a xacro file"));
+}
+
+TEST_CASE("a URDF's joint dynamics and a control file are imported only as asked", "[urdf][control]") {
+  // One revolute joint with damping 0.7, friction 0.2, limits [-1, 2] and effort 5.
+  const std::string text = robot(link("arm", inertial("0 0 0", "0 0 0", 1.0, kDiag123)) +
+                                 "<joint name=\"j\" type=\"revolute\"><parent link=\"base\"/><child link=\"arm\"/><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>"
+                                 "<axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"2\" effort=\"5\" velocity=\"3\"/>"
+                                 "<dynamics damping=\"0.7\" friction=\"0.2\"/></joint>");
+  SECTION("without options: neither damper nor stops (the engine study's robots stay as they were)") {
+    const UrdfScene s = importUrdf(text, "r.urdf", {});
+    const BodySpec& b = s.spec.bodies[0];
+    CHECK_FALSE(b.joint.has_spring);
+    CHECK_FALSE(b.joint.limits);
+    CHECK_FALSE(b.joint.control);
+  }
+  SECTION("--urdf-damping refuses the friction it cannot model, unless told to run without it") {
+    UrdfOptions o;
+    o.damping = true;
+    CHECK_THROWS_WITH(importUrdf(text, "r.urdf", o), Catch::Contains("joint 'j'") && Catch::Contains("friction") && Catch::Contains("--urdf-ignore-friction"));
+    o.ignore_friction = true;
+    const UrdfScene s = importUrdf(text, "r.urdf", o);
+    REQUIRE(s.spec.bodies[0].joint.has_spring);
+    CHECK(s.spec.bodies[0].joint.spring.c[0] == 0.7);
+    CHECK(s.spec.bodies[0].joint.spring.k[0] == 0);
+    CHECK(std::any_of(s.notes.begin(), s.notes.end(), [](const std::string& n) { return n.find("not modelled") != std::string::npos; }));
+  }
+  SECTION("--urdf-limits E: the stops, with the restitution asked for") {
+    UrdfOptions o;
+    o.limits_restitution = 0.3;
+    const UrdfScene s = importUrdf(text, "r.urdf", o);
+    const BodySpec& b = s.spec.bodies[0];
+    REQUIRE(b.joint.limits);
+    CHECK(b.joint.limits->lower[0] == -1);
+    CHECK(b.joint.limits->upper[0] == 2);
+    CHECK(b.joint.limits->restitution == 0.3);
+  }
+  SECTION("--control: controllers by URDF joint name, \"effort\": \"urdf\" at <limit effort>") {
+    const std::string dir = std::filesystem::temp_directory_path() / ("em_control_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto write = [&](const std::string& name, const std::string& body) {
+      std::ofstream(dir + "/" + name) << body;
+      return dir + "/" + name;
+    };
+    UrdfOptions o;
+    o.control_file = write("ok.json", R"({"format": "eigenmass-control/1", "joints": {"j": {"type": "pd", "kp": 10, "kd": 1, "effort": "urdf",
+                                         "target": {"type": "sine", "offset": 0, "amplitude": 0.2, "frequency_hz": 1}}}})");
+    const UrdfScene s = importUrdf(text, "r.urdf", o);
+    const BodySpec& b = s.spec.bodies[0];
+    REQUIRE(b.joint.control);
+    CHECK(b.joint.control->effort[0] == 5);
+    o.control_file = write("bad.json", R"({"format": "eigenmass-control/1", "joints": {"elbow": {"type": "table", "t": [0], "tau": [1]}}})");
+    CHECK_THROWS_WITH(importUrdf(text, "r.urdf", o), Catch::Contains("joints.elbow") && Catch::Contains("no moving joint of that name"));
+    o.control_file = write("order.json", R"({"format": "eigenmass-control/1", "joints": {"j": {"type": "table", "t": [0, 1, 0.5], "tau": [1, 2, 3]}}})");
+    CHECK_THROWS_WITH(importUrdf(text, "r.urdf", o), Catch::Contains("t[2]") && Catch::Contains("not after"));
+    std::filesystem::remove_all(dir);
+  }
 }
