@@ -137,8 +137,14 @@ void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneS
     nlohmann::json list = nlohmann::json::array();
     for (const Impact& i : tr.impacts)
       list.push_back({{"t", i.t}, {"coordinate", i.coordinate}, {"u_before", i.u_before}, {"u_after", i.u_after},
-                      {"energy_lost_J", i.energy_lost}, {"rests", i.rests}});
-    meta["impacts"] = {{"count", tr.impact_count}, {"kept", tr.impacts.size()}, {"each", list}};
+                      {"energy_lost_J", std::isfinite(i.energy_lost) ? nlohmann::json(i.energy_lost) : nlohmann::json()}, {"rests", i.rests},
+                      {"overshoot", i.overshoot}, {"duration_s", i.duration}});
+    meta["impacts"] = {{"count", tr.impact_count}, {"kept", tr.impacts.size()}, {"each", list},
+                       {"how", tr.run.engine() == Engine::InHouse
+                                   ? "exact events: located to 1e-12 s, Newton's law through A (docs/theory.md §17)"
+                                   : "the engine's own stop, watched after every step: t where the coordinate crossed the stop, "
+                                     "u_before at the last step inside, u_after at the first step back inside, overshoot how far "
+                                     "beyond it went (rad or m), duration_s how long; energy_lost_J not measured"}};
   }
   const MethodInfo& row = info(r.method);
   for (const MethodParam& p : row.params)  // the method's own options as run (an engine's: its joints' or closures' stabilization)

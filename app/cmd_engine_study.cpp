@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,8 @@
 #include "io/json_input.hpp"
 #include "io/scene_json.hpp"
 #include "io/shipped.hpp"
+#include "solver/control.hpp"
+#include "solver/text.hpp"
 #include "sweep/sweep.hpp"
 
 namespace em::cli {
@@ -35,6 +38,31 @@ struct StudyArgs : TemplatePlanArgs {
   SceneArg scene;
 };
 
+// A sampled controller is sampled at step starts (docs/theory.md §18): the
+// study keeps the fixed steps that divide its period, and its description
+// says which it left out (a line left with none goes).
+void keepStepsOfPeriod(const Model& m, json& study) {
+  if (!m.has_control || !(m.control_period > 0)) return;
+  std::set<double> dropped;
+  json lines = json::array();
+  for (json line : study["lines"]) {
+    if (line.contains("dt")) {
+      json kept = json::array();
+      for (const json& dt : line["dt"])
+        (stepsPerControlPeriod(m.control_period, dt.get<double>()) ? kept.push_back(dt) : void(dropped.insert(dt.get<double>())));
+      if (kept.empty()) continue;
+      line["dt"] = kept;
+    }
+    lines.push_back(line);
+  }
+  study["lines"] = lines;
+  if (dropped.empty()) return;
+  std::string which;
+  for (double dt : dropped) which += (which.empty() ? "" : ", ") + gnum(dt);
+  study["description"] = study["description"].get<std::string>() + " Steps that do not divide the controller's period " +
+                         gnum(m.control_period) + " s are left out (" + which + " s): it is sampled at step starts.";
+}
+
 int runStudy(StudyArgs& a) {
   const Scene scene = a.scene.load();  // a bad scene is named as every command names it, before any file is written
   if (a.plan.empty()) a.plan = shippedFile("data/plans/engines.json", EM_SOURCE_DIR);
@@ -55,6 +83,7 @@ int runStudy(StudyArgs& a) {
     throw std::invalid_argument("--plan " + a.plan + ": " + e.what());
   }
   if (a.t_end > 0) study["t_end"] = a.t_end;
+  keepStepsOfPeriod(scene.model, study);
   const std::string path = writeTemplatePlan(study, dir, "--plan " + a.plan + " (the study's plan made from it)", "--results");
   const Plan plan = loadPlan(path);
   if (!a.list) refuseSweepOverInputs(plan, path, dir);

@@ -49,6 +49,12 @@ std::vector<RunSpec*> CompareOptions::allSpecs() {
 bool followsInHouse(Engine e) { return info(defaultIntegrator(e)).fixed_step; }
 
 void CompareOptions::useMechanismReference(const Model& m) {
+  if (!m.limited.empty()) {  // joint limits: the in-house exact events (docs/theory.md §17), which no engine's stop is
+    const double tol = reference.tol;
+    reference = defaultReferenceSpec(Method::Classical);
+    reference.tol = tol;
+    return;
+  }
   if (!m.isMechanism()) return;
   const double tol = reference.tol;
   reference = defaultReferenceSpec(Method::Classical);
@@ -201,6 +207,10 @@ void runSecondEngine(const Scene& scene, const RunSpec& reference, ReferenceRuns
     out.second_engine_skipped = "no engine's row names itself the second engine";
     return;
   }
+  if (!scene.model.limited.empty()) {  // no engine's stop is an exact event: none checks the reference's impacts
+    out.second_engine_skipped = "joint limits: no engine's stop is an exact event (docs/theory.md §17); the reference's twin checks it";
+    return;
+  }
   RunSpec s = reference;
   s.options.max_steps = HUGE_VAL;  // its cost is the floor's, asked for by the comparison
   std::string label;
@@ -317,6 +327,8 @@ ComparisonResult compareAgainst(const Scene& scene, const CompareOptions& opt, c
   const Model& m = scene.model;
   r.reference_metrics.tracking = trackingOf(m, r.reference);
   for (size_t i = 0; i < r.metrics.size(); ++i) r.metrics[i].tracking = trackingOf(m, r.runs[i]);
+  if (!m.limited.empty())
+    for (size_t i = 0; i < r.metrics.size(); ++i) r.metrics[i].impact_check = checkImpacts(r.runs[i], r.reference);
   r.scene_name = m.name;
   r.scene_source = scene.source;
   r.nq = m.nq;
@@ -489,7 +501,11 @@ std::string summaryTable(const ComparisonResult& r) {
           << gnum(m.tracking->rms, 3) << "\n";
   }
   for (const MethodMetrics& m : r.metrics)
-    if (m.impacts) o << m.name() << ": " << m.impacts << " joint-limit impacts\n";
+    if (const std::optional<ImpactCheck>& c = m.impact_check)
+      o << m.name() << ": " << c->count << " impacts (reference " << c->reference_count << "); the first at t "
+        << gnum(c->first_time_error, 3) << " s off, rebounding " << gnum(c->first_rebound_error, 3) << " off; over the first " << c->compared
+        << ": impact time off by up to " << gnum(c->time_error_max, 3) << " s, rebound speed by " << gnum(c->rebound_error_max, 3)
+        << "; beyond a stop by up to " << gnum(c->overshoot_max, 3) << " for " << gnum(c->duration_max, 3) << " s\n";
   referenceLine(o, r);
   if (r.lyapunov && std::isfinite(r.lyapunov->per_s))
     o << "reference motion: finite-time Lyapunov exponent " << gnum(r.lyapunov->per_s, 3) << " /s over the "

@@ -57,10 +57,13 @@ std::string methodRefusal(Method method, const Model& m) {
     return "its u' comes from outside the formation and knows no loops, point springs or drives (the in-house methods and ida run a mechanism)";
   if (m.has_control && row.tree_only)
     return "its u' comes from outside the formation and knows no joint controller (the in-house methods and the engines' own steps run one)";
-  if (!m.limited.empty() && (row.engine != Engine::InHouse || row.isolated))
-    return "joint limits are in-house events (docs/theory.md §17): not yet mapped to this method's own stops";
+  if (!m.limited.empty() && (row.isolated || row.tree_only))
+    return "joint limits are in-house events (docs/theory.md §17) or an engine's own stops: not mapped to this method's u'";
   if (row.engine == Engine::InHouse) return "";
   const EngineCode& code = engineCode(row.engine);
+  if (!m.limited.empty() && !code.limits_refusal) return "no mapping of joint limits to this engine's stops yet (the in-house methods run them as exact events)";
+  if (!m.limited.empty())
+    if (std::string why = code.limits_refusal(m); !why.empty()) return why;
   if (std::string why = mechanismRefusal(row.engine, m); !why.empty()) return why;
   return code.refusal ? code.refusal(m) : "";
 }

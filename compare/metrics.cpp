@@ -159,4 +159,21 @@ std::optional<Tracking> trackingOf(const Model& m, const Trajectory& run) {
   return tr;
 }
 
+ImpactCheck checkImpacts(const Trajectory& run, const Trajectory& ref) {
+  ImpactCheck c;
+  c.count = run.impact_count;
+  c.reference_count = ref.impact_count;
+  for (const Impact& i : run.impacts) c.overshoot_max = std::max(c.overshoot_max, i.overshoot), c.duration_max = std::max(c.duration_max, i.duration);
+  const size_t n = std::min(run.impacts.size(), ref.impacts.size());
+  for (size_t k = 0; k < n; ++k) {
+    const Impact &a = run.impacts[k], &b = ref.impacts[k];
+    if (a.coordinate != b.coordinate) break;  // the sequences part: no more pairs
+    c.compared = static_cast<long>(k) + 1;
+    if (k == 0) c.first_time_error = a.t - b.t, c.first_rebound_error = a.u_after - b.u_after;
+    c.time_error_max = std::max(c.time_error_max, std::abs(a.t - b.t));
+    c.rebound_error_max = std::max(c.rebound_error_max, std::abs(a.u_after - b.u_after));
+  }
+  return c;
+}
+
 }  // namespace em

@@ -2,6 +2,7 @@
 /// Metrics of one run against a reference on a common output grid
 /// (docs/report-format.md): coordinate-free pose error, joint-coordinate error,
 /// divergence times per threshold, relative energy error, cost and diagnostics.
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
@@ -41,6 +42,17 @@ struct Tracking {
   std::string worst;  ///< the coordinate of the largest ("shoulder_lift_joint.q0")
 };
 
+/// A run's stops against the reference's (docs/theory.md §17): its k-th
+/// impact against the reference's k-th, over the first `compared`: the largest
+/// gap in time and in rebound speed; how far beyond a stop it went and for how
+/// long (an engine's soft or stabilized stop; 0 for exact events).
+struct ImpactCheck {
+  long count = 0, reference_count = 0, compared = 0;
+  double time_error_max = 0, rebound_error_max = 0, overshoot_max = 0, duration_max = 0;
+  double first_time_error = NAN, first_rebound_error = NAN;  ///< the first impact's alone (NaN: none to pair)
+};
+ImpactCheck checkImpacts(const Trajectory& run, const Trajectory& ref);
+
 struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajectory's, assigned whole
   RunSpec run;  ///< what made the run (method, integrator, step or tolerance, grid)
   Outcome outcome = Outcome::Ok;  ///< outcomeOf
@@ -50,7 +62,8 @@ struct MethodMetrics : RunEnd {  ///< how the run ended and its cost: the trajec
   double energy_error_final = 0;
   double dissipated_final = 0;  ///< W_diss at the run's last sample (J)
   std::optional<Tracking> tracking;  ///< a model with PD-controlled joints (trackingOf), else none
-  long impacts = 0;                  ///< joint-limit impacts (in-house runs with stops)
+  long impacts = 0;                  ///< joint-limit impacts, or an engine's contact episodes
+  std::optional<ImpactCheck> impact_check;  ///< a scene with joint limits: against the reference's impacts
   std::vector<std::optional<double>> divergence_time_s;        ///< per threshold (pose)
   std::vector<std::optional<double>> coord_divergence_time_s;  ///< per threshold (joint coordinates)
   std::vector<bool> divergence_meaningful;                     ///< below the reference horizon

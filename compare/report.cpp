@@ -92,7 +92,14 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   if (m.tracking)  // docs/report-format.md: the PD targets' tracking
     j["tracking"] = {{"max", m.tracking->max}, {"max_t", m.tracking->max_t}, {"coordinate", m.tracking->worst}, {"rms", m.tracking->rms},
                      {"how", "|q - q*(t)| over the PD-controlled coordinates at the output samples (rad; m for a slide)"}};
-  if (m.impacts) j["impacts"] = m.impacts;
+  if (const std::optional<ImpactCheck>& c = m.impact_check)  // docs/report-format.md: the stops against the reference's
+    j["impacts"] = {{"count", c->count}, {"reference_count", c->reference_count}, {"compared", c->compared},
+                    {"time_error_max_s", c->time_error_max}, {"rebound_error_max", c->rebound_error_max},
+                    {"overshoot_max", c->overshoot_max}, {"beyond_stop_max_s", c->duration_max},
+                    {"first_time_error_s", finiteOrNull(c->first_time_error)}, {"first_rebound_error", finiteOrNull(c->first_rebound_error)},
+                    {"how", "the run's k-th impact against the reference's k-th (same coordinate) over the first `compared`: "
+                            "|t - t_ref| and |u_after - u_after_ref| (rad/s or m/s); an engine's impact is its crossing of the stop, "
+                            "its rebound the speed at the first step back inside; overshoot (rad or m) and time beyond the stop"}};
   if (json from = outsideSource(m.run.method); !from.is_null()) {  // a plugin's or a recorded run's
     j["source"] = from;
     j["colour"] = methodColour(m.run.method);  // plot's process does not know the method

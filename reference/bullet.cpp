@@ -42,6 +42,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyFixedConstraint.h>
@@ -181,6 +182,8 @@ class BulletChain {
   void addPointSpringForces(const double* q, const double* u);
   // The mechanism's closures as Bullet's constraints, made at the state the chain is in (assembled).
   std::vector<std::unique_ptr<btMultiBodyConstraint>> closures();
+  // The joint limits as Bullet's btMultiBodyJointLimitConstraint on one-speed links (revolute, prismatic).
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> stops();
   // Bullet's accelerations with the forces added ([w', v'_CM] of the base, the links'), forces cleared after.
   const double* solve();
   // Bullet's mass matrix in its speeds from firstSpeed(), at the state last set (then set again).  // (speeds^2)
@@ -420,6 +423,14 @@ Mat3 BulletChain::linkFrame(const End& e) const {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) R(r, c) = B[r][c];
   return R;
+}
+
+std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::stops() {
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> out;
+  for (int i = 0; i < m_.n(); ++i)
+    if (const auto& l = m_.bodies[i].joint.limits)
+      out.push_back(std::make_unique<btMultiBodyJointLimitConstraint>(mb_.get(), links_[i].link, l->lower[0], l->upper[0]));
+  return out;
 }
 
 std::vector<std::unique_ptr<btMultiBodyConstraint>> BulletChain::closures() {
@@ -675,6 +686,7 @@ class BulletStepper : public FixedStepEngine {
     world_.setGravity(bt(m.gravity));
     world_.addMultiBody(&chain_.body());
     closures_ = chain_.closures();
+    for (auto& c : chain_.stops()) closures_.push_back(std::move(c));  // the joint limits: constraints of the same solver
     for (auto& c : closures_) world_.addMultiBodyConstraint(c.get());
     if (!closures_.empty()) {
       const MethodInfo& row = info(spec.method);
@@ -773,6 +785,9 @@ std::unique_ptr<MethodImpl> makeBulletUdot(const Model& m, const MethodInfo&, co
 // turns they are not the derivative of the slider's gap. Its runs then close
 // the loop but converge to another motion (docs/reference-engines.md).
 std::string bulletSceneNote(const Model& m) {
+  if (!m.limited.empty())
+    return "joint limits: Bullet's btMultiBodyJointLimitConstraint (an inelastic stop: no restitution, e is not mapped; "
+           "its solver's ERP and iterations as for closures)";
   for (const Loop& l : m.loops)
     if (l.type == LoopType::Slider && l.a.body >= 0 && l.b.body >= 0)
       return "loop '" + l.name + "': Bullet's slider constraint takes the turning line's velocity at its pivot, not at the "
@@ -808,6 +823,13 @@ EngineRow bulletEngine() {
                            "its B and u' of a mechanism are not exposed";
   r.code.dependence = bulletDependence;
   r.code.scene_note = bulletSceneNote;
+  r.code.limits_refusal = [](const Model& m) -> std::string {
+    for (const Body& b : m.bodies)
+      if (b.joint.limits && b.joint.type != JointType::Revolute && b.joint.type != JointType::Prismatic)
+        return std::string("the limits of body '") + b.name + "': Bullet's btMultiBodyJointLimitConstraint holds one-speed links, not a " +
+               jointTypeName(b.joint.type) + " joint";
+    return "";
+  };
   r.code.equations_note = "Bullet exposes no mass matrix: A is the inverse of its forward dynamics under unit forces at rest "
                           "without gravity, B = A u'; both err by ~eps cond(A), as u' does";
   return r;

@@ -117,6 +117,11 @@ typename J::Properties jointProperties(const Body& b) {
     p.mDofNames[k] = b.joint.prefix(b.name) + ".q" + std::to_string(k);
     p.mPreserveDofNames[k] = true;
   }
+  if (const auto& l = b.joint.limits) {  // its JointLimitConstraint in World::step (docs/reference-engines.md, "Joint limits")
+    p.mPositionLowerLimits = l->lower;
+    p.mPositionUpperLimits = l->upper;
+    p.mIsPositionLimitEnforced = true;
+  }
   if (b.joint.has_spring) {  // ball and free joints carry none (io/scene_json.cpp)
     p.mSpringStiffnesses = b.joint.spring.k;
     p.mRestPositions = b.joint.spring.q_rest;
@@ -621,6 +626,17 @@ EngineRow dartEngine() {
     return std::make_unique<DartUrdfModel>(m, source);
   };
   r.code.version = [] { return std::string(DART_VERSION); };
+  r.code.scene_note = [](const Model& m) -> std::string {
+    return m.limited.empty() ? "" : "joint limits: DART's JointLimitConstraint in World::step (its position limits enforced; "
+                                    "an inelastic stop: no restitution, e is not mapped; its default error allowance and ERP)";
+  };
+  r.code.limits_refusal = [](const Model& m) -> std::string {  // its joints whose coordinates are ours
+    for (const Body& b : m.bodies)
+      if (b.joint.limits && b.joint.type != JointType::Revolute && b.joint.type != JointType::Prismatic && b.joint.type != JointType::Universal)
+        return std::string("the limits of body '") + b.name + "': DART's limits are mapped on revolute, prismatic and universal joints, not on a " +
+               jointTypeName(b.joint.type) + " joint";
+    return "";
+  };
   r.code.mechanism_refusal = [](const Model& m) { return unmappedLoop(m, kDartLoops, kDartConstraints); };  // point springs and drives all map
   r.code.mechanism_state = "DART's equations at a state are its skeleton's, a mechanism's tree: its joint constraints act "
                            "only as impulses inside World::step, and point springs and drives are applied there; its A is "

@@ -118,6 +118,11 @@ struct EngineCode {
   /// time below two steps, which it raises to two), or "" (also when nullptr):
   /// refused in one line, naming the option, before any run starts.
   std::string (*settings_refusal)(const Model& m, const RunSpec& spec) = nullptr;
+  /// Why it cannot stop `m`'s joints at their limits (docs/theory.md §17; a
+  /// joint kind or range its stops cannot take), or "" when it maps them under
+  /// its own limit mechanism (its scene_note says how); nullptr: it maps no
+  /// joint limits, and every scene with them is refused.
+  std::string (*limits_refusal)(const Model& m) = nullptr;
   /// One line on why its equations at a state are the tree's alone on a
   /// mechanism (DART, Bullet: closures, point springs and drives act only
   /// inside its step), or nullptr: crosscheck then judges its A alone, and

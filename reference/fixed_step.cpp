@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "solver/control.hpp"
+#include "solver/limits.hpp"
 #include "solver/mechanism/loops.hpp"
 #include "solver/text.hpp"
 
@@ -25,6 +26,65 @@ bool checkStep(Trajectory& tr, double t, const std::string& complaint, const Eig
     markFailed(tr, t, Failure::BlowUp, "blow-up: max |u| exceeds the bound");
   return !tr.failed();
 }
+
+// An engine's stops as the harness sees them after every step (docs/theory.md
+// §17): a coordinate beyond its stop opens an episode, entered at the
+// crossing (linear between the two steps), with the speed of the last step
+// inside; it closes at the first step back inside, with that step's speed,
+// how far beyond it went and for how long. An episode still open at the end
+// is kept as resting.
+class StopEpisodes {
+ public:
+  explicit StopEpisodes(const Model& m) : m_(m), open_(m.limited.size()), g_(m.limited.size()), u_(m.limited.size()) {}
+  bool active() const { return !m_.limited.empty(); }
+  void start(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    for (size_t c = 0; c < m_.limited.size(); ++c) g_[c] = inside(c, q), u_[c] = u[m_.limited[c].u];
+  }
+  void step(double t, double dt, const Eigen::VectorXd& q, const Eigen::VectorXd& u, Trajectory& tr) {
+    for (size_t c = 0; c < m_.limited.size(); ++c) {
+      const double g = inside(c, q), v = u[m_.limited[c].u];
+      std::optional<Impact>& e = open_[c];
+      if (!e && g < 0) {  // crossed into the stop within this step
+        e = Impact{};
+        e->t = t - dt + dt * g_[c] / (g_[c] - g);
+        e->coordinate = m_.limited[c].name;
+        e->u_before = u_[c];
+        e->energy_lost = std::numeric_limits<double>::quiet_NaN();  // the engine's stop: not measured
+      }
+      if (e) e->overshoot = std::max(e->overshoot, -g);
+      if (e && g >= 0) {  // back inside: the rebound
+        e->u_after = v;
+        e->duration = t - dt + dt * g_[c] / (g_[c] - g) - e->t;
+        keep(*e, tr);
+        e.reset();
+      }
+      g_[c] = g, u_[c] = v;
+    }
+  }
+  void finish(double t, Trajectory& tr) {
+    for (size_t c = 0; c < open_.size(); ++c)
+      if (std::optional<Impact>& e = open_[c]) {
+        e->rests = true;
+        e->u_after = u_[c];
+        e->duration = t - e->t;
+        keep(*e, tr);
+        e.reset();
+      }
+  }
+
+ private:
+  double inside(size_t c, const Eigen::VectorXd& q) const {
+    const LimitedCoordinate& l = m_.limited[c];
+    return std::min(q[l.q] - l.lower, l.upper - q[l.q]);
+  }
+  static void keep(const Impact& e, Trajectory& tr) {
+    if (tr.impacts.size() < kImpactsKept) tr.impacts.push_back(e);
+    ++tr.impact_count;
+  }
+  const Model& m_;
+  std::vector<std::optional<Impact>> open_;
+  std::vector<double> g_, u_;  // per limited coordinate: inside() and its speed at the last step
+};
 
 }  // namespace
 
@@ -52,6 +112,8 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
   if (control.active() && per_sample == 0)
     throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(control.period()) + " s");
   Eigen::VectorXd q_start(control.active() ? m.nq : 0);
+  StopEpisodes stops(m);  // an engine's own stops, watched after every step
+  if (stops.active()) stops.start(q, u);
   // Timed as every owner is (solver/integrate.cpp, reference/simbody.cpp): over
   // whole output intervals, the steps with their per-step checks, the samples
   // apart. A clock read per step cost 1.4-1.6 us of CPU here (clock() is a
@@ -69,6 +131,7 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
       ++tr.steps;
       engine.state(q, u);
       if (per_sample) W -= controlWork(m, control.held(), q_start, q);
+      if (stops.active()) stops.step(static_cast<double>(tr.steps) * spec.dt, spec.dt, q, u, tr);
       if (const double apart = engine.jointSeparation(); !std::isnan(apart))  // NaN: the joints hold by construction
         tr.max_joint_separation = std::isnan(tr.max_joint_separation) ? apart : std::max(tr.max_joint_separation, apart);
       if (!checkStep(tr, static_cast<double>(tr.steps) * spec.dt, complaint, q, u, spec.options.blowup_speed)) break;
@@ -83,6 +146,7 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
     sample(k * spec.output_dt);
     if (observe) observe(k * spec.output_dt);
   }
+  if (stops.active()) stops.finish(tr.t.empty() ? 0.0 : tr.t.back(), tr);
   tr.run_time_s = cpu;
   tr.rhs_evals = engine.evaluations();
   return tr;

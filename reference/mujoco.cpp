@@ -208,7 +208,20 @@ EngineRow mujocoEngine() {
   r.code.mass_note =
       "MuJoCo against the in-house formation given MuJoCo's compiled masses, CMs and inertias;\n"
       " MuJoCo rounds a full inertia tensor when it diagonalizes it; judged: all but MuJoCo's raw u', docs/urdf.md";
-  r.code.scene_note = fullInertiaNote;
+  r.code.scene_note = [](const Model& m) {
+    const std::string inertia = fullInertiaNote(m);
+    if (m.limited.empty()) return inertia;
+    return (inertia.empty() ? "" : inertia + "; ") +
+           "joint limits: MuJoCo's soft limits (limited, range) at its default solreflimit 0.02 1 and solimplimit 0.9 0.95 0.001, "
+           "a critically damped stop without restitution: e is not mapped";
+  };
+  r.code.limits_refusal = [](const Model& m) -> std::string {  // one MuJoCo hinge or slide per coordinate
+    for (const Body& b : m.bodies)
+      if (b.joint.limits && b.joint.type != JointType::Revolute && b.joint.type != JointType::Prismatic && b.joint.type != JointType::Universal)
+        return std::string("the limits of body '") + b.name + "': MuJoCo's limits are mapped on revolute, prismatic and universal joints, not on a " +
+               jointTypeName(b.joint.type) + " joint";
+    return "";
+  };
   r.code.udot_method = {"mujoco-udot", "MuJoCo's u' (mj_forward: its compiled masses, CRB mass matrix and bias forces) under "
                                        "the in-house integrators: MuJoCo's dynamics apart from its integrator", "#8c1c13",
                         makeMujocoUdot};

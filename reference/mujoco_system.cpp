@@ -47,6 +47,11 @@ void mjJoint(std::ostream& o, const Body& b, int k, const char* type, const Vec3
     std::snprintf(buf, sizeof buf, " stiffness=\"%.17g\" damping=\"%.17g\" springref=\"%.17g\"", s.k[k], s.c[k], s.q_rest[k]);
     o << buf;
   }
+  if (const auto& l = b.joint.limits) {  // a soft limit at MuJoCo's default solreflimit and solimplimit
+    char buf[120];
+    std::snprintf(buf, sizeof buf, " limited=\"true\" range=\"%.17g %.17g\"", l->lower[k], l->upper[k]);
+    o << buf;
+  }
   o << "/>";
 }
 
@@ -197,7 +202,7 @@ std::vector<std::pair<std::string, std::string>> toMjcf(const Model& m) {
   MjcfWriter w{m, {{"scene.xml", ""}}, mjSites(m)};
   std::ostringstream o;
   // Constraints only where loops close (MuJoCo's equalities, soft at its default solref and solimp); never contacts.
-  const char* flags = m.loops.empty() ? "<flag contact=\"disable\" constraint=\"disable\"/>" : "<flag contact=\"disable\"/>";
+  const char* flags = m.loops.empty() && m.limited.empty() ? "<flag contact=\"disable\" constraint=\"disable\"/>" : "<flag contact=\"disable\"/>";
   o << "<mujoco model=\"" << m.name << "\"><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
     << "<option gravity=\"" << vec(m.gravity) << "\">" << flags << "</option>"
     << "<worldbody>";

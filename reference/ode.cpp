@@ -122,6 +122,21 @@ std::string odeRefusal(const Model& m) {
   return "";
 }
 
+// Why ODE's stops cannot take `m`'s joint limits, or "": a hinge's and a
+// slider's map (dParamLoStop, dParamHiStop, dParamBounce); a hinge's angle
+// lives in [-pi, pi], so a stop beyond is none of ODE's.
+std::string odeLimitsRefusal(const Model& m) {
+  for (const Body& b : m.bodies) {
+    if (!b.joint.limits) continue;
+    const OdeJoint k = odeJoint(b.joint.type);
+    if (k != OdeJoint::Hinge && k != OdeJoint::Slider)
+      return std::string("the limits of body '") + b.name + "': ODE's stops are mapped on hinges and sliders, not on a " + jointTypeName(b.joint.type) + " joint";
+    if (k == OdeJoint::Hinge && (b.joint.limits->lower[0] < -M_PI || b.joint.limits->upper[0] > M_PI))
+      return "the limits of body '" + b.name + "': ODE's hinge angle lives in [-pi, pi], and a stop beyond it is none of ODE's";
+  }
+  return "";
+}
+
 // A body's frame and motion as ODE keeps them, world frame.
 struct BodyState {
   Mat3 R = Mat3::Identity();
@@ -144,6 +159,7 @@ class OdeSystem {
     }
     setBodies(zeroConfiguration(m), Eigen::VectorXd::Zero(m.nu));
     for (int i = 0; i < m.n(); ++i) joint_[i] = makeJoint(i);
+    setJointStops(m);
     setBodies(m.q0(), m.u0());  // assembled: every loop's points meet (io/, assembleStart)
     for (const Loop& l : m.loops) makeLoopJoint(l);
     g_message.clear();
@@ -325,12 +341,12 @@ class OdeSystem {
         dJointAttach(j, parent, me);
         dJointSetHingeAnchor(j, o.x(), o.y(), o.z());
         dJointSetHingeAxis(j, a0.x(), a0.y(), a0.z());
-        return j;
+        return j;  // its stops once every joint is made (setJointStops)
       case OdeJoint::Slider:
         j = dJointCreateSlider(world_, nullptr);
         dJointAttach(j, parent, me);
         dJointSetSliderAxis(j, a0.x(), a0.y(), a0.z());
-        return j;
+        return j;  // its stops once every joint is made (setSliderStops)
       case OdeJoint::Universal:  // axis 1 fixed in body 1 (the parent), axis 2 in body 2
         j = dJointCreateUniversal(world_, nullptr);
         dJointAttach(j, parent, me);
@@ -347,6 +363,36 @@ class OdeSystem {
       case OdeJoint::Missing: break;
     }
     throw std::invalid_argument("ode: " + odeRefusal(m_));  // refused before any run (EngineCode::refusal)
+  }
+
+  // A hinge's or slider's stops (docs/reference-engines.md, "Joint limits"):
+  // dParamLoStop and dParamHiStop at the limits, dParamBounce the restitution
+  // e; their ERP and CFM are the world's (ODE's defaults for dParamStopERP, dParamStopCFM).
+  static void setStops(dJointID j, void (*set)(dJointID, int, dReal), const JointLimits& l) {
+    set(j, dParamLoStop, l.lower[0]);
+    set(j, dParamHiStop, l.upper[0]);
+    set(j, dParamBounce, l.restitution);
+  }
+
+  // A hinge's or slider's stops in ODE's own angle or position, whose sign
+  // against our q it has from how its bodies attach: a slider's read at
+  // q = 0.5 on that coordinate alone, the others at zero (where the joints were made).
+  void setJointStops(const Model& m) {
+    for (int i = 0; i < m.n(); ++i) {
+      const Body& b = m.bodies[i];
+      if (!b.joint.limits) continue;
+      const bool hinge = odeJoint(b.joint.type) == OdeJoint::Hinge;
+      Eigen::VectorXd q = zeroConfiguration(m);
+      q[b.iq] = 0.5;
+      setBodies(q, Eigen::VectorXd::Zero(m.nu));
+      // ODE tests a hinge's stops on its internal angle: ours where the hinge is
+      // attached to the world (ODE then keeps it reversed), the opposite between two
+      // bodies (measured: tests/reference/test_limits_engines.cpp); a slider's on the position its getter returns.
+      const double read = hinge ? (b.parent < 0 ? 1.0 : -1.0) : dJointGetSliderPosition(joint_[i]);
+      JointLimits l = *b.joint.limits;
+      if (read < 0) l.lower[0] = -b.joint.limits->upper[0], l.upper[0] = -b.joint.limits->lower[0];
+      setStops(joint_[i], hinge ? dJointSetHingeParam : dJointSetSliderParam, l);
+    }
   }
 
   // f on body i and -f on its parent: torques, or forces at the joint point (slides).
@@ -446,6 +492,11 @@ EngineRow odeEngine() {
       {"ode_erp", 0.2, 0, 1, false, "ODE: error reduction parameter of every joint, a loop's too: the share of a joint's separation fed back per step (its default 0.2)"},
       {"ode_cfm", 1e-10, 0, 1, false, "ODE: constraint force mixing of every joint, a loop's too (its default in double precision 1e-10)"}};
   r.code.simulate = simulateFixedStep<OdeStepper>;
+  r.code.limits_refusal = odeLimitsRefusal;
+  r.code.scene_note = [](const Model& m) -> std::string {
+    return m.limited.empty() ? "" : "joint limits: ODE's hinge and slider stops (dParamLoStop, dParamHiStop), dParamBounce = e, "
+                                    "their ERP and CFM the world's (ode_erp, ode_cfm)";
+  };
   r.code.refusal = odeRefusal;
   r.code.mechanism_refusal = odeMechanismRefusal;
   // no model: ODE gives no accelerations at a state, and crosscheck says so

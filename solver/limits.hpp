@@ -23,6 +23,11 @@ struct Impact {
   std::string coordinate;
   double u_before = 0, u_after = 0, energy_lost = 0;
   bool rests = false;  ///< it came to rest on the stop (held from here)
+  /// An engine's soft or stabilized stop (reference/fixed_step.cpp): how far
+  /// beyond the stop it let the coordinate go (rad or m) and for how long (s);
+  /// 0 for an exact event. Its t is when the coordinate crossed the stop, its
+  /// speeds those at the last step before and the first step after.
+  double overshoot = 0, duration = 0;
 };
 
 /// A located crossing is put at its stop within this (s).

@@ -299,9 +299,12 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       {"compare " + s + " --methods classical --t-end 1e5 --output-dt 0.01 --reference-tol 1e-6", "samples, more than the budget of 1e+06"},
       {"compare " + s + " --out " + s, "is an input file; refusing to overwrite it"},
       {"compare " + s + " --methods classical,classical", "method 'classical' is listed twice"},
-      // Joint limits (issue 74): in-house events under the one-step integrators; no engine maps them yet.
-      {"simulate " + em::test::sourcePath("tests/scenes/limits/slide_floor.json") + " --method mujoco",
-       "mujoco: joint limits are in-house events (docs/theory.md §17): not yet mapped"},
+      // Joint limits (issue 74): in-house events under the one-step integrators, or an engine's own stops; Simbody maps none.
+      {"simulate " + em::test::sourcePath("tests/scenes/limits/slide_floor.json") + " --method simbody",
+       "simbody: no mapping of joint limits to this engine's stops yet"},
+      // Joint control (issue 74): a fixed step that does not divide the controller's period.
+      {"simulate " + em::test::sourcePath("tests/scenes/control/pd_arm_sampled.json") + " --method mujoco --dt 0.003 --output-dt 0.03 --t-end 0.3",
+       "option --dt: 0.003 s does not divide the control period 0.01 s"},
       {"simulate " + em::test::sourcePath("tests/scenes/limits/slide_floor.json") + " --integrator cvode --tol 1e-8",
        "joint limits are events of the in-house one-step integrators"},
       // A tolerance below double's rounding (a hostile pass: 1e-300 ran, IDA stopped at t = 0, compare said ok).

@@ -325,7 +325,7 @@ TEST_CASE("an evaluation of any method allocates nothing on the heap", "[identit
   for (const char* scene : {"pendulum5.json", "tree_mixed.json", "chain10.json", "chain50.json"}) {
     const Model m = test::loadData(scene);
     for (const MethodInfo& row : methodTable()) {  // every in-house method of the registry
-      if (row.engine != Engine::InHouse) continue;
+      if (row.engine != Engine::InHouse || !row.make) continue;  // (a row another test adds for one call has no code)
       const Method method = row.id;
       for (int refine : {0, 2}) {  // with and without residual corrections (the option "refine")
         MethodOptions opt;
