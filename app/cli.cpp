@@ -133,12 +133,16 @@ void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneS
                          {"run_time_s", tr.run_time_s},
                          {"provenance", provenance()}};
   if (tr.has_loops) meta["loops"] = loopsJson(tr, tr.run);
-  if (tr.impact_count > 0 || !tr.impacts.empty()) {  // joint limits: every impact (the first kImpactsKept), docs/report-format.md
+  if (!tr.stops.empty() || tr.impact_count > 0) {  // joint limits: the stops and every impact (the first kImpactsKept), docs/report-format.md
     nlohmann::json list = nlohmann::json::array();
     for (const Impact& i : tr.impacts)
       list.push_back({{"t", i.t}, {"coordinate", i.coordinate}, {"u_before", i.u_before}, {"u_after", i.u_after},
                       {"energy_lost_J", std::isfinite(i.energy_lost) ? nlohmann::json(i.energy_lost) : nlohmann::json()}, {"rests", i.rests},
                       {"overshoot", i.overshoot}, {"duration_s", i.duration}});
+    nlohmann::json stops = nlohmann::json::array();
+    for (const LimitedCoordinate& c : tr.stops)
+      stops.push_back({{"coordinate", c.name}, {"lower", c.lower}, {"upper", c.upper}, {"restitution", c.restitution}});
+    meta["limits"] = stops;
     meta["impacts"] = {{"count", tr.impact_count}, {"kept", tr.impacts.size()}, {"each", list},
                        {"how", tr.run.engine() == Engine::InHouse
                                    ? "exact events: located to 1e-12 s, Newton's law through A (docs/theory.md §17)"

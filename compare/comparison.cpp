@@ -159,10 +159,7 @@ std::vector<CheckedRunSpec> checkComparison(const Model& m, const CompareOptions
     throw std::invalid_argument(named("lyapunov_starts") + ": scene '" + m.name + "' has loops, which displaced starts would open");
   if (!(opt.lyapunov_sigma > 0 && opt.lyapunov_sigma <= 0.1))
     throw std::invalid_argument(named("lyapunov_sigma") + ": must be in (0, 0.1], got " + gnum(opt.lyapunov_sigma));
-  for (const RunSpec& s : specs) {
-    requireMethodTakes(s.method, m);  // a joint kind it lacks: named, before any run
-    requireSettingsTaken(s, m);       // a setting it would not run as asked
-  }
+  for (const RunSpec& s : specs) requireRunnable(s, m);  // a joint kind it lacks, a setting it would not run as asked: named, before any run
   for (double th : opt.thresholds)
     if (!(th > 0)) throw std::invalid_argument("thresholds must be > 0");
   for (size_t i = 0; i < opt.methods.size(); ++i)

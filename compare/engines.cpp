@@ -82,6 +82,12 @@ void requireSettingsTaken(const RunSpec& spec, const Model& m) {
   if (const std::string why = code.settings_refusal(m, spec); !why.empty()) throw std::invalid_argument(why);
 }
 
+void requireRunnable(const RunSpec& spec, const Model& m) {
+  requireMethodTakes(spec.method, m);
+  requireSettingsTaken(spec, m);
+  if (spec.engine() == Engine::InHouse && info(spec.method).make) refuseUnrunnable(m, spec);
+}
+
 Trajectory runTrajectory(const Model& m, const CheckedRunSpec& checked_spec) {
   const RunSpec& spec = checked_spec;
   requireMethodTakes(spec.method, m);

@@ -57,6 +57,10 @@ void requireMethodTakes(Method method, const Model& m);
 /// Throws std::invalid_argument where the engine of `spec` would not run it
 /// as asked on `m` (EngineCode::settings_refusal), naming the option.
 void requireSettingsTaken(const RunSpec& spec, const Model& m);
+/// Both, and for an in-house run what its integrator cannot run on `m`
+/// (refuseUnrunnable: a controller IDA does not form, a step that does not
+/// divide its period): every check a run makes, before any run starts.
+void requireRunnable(const RunSpec& spec, const Model& m);
 
 /// Equations at the initial state, in the source's order. For a mechanism,
 /// udot is the constrained u' and the closures come with it (theory.md eq. (M7)).

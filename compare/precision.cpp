@@ -43,6 +43,7 @@ std::vector<CheckedRunSpec> precisionSpecs(const Scene& scene, const PrecisionOp
     for (double setting : opt.settings) specs.push_back(onGrid(opt.specFor(method, setting), scene, opt.grid));
   }
   for (const RunSpec& s : specs) {
+    requireRunnable(s, scene.model);  // before the reference runs: what the run itself would refuse
     try {
       runs.push_back(checked(s));
     } catch (const SettingError& e) {
@@ -58,6 +59,7 @@ PrecisionResult runPrecision(const Scene& scene, const PrecisionOptions& opt, vo
   const std::vector<CheckedRunSpec> specs = precisionSpecs(scene, opt);
   RunSpec ref = onGrid(opt.reference, scene, opt.grid);
   ref.diagnostics = false;
+  requireRunnable(ref, scene.model);
   const CheckedRunSpec ref_spec = [&] {
     try {
       return checked(ref);

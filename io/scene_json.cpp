@@ -218,7 +218,8 @@ Eigen::VectorXd coordinateValues(const json& v, const std::string& path, const J
     for (int k = 0; k < nu; ++k) coordinateValue(v, path, j, k);
     return Eigen::VectorXd::Constant(nu, x);
   }
-  if (static_cast<int>(v.size()) != nu) throw Err(path, "expected " + std::to_string(nu) + " numbers, got " + std::to_string(v.size()));
+  if (static_cast<int>(v.size()) != nu)
+    throw Err(path, "expected " + std::to_string(nu) + (nu == 1 ? " number" : " numbers") + ", got " + std::to_string(v.size()));
   Eigen::VectorXd x(nu);
   for (int k = 0; k < nu; ++k) x[k] = coordinateValue(v[k], at(path, k), j, k);
   return x;
@@ -248,7 +249,7 @@ void table(const json& v, const std::string& path, const char* key, int nu, std:
       rows(static_cast<Eigen::Index>(i), 0) = value(row, pr, 0);
       continue;
     }
-    if (!row.is_array() || static_cast<int>(row.size()) != nu) throw Err(pr, "expected " + std::to_string(nu) + " numbers");
+    if (!row.is_array() || static_cast<int>(row.size()) != nu) throw Err(pr, "expected " + std::to_string(nu) + (nu == 1 ? " number" : " numbers"));
     for (int k = 0; k < nu; ++k) rows(static_cast<Eigen::Index>(i), k) = value(row[k], at(pr, k), k);
   }
 }
@@ -585,7 +586,7 @@ SceneSpec spec(const json& doc) {
       if (controller && c->period != controller->joint.control->period)
         throw Err(at(at(at(at("bodies", i), "joint"), "control"), "period"),
                   gnum(c->period) + " s, but body '" + controller->name + "' is sampled every " + gnum(controller->joint.control->period) +
-                      " s: every controlled joint shares one period (one controller; 0 or absent: continuous)");
+                      " s: every controlled joint shares one period (one controller; absent: continuous)");
       controller = &s.bodies[i];
     }
   s.forces = namedList<ForceSpec>(doc, "forces", force);

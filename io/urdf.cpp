@@ -387,12 +387,17 @@ void importControl(const urdf::ModelInterface& u, const std::string& file, const
   onlyKeys(doc, where(""), {"format", "joints"});
   if (!doc.contains("joints") || !doc["joints"].is_object() || doc["joints"].empty())
     throw Err(where("joints"), "expected an object of controllers by URDF joint name");
+  const std::string* first = nullptr;  // the first controlled joint: every other shares its period
   for (auto it = doc["joints"].begin(); it != doc["joints"].end(); ++it) {
     const auto at = std::find(joints.begin(), joints.end(), it.key());
     if (at == joints.end()) throw Err(where(jsonPath("joints", it.key())), "no moving joint of that name in the robot");
     BodySpec& b = bodies[static_cast<size_t>(at - joints.begin())];
     const std::optional<double> effort = urdfEffort(*u.getJoint(it.key()));
     b.joint.control = parseJointControl(it.value(), where(jsonPath("joints", it.key())), b.joint, effort);
+    if (!first) first = &it.key();
+    else if (b.joint.control->period != bodies[static_cast<size_t>(std::find(joints.begin(), joints.end(), *first) - joints.begin())].joint.control->period)
+      throw Err(where(jsonPath(jsonPath("joints", it.key()), "period")),
+                "differs from joint '" + printable(*first, 40) + "''s: every controlled joint shares one period (one controller; absent: continuous)");
   }
   notes.push_back("joint controllers from " + file + " (" + std::to_string(doc["joints"].size()) + " joints)");
 }

@@ -14,6 +14,7 @@ Trajectory makeTrajectory(const Model& m, const RunSpec& run) {
   tr.angle_coords = m.angleCoordinates();
   tr.body_names.resize(m.n());
   for (const Body& b : m.bodies) tr.body_names[b.file_index] = b.name;
+  tr.stops = m.limited;
   return tr;
 }
 

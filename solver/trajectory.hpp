@@ -123,6 +123,7 @@ struct Trajectory : RunEnd {
   std::vector<std::string> lambda_names;   ///< "lambda.<loop>.<row>", one per closure row, with loop_samples
   std::vector<Impact> impacts;             ///< joint limits: the first kImpactsKept impacts (solver/limits.hpp)
   long impact_count = 0;                   ///< all of them
+  std::vector<LimitedCoordinate> stops;    ///< the scene's joint limits (Model::limited), for the outputs and figures
   // Run summary: how it ended and its cost are RunEnd's.
   /// The largest distance (m) between a joint's two points over the steps:
   /// a maximal-coordinate engine's constraint violation (ODE); NaN otherwise.

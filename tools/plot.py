@@ -666,6 +666,32 @@ def trajectory_figures(csv_path, meta, out):
     finish_against_time(fig, ax, "|E(t) + W_diss(t) - E(0)| / max kinetic energy", "Energy balance error: " + title, out,
                         stem + "-energy")
     loop_figure(cols, method, title, meta, out, stem)
+    limits_figure(cols, method, title, meta, out, stem)
+
+
+def limits_figure(cols, method, title, meta, out, stem):
+    """A run with joint limits: each limited coordinate against time between its stops, its impacts marked
+    (an engine's: where it crossed a stop), the first 6."""
+    stops = [s for s in meta.get("limits", []) if s["coordinate"] in cols][:6]
+    if not stops:
+        return
+    impacts = meta.get("impacts", {}).get("each", [])
+    fig, axes = plt.subplots(len(stops), 1, figsize=(9, 2.2 + 1.6 * len(stops)), sharex=True, squeeze=False)
+    for ax, s in zip(axes[:, 0], stops):
+        name = s["coordinate"]
+        ax.plot(cols["t"], cols[name], lw=1.1, color=color(method), label=name)
+        for bound, ls in ((s["lower"], "--"), (s["upper"], ":")):
+            ax.axhline(bound, color="k", lw=0.8, ls=ls)
+        hits = [i["t"] for i in impacts if i["coordinate"] == name]
+        if hits:
+            ys = [s["lower"] if i.get("u_before", 0) < 0 else s["upper"] for i in impacts if i["coordinate"] == name]
+            ax.plot(hits, ys, "x", color="tab:red", ms=5, label="impacts (%d)" % len(hits))
+        ax.set_ylabel("%s (rad, m)\ne = %g" % (name, s["restitution"]), fontsize=8)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1, 0].set_xlabel("time t, s")
+    axes[0, 0].set_title("Joints against their stops (dashed: lower, dotted: upper): " + title, fontsize=9)
+    save(fig, out, stem + "-limits")
 
 
 def finish_against_time(fig, ax, ylabel, title, out, name):

@@ -302,6 +302,11 @@ TEST_CASE("hostile command lines end in one line on stderr and exit status 2 bef
       // Joint limits (issue 74): in-house events under the one-step integrators, or an engine's own stops; Simbody maps none.
       {"simulate " + em::test::sourcePath("tests/scenes/limits/slide_floor.json") + " --method simbody",
        "simbody: no mapping of joint limits to this engine's stops yet"},
+      // Refused before the reference runs (a helper's hostile pass: compare and precision ran it first, then refused).
+      {"compare " + em::test::sourcePath("tests/scenes/control/pd_arm_sampled.json") + " --reference classical --reference-integrator cvode",
+       "a sampled controller (joint.control.period 0.01 s) needs an integrator that stops at each sample"},
+      {"precision " + em::test::sourcePath("tests/scenes/control/pd_arm_sampled.json") + " --methods classical --integrator rk4 --settings 0.003",
+       "does not divide the control period"},
       // Joint control (issue 74): a fixed step that does not divide the controller's period.
       {"simulate " + em::test::sourcePath("tests/scenes/control/pd_arm_sampled.json") + " --method mujoco --dt 0.003 --output-dt 0.03 --t-end 0.3",
        "option --dt: 0.003 s does not divide the control period 0.01 s"},
@@ -1109,6 +1114,21 @@ TEST_CASE("plot never writes outside --out: a name read from any input kind is r
   CHECK(t.status == 0);
   CHECK(t.out == d + "/tfigs/s-energy.svg\n" + d + "/tfigs/s-state.svg\n");
   CHECK(slurp(d + "/x/evil-divergence.svg") == "precious");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot draws a run with stops against its limits, its impacts marked", "[cli][plot][limits]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = freshDir("eigenmass_test_plot_limits");
+  const std::string d = dir.string();
+  REQUIRE(eigenmass("simulate " + em::test::sourcePath("tests/scenes/limits/pendulum_stop.json") + " --t-end 1 --out " + d + "/p.csv").status == 0);
+  const nlohmann::json meta = nlohmann::json::parse(slurp(d + "/p.csv.json"));
+  REQUIRE(meta["limits"].size() == 1);
+  CHECK(meta["limits"][0]["coordinate"] == "rod.q0");
+  CHECK(meta["impacts"]["count"] == 1);  // at 0.4635 s (the next at 3 x 0.4635 s, past t_end)
+  const Run t = eigenmass("plot " + d + "/p.csv --out " + d + "/f --format svg");
+  CHECK(t.status == 0);
+  CHECK_THAT(t.out, Catch::Contains(d + "/f/p-limits.svg"));
   fs::remove_all(dir);
 }
 

@@ -251,6 +251,12 @@ TEST_CASE("a URDF's joint dynamics and a control file are imported only as asked
     CHECK_THROWS_WITH(importUrdf(text, "r.urdf", o), Catch::Contains("joints.elbow") && Catch::Contains("no moving joint of that name"));
     o.control_file = write("order.json", R"({"format": "eigenmass-control/1", "joints": {"j": {"type": "table", "t": [0, 1, 0.5], "tau": [1, 2, 3]}}})");
     CHECK_THROWS_WITH(importUrdf(text, "r.urdf", o), Catch::Contains("t[2]") && Catch::Contains("not after"));
+    // Two joints sampled at two periods: named in the control file, not in the robot (a helper's hostile pass).
+    const std::string two = robot(link("a", inertial("0 0 0", "0 0 0", 1.0, kDiag123)) + link("b", inertial("0 0 0", "0 0 0", 1.0, kDiag123)) +
+                                  joint("j1", "continuous", "base", "a", "0 0 0", "0 0 0") + joint("j2", "continuous", "a", "b", "1 0 0", "0 0 0"));
+    o.control_file = write("two.json", R"({"format": "eigenmass-control/1", "joints": {
+        "j1": {"type": "table", "t": [0], "tau": [1], "period": 0.01}, "j2": {"type": "table", "t": [0], "tau": [1], "period": 0.02}}})");
+    CHECK_THROWS_WITH(importUrdf(two, "r.urdf", o), Catch::Contains("two.json") && Catch::Contains("joints.j2.period") && Catch::Contains("shares one period"));
     std::filesystem::remove_all(dir);
   }
 }
