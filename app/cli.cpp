@@ -152,7 +152,7 @@ void writeTrajectory(const Trajectory& tr, const std::string& path, const SceneS
   }
   const MethodInfo& row = info(r.method);
   for (const MethodParam& p : row.params)  // the method's own options as run (an engine's: its joints' or closures' stabilization)
-    if (!p.loops_only || tr.has_loops) meta["options"][p.name] = row.param(p.name, r.options);
+    if ((!p.loops_only || tr.has_loops) && (!p.limits_only || !tr.stops.empty())) meta["options"][p.name] = row.param(p.name, r.options);
   if (std::isfinite(tr.max_joint_separation)) meta["max_joint_separation_m"] = tr.max_joint_separation;
   if (source) meta["scene_source"] = sceneSourceJson(*source);  // the file's digest, import notes, an assembly
   if (!regularOutput(path)) {  // a device, a FIFO (/dev/stdout, /dev/null): no sidecar beside it, the metadata on stderr
@@ -316,6 +316,9 @@ void addProgressFlags(CLI::App* cmd) {
 }
 
 void refuseUnreadLoopOptions(const CLI::App& cmd, const Model& m) {
+  for (const MethodParam& p : methodParams())  // an engine's stops' own
+    if (p.limits_only && m.limited.empty() && cmd.count(optionName(p)))
+      throw std::invalid_argument(optionName(p) + ": scene '" + m.name + "' has no joint limits");
   if (!m.loops.empty()) return;
   for (const char* option : {"--formulation", "--baumgarte-alpha", "--baumgarte-beta", "--al-penalty-ratio"})
     if (cmd.count(option)) throw std::invalid_argument(std::string(option) + ": scene '" + m.name + "' has no loops");

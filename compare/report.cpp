@@ -111,6 +111,7 @@ json methodJson(const MethodMetrics& m, const std::vector<double>& th) {
   const MethodInfo& row = info(m.run.method);
   for (const MethodParam& p : row.params) {  // the row's own options, as run (an engine's: its closures')
     if (p.loops_only && !m.has_loops) continue;  // not read on a tree
+    if (p.limits_only && !m.impact_check) continue;  // not read without stops
     const double v = row.param(p.name, m.run.options);
     j[p.name] = p.whole ? json(static_cast<long>(v)) : json(v);
   }

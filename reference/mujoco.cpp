@@ -31,6 +31,12 @@ void countEvaluation(const mjModel*, mjData*) { ++g_evaluations; }
 // steps (its refsafe rule): such a run would not be the one asked for, and
 // the report would record the value asked (issue 73, item 5).
 std::string settingsRefusal(const Model& m, const RunSpec& spec) {
+  if (!m.limited.empty()) {  // the same rule for its limits' solref
+    const double tl = info(spec.method).param("mujoco_limit_solref_time", spec.options);
+    if (tl < 2 * spec.dt)
+      return "--mujoco-limit-solref-time " + gnum(tl) + ": below two steps (2 dt = " + gnum(2 * spec.dt) +
+             " s), which MuJoCo raises to 2 dt: give at least " + gnum(2 * spec.dt) + " or a smaller --dt";
+  }
   if (m.loops.empty()) return "";
   const double tc = info(spec.method).param("mujoco_solref_time", spec.options);
   if (tc >= 2 * spec.dt) return "";
@@ -49,6 +55,11 @@ class MujocoStepper : public FixedStepEngine {
       const double solimp[3] = {row.param("mujoco_solimp_d0", spec.options), row.param("mujoco_solimp_dwidth", spec.options),
                                 row.param("mujoco_solimp_width", spec.options)};
       peer_.soften(solref, solimp);
+    }
+    if (!m.limited.empty()) {
+      const MethodInfo& row = info(spec.method);
+      const double solref[2] = {row.param("mujoco_limit_solref_time", spec.options), row.param("mujoco_limit_solref_damping", spec.options)};
+      peer_.softenLimits(solref);
     }
     peer_.setState(m.q0(), m.u0());
     peer_.forward();
@@ -192,7 +203,9 @@ EngineRow mujocoEngine() {
       {"mujoco_solref_damping", 1, 0, 1e3, false, "MuJoCo: its closures' solref damping ratio (its default 1, critical)", nullptr, true},
       {"mujoco_solimp_d0", 0.9, 0, 0.9999, false, "MuJoCo: its closures' solimp impedance at zero violation (its default 0.9)", nullptr, true},
       {"mujoco_solimp_dwidth", 0.95, 0, 0.9999, false, "MuJoCo: its closures' solimp impedance at a violation of width (its default 0.95)", nullptr, true},
-      {"mujoco_solimp_width", 0.001, 0, 1e3, false, "MuJoCo: its closures' solimp width (m or rad; its default 0.001)", nullptr, true}};
+      {"mujoco_solimp_width", 0.001, 0, 1e3, false, "MuJoCo: its closures' solimp width (m or rad; its default 0.001)", nullptr, true},
+      {"mujoco_limit_solref_time", 0.02, 0, 1e3, false, "MuJoCo: its joint limits' solreflimit time constant (s; its default 0.02)", nullptr, false, true},
+      {"mujoco_limit_solref_damping", 1, 0, 1e3, false, "MuJoCo: its joint limits' solreflimit damping ratio (its default 1, critical: no rebound; below 1 a stop bounces)", nullptr, false, true}};
   // Beside the reference: rk4 at 1e-4 s, fine enough that its own error (~dt^4) is below the reference's tolerance.
   r.info.roles.second_scheme = "rk4";
   r.info.roles.second_dt = 1e-4;
@@ -212,8 +225,8 @@ EngineRow mujocoEngine() {
     const std::string inertia = fullInertiaNote(m);
     if (m.limited.empty()) return inertia;
     return (inertia.empty() ? "" : inertia + "; ") +
-           "joint limits: MuJoCo's soft limits (limited, range) at its default solreflimit 0.02 1 and solimplimit 0.9 0.95 0.001, "
-           "a critically damped stop without restitution: e is not mapped";
+           "joint limits: MuJoCo's soft limits (limited, range) at solreflimit mujoco_limit_solref_time, mujoco_limit_solref_damping "
+           "(its defaults 0.02 1: a critically damped stop, no rebound) and its default solimplimit 0.9 0.95 0.001: e is not mapped";
   };
   r.code.limits_refusal = [](const Model& m) -> std::string {  // one MuJoCo hinge or slide per coordinate
     for (const Body& b : m.bodies)

@@ -533,6 +533,13 @@ void MujocoSystem::soften(const double solref[2], const double solimp[3]) {
 
 double MujocoSystem::potentialEnergy() const { return impl_->d->energy[0]; }
 
+void MujocoSystem::softenLimits(const double solref[2]) {
+  mjModel* mm = impl_->mm;
+  for (int j = 0; j < mm->njnt; ++j)
+    if (mm->jnt_limited[j])
+      for (int k = 0; k < 2; ++k) mm->jnt_solref[mjNREF * j + k] = solref[k];
+}
+
 void MujocoSystem::applyControl(const Eigen::VectorXd& tau) {
   auto& I = *impl_;
   for (int at : I.dof) I.d->qfrc_applied[at] = 0;

@@ -78,6 +78,8 @@ class MujocoSystem {
   /// s, damping ratio) and solimp's first three (d0, d_width, width m); MuJoCo's
   /// own defaults are 0.02 1 and 0.9 0.95 0.001.
   void soften(const double solref[2], const double solimp[3]);
+  /// Every limited joint's solreflimit (time constant, damping ratio).
+  void softenLimits(const double solref[2]);
   /// qfrc_applied = the drives + tau, a generalized force per in-house speed
   /// (internal order) on joints whose speeds MuJoCo reads as ours (a joint
   /// controller's: theory.md §18), held until the next call.  // tau: (nu)

@@ -170,6 +170,17 @@ class OdeSystem {
 
   dWorldID world() const { return world_; }
 
+  // Every stop's dParamStopERP and dParamStopCFM.
+  void softenStops(double erp, double cfm) {
+    for (int i = 0; i < m_.n(); ++i) {
+      if (!m_.bodies[i].joint.limits) continue;
+      const bool hinge = odeJoint(m_.bodies[i].joint.type) == OdeJoint::Hinge;
+      for (const auto& [param, value] : {std::pair{dParamStopERP, erp}, std::pair{dParamStopCFM, cfm}})
+        (hinge ? dJointSetHingeParam : dJointSetSliderParam)(joint_[i], param, value);
+    }
+  }
+
+
   // Our state into ODE's bodies (the in-house kinematics places them).
   void setBodies(const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
     Workspace ws(m_);
@@ -429,6 +440,7 @@ class OdeStepper : public FixedStepEngine {
     dWorldSetERP(ode_.world(), row.param("ode_erp", spec.options));
     dWorldSetCFM(ode_.world(), row.param("ode_cfm", spec.options));
     for (const Body& b : m.bodies) joint_forces_ = joint_forces_ || b.joint.has_spring || b.joint.torque.size() > 0 || b.joint.control;
+    if (!m.limited.empty()) ode_.softenStops(row.param("ode_stop_erp", spec.options), row.param("ode_stop_cfm", spec.options));
   }
   std::string step() override {
     if (joint_forces_) {
@@ -490,12 +502,14 @@ EngineRow odeEngine() {
   // Every joint's (a loop's too) stabilization: ODE's defaults in double precision.
   r.info.params = {
       {"ode_erp", 0.2, 0, 1, false, "ODE: error reduction parameter of every joint, a loop's too: the share of a joint's separation fed back per step (its default 0.2)"},
-      {"ode_cfm", 1e-10, 0, 1, false, "ODE: constraint force mixing of every joint, a loop's too (its default in double precision 1e-10)"}};
+      {"ode_cfm", 1e-10, 0, 1, false, "ODE: constraint force mixing of every joint, a loop's too (its default in double precision 1e-10)"},
+      {"ode_stop_erp", 0.2, 0, 1, false, "ODE: its joint stops' dParamStopERP (its default, the world's at creation: 0.2)", nullptr, false, true},
+      {"ode_stop_cfm", 1e-10, 0, 1, false, "ODE: its joint stops' dParamStopCFM (its default, the world's at creation: 1e-10)", nullptr, false, true}};
   r.code.simulate = simulateFixedStep<OdeStepper>;
   r.code.limits_refusal = odeLimitsRefusal;
   r.code.scene_note = [](const Model& m) -> std::string {
     return m.limited.empty() ? "" : "joint limits: ODE's hinge and slider stops (dParamLoStop, dParamHiStop), dParamBounce = e, "
-                                    "their ERP and CFM the world's (ode_erp, ode_cfm)";
+                                    "dParamStopERP and dParamStopCFM ode_stop_erp, ode_stop_cfm (its defaults 0.2, 1e-10)";
   };
   r.code.refusal = odeRefusal;
   r.code.mechanism_refusal = odeMechanismRefusal;

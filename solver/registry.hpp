@@ -69,6 +69,9 @@ struct MethodParam {
   /// Read only on a scene with loops (an engine's closures' stabilization,
   /// MuJoCo's solref): given for a tree, it is refused.
   bool loops_only = false;
+  /// Read only on a scene with joint limits (an engine's stops' softness,
+  /// MuJoCo's solreflimit): given for a scene without, it is refused.
+  bool limits_only = false;
 };
 
 /// An engine's row, found by its id (info(Engine)). Its fields are named

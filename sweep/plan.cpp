@@ -654,7 +654,7 @@ bool readsTuning(Method m, const std::optional<Formulation>& f, const Tuning& t,
     }
     const std::vector<MethodParam>& params = info(m).params;
     const auto p = std::find_if(params.begin(), params.end(), [&](const MethodParam& q) { return key == q.name; });
-    if (p == params.end() || (p->loops_only && !has_loops)) return false;
+    if (p == params.end() || (p->loops_only && !has_loops)) return false;  // (a stops' option is read where the scene has stops)
   }
   return true;
 }

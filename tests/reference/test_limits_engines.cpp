@@ -75,6 +75,30 @@ TEST_CASE("MuJoCo's, DART's and Bullet's stops are inelastic, each passing its s
   }
 }
 
+TEST_CASE("an engine's stop options are its own stops' softness: MuJoCo's solreflimit damping sets its rebound", "[limits][engines]") {
+  const Model m = stopScene("pendulum_stop.json");
+  const Trajectory ref = exact(m, 1.0);
+  double last = HUGE_VAL;
+  // Measured at dt 1e-4: rebound 4.19, 2.67, 0.688 rad/s short of the law's 4.86 at damping ratios 1, 0.3, 0.05.
+  for (double ratio : {1.0, 0.3, 0.05}) {
+    RunSpec spec = test::runSpec(test::method("mujoco"), test::scheme("rk4"), 1.0, 1e-4, 1e-3);
+    spec.options.params["mujoco_limit_solref_damping"] = ratio;
+    const ImpactCheck c = checkImpacts(runTrajectory(m, checked(spec)), ref);
+    INFO("damping ratio " << ratio << ": rebound off by " << c.first_rebound_error);
+    CHECK(std::abs(c.first_rebound_error) < 0.8 * last);
+    last = std::abs(c.first_rebound_error);
+  }
+  CHECK(last < 1.0);
+  // ODE's stop CFM softens its stop: the block on the floor sinks further (measured at dt 1e-3: 7.8e-3 m at
+  // CFM 1e-3 against 4.3e-3 m at its default 1e-10). Its stop ERP changed nothing measurable on these scenes.
+  const Model block = stopScene("slide_floor.json");
+  const Trajectory floor = exact(block, 2.0);
+  RunSpec soft = test::runSpec(test::method("ode"), test::scheme("ode-step"), 2.0, 1e-3, 1e-3);
+  soft.options.params["ode_stop_cfm"] = 1e-3;
+  const ImpactCheck a = checkImpacts(runTrajectory(block, checked(soft)), floor), b = engineRun(block, floor, "ode", "ode-step", 1e-3);
+  CHECK(a.overshoot_max > 1.5 * b.overshoot_max);
+}
+
 TEST_CASE("an engine that cannot stop a joint as the scene asks is refused in one line, naming itself", "[limits][engines]") {
   const Model m = stopScene("pendulum_stop.json");
   CHECK_THROWS_WITH(runTrajectory(m, checked(test::runSpec(test::method("simbody"), test::scheme("rkmerson"), 1.0, 1e-8))),
