@@ -74,9 +74,8 @@ void requireMethodTakes(Method method, const Model& m) {
 
 void requireSettingsTaken(const RunSpec& spec, const Model& m) {
   if (spec.engine() == Engine::InHouse) return;
-  if (m.has_control && m.control_period > 0 && spec.fixedStep() && stepsPerControlPeriod(m.control_period, spec.dt) == 0)
-    throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(m.control_period) +
-                                " s (a fixed-step engine samples the controller at its step starts)");
+  if (spec.fixedStep())
+    if (const std::string why = controlStepRefusal(m, spec.dt); !why.empty()) throw std::invalid_argument(why);
   const EngineCode& code = engineCode(spec.engine());
   if (!code.settings_refusal) return;
   if (const std::string why = code.settings_refusal(m, spec); !why.empty()) throw std::invalid_argument(why);

@@ -109,8 +109,7 @@ Trajectory runFixedStep(const Model& m, const CheckedRunSpec& run, FixedStepEngi
   // A controller, sampled every per_sample steps from the state the last step left (theory.md §18).
   ControlLoop control(m);
   const long per_sample = !control.active() ? 0 : control.sampled() ? stepsPerControlPeriod(control.period(), spec.dt) : 1;
-  if (control.active() && per_sample == 0)
-    throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(control.period()) + " s");
+  if (const std::string why = controlStepRefusal(m, spec.dt); !why.empty()) throw std::invalid_argument(why);  // refused before, by requireSettingsTaken
   Eigen::VectorXd q_start(control.active() ? m.nq : 0);
   StopEpisodes stops(m);  // an engine's own stops, watched after every step
   if (stops.active()) stops.start(q, u);

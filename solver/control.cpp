@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "solver/text.hpp"
+
 namespace em {
 
 void tableAt(const std::vector<double>& times, const Eigen::MatrixXd& rows, double t, double* x, double* dx) {
@@ -67,6 +69,12 @@ double controlWork(const Model& m, const Eigen::VectorXd& tau, const Eigen::Vect
     if (b.joint.control)
       for (int k = 0; k < b.nu(); ++k) W += tau[b.iu + k] * (q1[b.iq + k] - q0[b.iq + k]);
   return W;
+}
+
+std::string controlStepRefusal(const Model& m, double dt) {
+  if (!m.has_control || !(m.control_period > 0) || stepsPerControlPeriod(m.control_period, dt)) return "";
+  return "option --dt: " + gnum(dt) + " s does not divide the control period " + gnum(m.control_period) +
+         " s (a fixed-step run samples its controller at step starts)";
 }
 
 long stepsPerControlPeriod(double period, double dt) {

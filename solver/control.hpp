@@ -6,6 +6,7 @@
 /// and their power counts negative in W_diss, as a drive's (eq. (C3)).
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "solver/model.hpp"
 
@@ -57,5 +58,9 @@ double controlWork(const Model& m, const Eigen::VectorXd& tau, const Eigen::Vect
 /// whole number of steps (to 1e-9 of it): a fixed-step run samples its
 /// controller at step starts.
 long stepsPerControlPeriod(double period, double dt);
+/// Why a fixed-step run of dt cannot sample `m`'s controller ("option --dt:
+/// ... does not divide the control period ..."), or "": the one rule, which
+/// the in-house integrators, the engines' refusal and their loop all read.
+std::string controlStepRefusal(const Model& m, double dt);
 
 }  // namespace em

@@ -481,9 +481,8 @@ void refuseControl(const Model& m, const RunSpec& spec, const IntegratorInfo& sc
   if (m.control_period > 0 && !(scheme.fixed_step || scheme.gsl))
     throw std::invalid_argument(why + "a sampled controller (joint.control.period " + gnum(m.control_period) +
                                 " s) needs an integrator that stops at each sample (rk4 and the fixed-step rows, rk8pd, rkf45, bsimp)");
-  if (m.control_period > 0 && spec.fixedStep() && stepsPerControlPeriod(m.control_period, spec.dt) == 0)
-    throw std::invalid_argument("option --dt: " + gnum(spec.dt) + " s does not divide the control period " + gnum(m.control_period) +
-                                " s (a fixed-step run samples its controller at step starts)");
+  if (spec.fixedStep())
+    if (const std::string why = controlStepRefusal(m, spec.dt); !why.empty()) throw std::invalid_argument(why);
 }
 
 }  // namespace
